@@ -1,0 +1,77 @@
+#pragma once
+// the three error channels (STYLE.md §5): asserts for bugs, InputError for bad user
+// input, Status for numerical outcomes.
+#include <cstdio>
+#include <cstdlib>
+#include <stdexcept>
+#include <string>
+
+namespace camopt {
+
+// where a value came from in a user file: file:line:column and the key path
+struct SourceRef {
+  std::string file;
+  int line = 0;
+  int column = 0;
+  std::string key_path;
+
+  // "file:line:column: key.path" (omits what is unknown)
+  std::string str() const;
+};
+
+// bad user input; the message names the field, the value and the rule it broke
+class InputError : public std::runtime_error {
+ public:
+  explicit InputError(const std::string& message) : std::runtime_error(message) {}
+  InputError(const SourceRef& where, const std::string& message)
+      : std::runtime_error(where.str() + ": " + message) {}
+};
+
+enum class StatusCode {
+  ok,
+  no_convergence,      // iterative solve stopped above tolerance
+  cannot_assemble,     // a link cannot close, a contact cannot be reached
+  singular,            // toggle / pressure angle reached 90 deg
+  undercut,            // synthesized profile curvature crosses zero
+  integrator_failure,  // SUNDIALS gave up
+  infeasible,          // optimisation constraints cannot be met
+  not_implemented,     // capability not built yet
+};
+
+const char* to_string(StatusCode code);
+
+// outcome of a numerical computation: code, message and where (angle, residual, ...)
+struct Status {
+  StatusCode code = StatusCode::ok;
+  std::string message;
+  std::string where;
+
+  bool ok() const { return code == StatusCode::ok; }
+  static Status success() { return {}; }
+  std::string str() const;
+};
+
+// a numerical failure escaping to the CLI (thrown only outside C callbacks)
+class NumericalError : public std::runtime_error {
+ public:
+  explicit NumericalError(Status status)
+      : std::runtime_error(status.str()), status_(std::move(status)) {}
+  const Status& status() const { return status_; }
+
+ private:
+  Status status_;
+};
+
+[[noreturn]] void assertion_failed(const char* expr, const char* file, int line, const char* msg);
+
+}  // namespace camopt
+
+// programmer bug: abort with location (active in every build type)
+#define CAMOPT_ASSERT(cond)                                                        \
+  do {                                                                             \
+    if (!(cond)) ::camopt::assertion_failed(#cond, __FILE__, __LINE__, nullptr);   \
+  } while (0)
+#define CAMOPT_ASSERT_MSG(cond, msg)                                               \
+  do {                                                                             \
+    if (!(cond)) ::camopt::assertion_failed(#cond, __FILE__, __LINE__, msg);       \
+  } while (0)

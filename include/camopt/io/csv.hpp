@@ -1,0 +1,58 @@
+#pragma once
+// CSV tables: lift tables, profiles, spring/gas tables. Header with units, '#' comment
+// lines, comma / semicolon / whitespace delimiters. Errors name file:line.
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace camopt::io {
+
+struct CsvTable {
+  std::string file;                        // for messages
+  std::vector<std::string> columns;        // header names, trimmed, as written
+  std::vector<std::vector<double>> values; // values[column][row]
+  std::vector<int> lines;                  // file line of each data row (1-based)
+
+  std::size_t rows() const { return lines.size(); }
+  std::optional<std::size_t> find(std::string_view column) const;  // case-insensitive
+  // the column, or InputError "file: no column 'name' (columns: ...)"
+  const std::vector<double>& column(std::string_view column) const;
+  // first column whose name is one of `names`, or InputError listing them
+  std::size_t require_one_of(const std::vector<std::string>& names, std::string_view what) const;
+};
+
+// parse text; every cell must be a finite number (NaN/Inf rejected) and every row must
+// have as many cells as the header. Throws InputError "file:line: ...".
+CsvTable parse_csv(std::string_view text, const std::string& file_name);
+CsvTable read_csv(const std::string& path);
+
+// throws InputError "file:line: column 'c' value v is not greater than previous value p"
+void require_strictly_increasing(const CsvTable& table, std::size_t column);
+
+enum class AngleBasis { cam, crank };
+const char* to_string(AngleBasis basis);
+
+// a table of one quantity against cam or crank angle; the basis is always explicit:
+// the angle column must be named cam_deg / cam_angle_deg or crank_deg / crank_angle_deg.
+struct AngleTable {
+  std::string file;
+  AngleBasis basis = AngleBasis::cam;
+  std::string angle_column, value_column;
+  std::vector<double> angle_deg;  // as written (strictly increasing, checked)
+  std::vector<double> value;
+  std::vector<int> lines;
+};
+
+// value_names: accepted names of the value column, e.g. {"lift_mm","valve_lift_mm"}
+AngleTable read_angle_table(const CsvTable& table, const std::vector<std::string>& value_names);
+
+// check a table spans one full cycle [period_deg] (last - first >= period - step tolerance);
+// throws InputError naming the file and the covered range when it does not
+void require_full_cycle(const AngleTable& table, double period_deg);
+
+// write columns (header names must carry units) to `path` atomically
+void write_csv(const std::string& path, const std::vector<std::string>& header,
+               const std::vector<std::vector<double>>& columns, int significant_digits = 10);
+
+}  // namespace camopt::io

@@ -1,0 +1,42 @@
+#include "camopt/core/error.hpp"
+
+namespace camopt {
+
+std::string SourceRef::str() const {
+  std::string s = file.empty() ? std::string("<input>") : file;
+  if (line > 0) {
+    s += ":" + std::to_string(line);
+    if (column > 0) s += ":" + std::to_string(column);
+  }
+  if (!key_path.empty()) s += ": " + key_path;
+  return s;
+}
+
+const char* to_string(StatusCode code) {
+  switch (code) {
+    case StatusCode::ok: return "ok";
+    case StatusCode::no_convergence: return "no convergence";
+    case StatusCode::cannot_assemble: return "cannot assemble";
+    case StatusCode::singular: return "singular configuration";
+    case StatusCode::undercut: return "undercut";
+    case StatusCode::integrator_failure: return "integrator failure";
+    case StatusCode::infeasible: return "infeasible";
+    case StatusCode::not_implemented: return "not implemented";
+  }
+  return "unknown";
+}
+
+std::string Status::str() const {
+  std::string s = to_string(code);
+  if (!message.empty()) s += ": " + message;
+  if (!where.empty()) s += " (at " + where + ")";
+  return s;
+}
+
+void assertion_failed(const char* expr, const char* file, int line, const char* msg) {
+  std::fprintf(stderr, "camopt internal error: assertion '%s' failed at %s:%d%s%s\n", expr, file, line,
+               msg ? ": " : "", msg ? msg : "");
+  std::abort();
+}
+
+}  // namespace camopt

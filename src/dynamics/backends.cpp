@@ -1,0 +1,1 @@
+namespace camopt::dynamics { int backends_placeholder() { return 0; } }

@@ -1,0 +1,1 @@
+namespace camopt::io { int placeholder() { return 0; } }
