@@ -1,0 +1,104 @@
+#pragma once
+// a cam profile compiled from a ProfileSpec: a closed, counter-clockwise curve p(u) in
+// the profile frame [mm], C4 continuous (periodic quintic splines), evaluable on jets so
+// the profile's own curvature feeds follower acceleration and jerk exactly.
+#include <string>
+
+#include "camopt/core/design_spec.hpp"
+#include "camopt/core/jet.hpp"
+#include "camopt/core/spline.hpp"
+
+namespace camopt::kin {
+
+// a curve point with its first and second derivatives with respect to the parameter u
+template <class T>
+struct CurvePoint {
+  T x, y, dx, dy, ddx, ddy;
+};
+
+class CamProfile {
+ public:
+  // polar / base_plus_lift: u is the polar angle [rad]; xy: u is 2*pi * chord fraction.
+  // circle / eccentric profiles are exact discs (is_disc()); contacts use them as circles.
+  static CamProfile build(const ProfileSpec& spec);
+
+  const std::string& name() const { return name_; }
+  bool is_disc() const { return is_disc_; }
+  double disc_radius_mm() const { return disc_radius_; }
+  double disc_center_x_mm() const { return disc_center_x_; }  // on the profile's 0-deg axis
+
+  // smallest and largest distance from the profile origin [mm]
+  double base_radius_mm() const { return base_radius_; }
+  double max_radius_mm() const { return max_radius_; }
+  // polar radius at a polar angle [rad] (excess radius = radius - base radius)
+  double radius_at(double polar_angle_rad) const;
+
+  template <class T>
+  CurvePoint<T> point(const T& u) const;
+
+ private:
+  template <int N>
+  static void spline_jets(const PeriodicSpline& s, const Jet<N>& u, Jet<N>& f, Jet<N>& f1, Jet<N>& f2);
+  static void spline_jets(const PeriodicSpline& s, double u, double& f, double& f1, double& f2);
+
+  std::string name_;
+  bool polar_ = true;
+  bool is_disc_ = false;
+  double disc_radius_ = 0.0, disc_center_x_ = 0.0;
+  PeriodicSpline r_;       // polar: r(u)
+  PeriodicSpline x_, y_;   // xy: x(u), y(u)
+  double base_radius_ = 0.0, max_radius_ = 0.0;
+};
+
+inline void CamProfile::spline_jets(const PeriodicSpline& s, double u, double& f, double& f1, double& f2) {
+  double d[3];
+  s.evaluate(u, 2, d);
+  f = d[0];
+  f1 = d[1];
+  f2 = d[2];
+}
+
+template <int N>
+void CamProfile::spline_jets(const PeriodicSpline& s, const Jet<N>& u, Jet<N>& f, Jet<N>& f1, Jet<N>& f2) {
+  // f, f', f'' as jets need derivatives up to N + 2 (quintic: f^(5) piecewise constant)
+  double d[N + 3 > 6 ? N + 3 : 6] = {};
+  s.evaluate(u.value(), N + 2 < 5 ? N + 2 : 5, d);
+  f = compose(d, u);
+  f1 = compose(d + 1, u);
+  f2 = compose(d + 2, u);
+}
+
+template <class T>
+CurvePoint<T> CamProfile::point(const T& u) const {
+  using std::cos;
+  using std::sin;
+  CurvePoint<T> p;
+  if (is_disc_) {
+    const T c = cos(u), s = sin(u);
+    p.x = disc_center_x_ + disc_radius_ * c;
+    p.y = disc_radius_ * s;
+    p.dx = -disc_radius_ * s;
+    p.dy = disc_radius_ * c;
+    p.ddx = -disc_radius_ * c;
+    p.ddy = -disc_radius_ * s;
+    return p;
+  }
+  if (polar_) {
+    T r, r1, r2;
+    spline_jets(r_, u, r, r1, r2);
+    const T c = cos(u), s = sin(u);
+    // p = r (cos u, sin u)
+    p.x = r * c;
+    p.y = r * s;
+    p.dx = r1 * c - r * s;
+    p.dy = r1 * s + r * c;
+    p.ddx = r2 * c - 2.0 * r1 * s - r * c;
+    p.ddy = r2 * s + 2.0 * r1 * c - r * s;
+    return p;
+  }
+  spline_jets(x_, u, p.x, p.dx, p.ddx);
+  spline_jets(y_, u, p.y, p.dy, p.ddy);
+  return p;
+}
+
+}  // namespace camopt::kin

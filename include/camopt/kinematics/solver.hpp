@@ -1,0 +1,93 @@
+#pragma once
+// position, velocity, acceleration and jerk of every node at one driver position.
+// kernel: solve(const Mechanism&, Workspace&, driver value, request). Derivatives are
+// taylor coefficients with respect to the driver [per rad or per mm of driver], exact:
+// closed forms run on jets, implicit blocks use implicit differentiation J x_k = -r_k.
+#include <Eigen/Core>
+#include <Eigen/LU>
+#include <span>
+#include <vector>
+
+#include "camopt/core/error.hpp"
+#include "camopt/core/jet.hpp"
+#include "camopt/kinematics/mechanism.hpp"
+
+namespace camopt::kin {
+
+using Jet3 = Jet<3>;
+
+struct Request {
+  int derivative_order = 3;  // 0: positions only, up to 3: jerk
+  bool contacts = false;     // per-contact quantities (needs order >= 1)
+};
+
+// per-contact kinematic quantities; rates are per rad (or mm) of driver
+struct ContactState {
+  double x = 0, y = 0;                   // contact point, global [mm]
+  double local_a_x = 0, local_a_y = 0;   // on body a, drawing frame [mm]
+  double local_b_x = 0, local_b_y = 0;   // on body b, drawing frame [mm]
+  double polar_angle_a = 0;              // cam (profile) parameter at the contact [rad], a side
+  double normal_x = 0, normal_y = 0;     // unit normal from a into b
+  double pressure_angle = 0;             // [rad] between normal and follower's direction of motion
+  double curvature_a = 0, curvature_b = 0;  // [1/mm], + convex, 0 flat
+  double entrainment = 0;                // mean surface speed relative to contact point [mm/driver]
+  double sliding = 0;                    // tangential relative speed of material points [mm/driver]
+  double roller_speed = 0;               // roller spin relative to its carrier, perfect rolling [rad/driver]
+  double gap = 0;                        // open clearance [mm] (0 when closed)
+  bool open = false;
+};
+
+struct SolveStats {
+  long broyden_iterations = 0, newton_iterations = 0, newton_fallbacks = 0, points = 0;
+};
+
+class Workspace {
+ public:
+  explicit Workspace(const Mechanism& mech);
+
+  // set control positions [deg or mm], in Mechanism::controls order; resets warm starts
+  void set_controls(std::span<const double> values);
+  const std::vector<double>& controls() const { return controls_; }
+  void reset();  // forget warm starts (next solve scans for contact points)
+
+  // results of the last solve
+  std::vector<Jet3> vars;             // every variable's jet w.r.t. the driver
+  std::vector<ContactState> contacts; // per connection (contacts only meaningful)
+  double max_condition = 0.0;         // largest block condition estimate at this point
+  SolveStats stats;
+
+  // ---- internals used by the kernel ----
+  struct Block {
+    std::vector<int> connections;
+    std::vector<std::pair<int, int>> equations;  // (connection, local equation)
+    std::vector<int> unknowns;
+    Eigen::MatrixXd inverse;  // broyden inverse jacobian (warm start)
+    bool have_inverse = false;
+    Eigen::PartialPivLU<Eigen::MatrixXd> lu;
+    Eigen::MatrixXd jacobian;
+    Eigen::VectorXd x, f, dx, f_new, u;
+  };
+  std::vector<Block> full_blocks;      // per plan step
+  std::vector<Block> tangency_blocks;  // per plan step (one-sided contacts: params only)
+  std::vector<double> values, prev_values, prev2_values;
+  std::vector<Jet3> prev_jets;
+  std::vector<Jet<1>> vars1;
+  std::vector<Jet3> vars3;
+  std::vector<Eigen::Vector2d> pivots;
+  std::vector<bool> open;  // per plan step: lash gap open
+  double prev_driver = 0.0, prev2_driver = 0.0;
+  int history = 0;  // number of previous points available for prediction
+  int prev_order = 0;
+  std::vector<double> residual_buffer;
+  std::vector<Jet<1>> residual_buffer1;
+  std::vector<Jet3> residual_buffer3;
+
+ private:
+  std::vector<double> controls_;
+};
+
+// solve every node at driver displacement [rad for a rotational driver, mm otherwise].
+// On failure the status names the connection, the driver position and the residual.
+Status solve(const Mechanism& mech, Workspace& ws, double driver, const Request& request);
+
+}  // namespace camopt::kin

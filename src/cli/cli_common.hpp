@@ -1,0 +1,64 @@
+#pragma once
+// shared by the subcommands: exit codes, global options, progress bar, messages.
+#include <cstdio>
+#include <string>
+
+namespace CLI {
+class App;
+}
+
+namespace camopt::cli {
+
+// process exit codes (README "Exit codes")
+enum ExitCode : int {
+  exit_ok = 0,
+  exit_internal_error = 1,
+  exit_usage_error = 2,
+  exit_input_error = 3,
+  exit_numerical_failure = 4,
+  exit_not_built = 5,
+};
+
+struct GlobalOptions {
+  bool quiet = false;
+  bool verbose = false;
+  int threads = 0;  // 0 = all hardware threads
+};
+
+GlobalOptions& global_options();
+int thread_count();  // resolved --threads
+
+// informational output on stderr (suppressed by --quiet); results go to files / stdout
+void info(const std::string& message);
+void detail(const std::string& message);  // only with --verbose
+
+// a progress bar on stderr, drawn only when stderr is a terminal and not --quiet
+class Progress {
+ public:
+  Progress(std::string label, long total);
+  ~Progress();
+  void advance(long steps = 1);
+
+ private:
+  void draw();
+  std::string label_;
+  long total_ = 0, done_ = 0;
+  int last_percent_ = -1;
+  bool enabled_ = false;
+};
+
+// thrown by a subcommand that is not built yet; main maps it to exit_not_built
+struct NotBuilt {
+  std::string what;
+};
+
+// subcommand registration: one file per subcommand (<verb>_command.cpp)
+void setup_validate(CLI::App& app);
+void setup_kinematics(CLI::App& app);
+void setup_synthesize(CLI::App& app);
+void setup_lift(CLI::App& app);
+void setup_optimize(CLI::App& app);
+void setup_dynamics(CLI::App& app);
+void setup_bench(CLI::App& app);
+
+}  // namespace camopt::cli

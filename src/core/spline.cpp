@@ -1,0 +1,409 @@
+#include "camopt/core/spline.hpp"
+
+#include <Eigen/SparseCore>
+#include <Eigen/SparseLU>
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+#include "camopt/core/error.hpp"
+
+namespace camopt {
+
+namespace {
+
+constexpr int kDegree = detail::PiecewiseQuintic::degree;
+
+// falling factorial m! / (m - k)! for the derivative of s^m
+constexpr std::array<std::array<double, 6>, 6> kFalling = [] {
+  std::array<std::array<double, 6>, 6> f{};
+  for (int m = 0; m <= 5; ++m) {
+    double v = 1.0;
+    for (int k = 0; k <= m; ++k) {
+      f[k][m] = v;
+      v *= m - k;
+    }
+  }
+  return f;
+}();
+
+constexpr std::array<double, 6> kInvFactorial = {1.0,       1.0,        1.0 / 2.0,
+                                                 1.0 / 6.0, 1.0 / 24.0, 1.0 / 120.0};
+
+// b-spline basis functions of degree 5 and their derivatives at u in knot span `span`
+// (U[span] <= u <= U[span+1], nonzero length): ders[k][r] = d^k/du^k N_{span-5+r}(u).
+// Piegl & Tiller, "The NURBS Book", 2nd ed., algorithm A2.3.
+void basis_derivatives(const double* U, int span, double u, int nd, double ders[6][6]) {
+  constexpr int p = kDegree;
+  double ndu[p + 1][p + 1];
+  double left[p + 1];
+  double right[p + 1];
+  ndu[0][0] = 1.0;
+  for (int j = 1; j <= p; ++j) {
+    left[j] = u - U[span + 1 - j];
+    right[j] = U[span + j] - u;
+    double saved = 0.0;
+    for (int r = 0; r < j; ++r) {
+      // lower triangle: knot differences; upper triangle: basis functions
+      ndu[j][r] = right[r + 1] + left[j - r];
+      const double temp = ndu[r][j - 1] / ndu[j][r];
+      ndu[r][j] = saved + right[r + 1] * temp;
+      saved = left[j - r] * temp;
+    }
+    ndu[j][j] = saved;
+  }
+  for (int j = 0; j <= p; ++j) ders[0][j] = ndu[j][p];
+
+  double a[2][p + 1];
+  for (int r = 0; r <= p; ++r) {
+    int s1 = 0;
+    int s2 = 1;
+    a[0][0] = 1.0;
+    for (int k = 1; k <= nd; ++k) {
+      double d = 0.0;
+      const int rk = r - k;
+      const int pk = p - k;
+      if (r >= k) {
+        a[s2][0] = a[s1][0] / ndu[pk + 1][rk];
+        d = a[s2][0] * ndu[rk][pk];
+      }
+      const int j1 = rk >= -1 ? 1 : -rk;
+      const int j2 = (r - 1 <= pk) ? k - 1 : p - r;
+      for (int j = j1; j <= j2; ++j) {
+        a[s2][j] = (a[s1][j] - a[s1][j - 1]) / ndu[pk + 1][rk + j];
+        d += a[s2][j] * ndu[rk + j][pk];
+      }
+      if (r <= pk) {
+        a[s2][k] = -a[s1][k - 1] / ndu[pk + 1][r];
+        d += a[s2][k] * ndu[r][pk];
+      }
+      ders[k][r] = d;
+      std::swap(s1, s2);
+    }
+  }
+  double factor = p;
+  for (int k = 1; k <= nd; ++k) {
+    for (int j = 0; j <= p; ++j) ders[k][j] *= factor;
+    factor *= p - k;
+  }
+}
+
+std::string fmt(double v) {
+  std::ostringstream os;
+  os.precision(17);
+  os << v;
+  return os.str();
+}
+
+// size, finiteness and strict monotonicity of the data (programmer misuse -> throw)
+void check_data(const char* who, std::span<const double> x, std::span<const double> y,
+                std::size_t min_points) {
+  if (x.size() != y.size()) {
+    throw std::invalid_argument(std::string(who) + ": x has " + std::to_string(x.size()) +
+                                " points but y has " + std::to_string(y.size()));
+  }
+  if (x.size() < min_points) {
+    throw std::invalid_argument(std::string(who) + ": " + std::to_string(x.size()) +
+                                " points given, at least " + std::to_string(min_points) +
+                                " required");
+  }
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    if (!std::isfinite(x[i]) || !std::isfinite(y[i])) {
+      throw std::invalid_argument(std::string(who) + ": point " + std::to_string(i) + " (" +
+                                  fmt(x[i]) + ", " + fmt(y[i]) + ") is not finite");
+    }
+    if (i > 0 && !(x[i] > x[i - 1])) {
+      throw std::invalid_argument(std::string(who) + ": x[" + std::to_string(i) + "] = " +
+                                  fmt(x[i]) + " is not greater than x[" + std::to_string(i - 1) +
+                                  "] = " + fmt(x[i - 1]) + " (x must be strictly increasing)");
+    }
+  }
+}
+
+Eigen::VectorXd solve(const char* who, const Eigen::SparseMatrix<double>& A,
+                      const Eigen::VectorXd& b) {
+  Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> lu;
+  lu.compute(A);
+  if (lu.info() != Eigen::Success) {
+    throw std::invalid_argument(std::string(who) +
+                                ": singular collocation system (nearly coincident x?)");
+  }
+  Eigen::VectorXd c = lu.solve(b);
+  if (lu.info() != Eigen::Success || !c.allFinite()) {
+    throw std::invalid_argument(std::string(who) + ": collocation solve failed");
+  }
+  return c;
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------
+// shared piecewise taylor form
+
+void detail::PiecewiseQuintic::init_lookup(double x_end) {
+  const std::size_t pieces = coef_.size();
+  inv_h_ = 0.0;
+  inv_w_ = 0.0;
+  bucket_.clear();
+  // uniform if every piece length (except a periodic closing piece) matches the first
+  const std::size_t last = std::min(pieces, x_.size() - 1);  // spacings x_[i+1] - x_[i]
+  const double h = x_[1] - x_[0];
+  bool uniform = true;
+  for (std::size_t i = 1; i < last && uniform; ++i) {
+    uniform = std::abs((x_[i + 1] - x_[i]) - h) <= 1e-9 * h;
+  }
+  if (uniform) {
+    inv_h_ = 1.0 / h;
+    return;
+  }
+  // one bucket per piece; the edge of bucket b is x0 + b w
+  const double w = (x_end - x_.front()) / static_cast<double>(pieces);
+  inv_w_ = 1.0 / w;
+  bucket_.resize(pieces + 1);
+  std::size_t i = 0;
+  for (std::size_t b = 0; b <= pieces; ++b) {
+    const double edge = x_.front() + static_cast<double>(b) * w;
+    while (i + 1 < pieces && x_[i + 1] <= edge) ++i;
+    bucket_[b] = static_cast<std::uint32_t>(i);
+  }
+}
+
+std::size_t detail::PiecewiseQuintic::locate(double x) const noexcept {
+  const std::size_t last = coef_.size() - 1;
+  // first guess from floor((x - x0) / width), clamped
+  const double r = (x - x_[0]) * (inv_h_ > 0.0 ? inv_h_ : inv_w_);
+  std::size_t g = 0;
+  if (r >= static_cast<double>(last)) {
+    g = last;
+  } else if (r > 0.0) {
+    g = static_cast<std::size_t>(r);
+  }
+  std::size_t i = g;
+  if (inv_h_ <= 0.0) {
+    // pieces bucket_[g] .. bucket_[g + 1] hold the bucket; binary search if it is crowded
+    std::size_t lo = bucket_[g];
+    const std::size_t hi = bucket_[g + 1];
+    if (hi - lo > 8) {
+      const auto first = x_.begin() + static_cast<std::ptrdiff_t>(lo) + 1;
+      lo += static_cast<std::size_t>(
+          std::upper_bound(first, x_.begin() + static_cast<std::ptrdiff_t>(hi) + 1, x) - first);
+    }
+    i = lo;
+  }
+  // exact placement (also absorbs rounding in the guess)
+  while (i < last && x >= x_[i + 1]) ++i;
+  while (i > 0 && x < x_[i]) --i;
+  return i;
+}
+
+void detail::PiecewiseQuintic::evaluate_piece(std::size_t i, double s, int max_order,
+                                              double* out) const noexcept {
+  const std::array<double, 6>& a = coef_[i];
+  // f^(k)(s) = sum_{m=k}^{5} m!/(m-k)! a_m s^(m-k), by horner
+  for (int k = 0; k <= max_order; ++k) {
+    double v = kFalling[k][5] * a[5];
+    for (int m = 4; m >= k; --m) v = v * s + kFalling[k][m] * a[m];
+    out[k] = v;
+  }
+}
+
+double detail::PiecewiseQuintic::integrate_piece(std::size_t i, double s) const noexcept {
+  const std::array<double, 6>& a = coef_[i];
+  // int_0^s sum a_m u^m du = sum a_m s^(m+1) / (m+1)
+  double v = a[5] / 6.0;
+  for (int m = 4; m >= 0; --m) v = v * s + a[m] / (m + 1);
+  return v * s;
+}
+
+// ---------------------------------------------------------------------------------------
+// periodic spline
+
+PeriodicSpline PeriodicSpline::interpolate(std::span<const double> x, std::span<const double> y,
+                                           double period) {
+  constexpr const char* who = "PeriodicSpline::interpolate";
+  check_data(who, x, y, 6);
+  if (!std::isfinite(period) || !(x.back() - x.front() < period)) {
+    throw std::invalid_argument(
+        std::string(who) + ": period = " + fmt(period) +
+        " must exceed the data span x.back() - x.front() = " + fmt(x.back() - x.front()));
+  }
+  const int n = static_cast<int>(x.size());
+  constexpr int p = kDegree;
+
+  // periodic knots t_m = x_{m mod n} + floor(m / n) * period for m = -p .. n + p,
+  // stored as T[m + p]
+  std::vector<double> T(static_cast<std::size_t>(n + 2 * p + 1));
+  for (int m = -p; m <= n + p; ++m) {
+    const int q = (m % n + n) % n;
+    const int wraps = (m - q) / n;
+    T[static_cast<std::size_t>(m + p)] = x[static_cast<std::size_t>(q)] + wraps * period;
+  }
+  const auto wrap = [n](int j) { return (j % n + n) % n; };
+
+  // collocation at the knots: row i uses b-splines i-5 .. i (b_i(t_i) = 0)
+  double ders[6][6];
+  std::vector<Eigen::Triplet<double>> triplets;
+  triplets.reserve(static_cast<std::size_t>(n) * (p + 1));
+  Eigen::VectorXd b(n);
+  for (int i = 0; i < n; ++i) {
+    basis_derivatives(T.data(), i + p, T[static_cast<std::size_t>(i + p)], 0, ders);
+    for (int r = 0; r <= p; ++r) {
+      if (ders[0][r] != 0.0) triplets.emplace_back(i, wrap(i - p + r), ders[0][r]);
+    }
+    b[i] = y[static_cast<std::size_t>(i)];
+  }
+  Eigen::SparseMatrix<double> A(n, n);
+  A.setFromTriplets(triplets.begin(), triplets.end());  // sums duplicates
+  const Eigen::VectorXd c = solve(who, A, b);
+
+  // taylor coefficients at the left end of each piece
+  PeriodicSpline s;
+  s.period_ = period;
+  s.x_.assign(x.begin(), x.end());
+  s.coef_.resize(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) {
+    basis_derivatives(T.data(), i + p, T[static_cast<std::size_t>(i + p)], p, ders);
+    for (int k = 0; k <= p; ++k) {
+      double v = 0.0;
+      for (int r = 0; r <= p; ++r) v += ders[k][r] * c[wrap(i - p + r)];
+      s.coef_[static_cast<std::size_t>(i)][static_cast<std::size_t>(k)] = v * kInvFactorial[k];
+    }
+  }
+  s.init_lookup(x.front() + period);
+  return s;
+}
+
+void PeriodicSpline::evaluate(double x, int max_order, double* out) const noexcept {
+  CAMOPT_ASSERT_MSG(!x_.empty(), "evaluate on an empty PeriodicSpline");
+  CAMOPT_ASSERT(max_order >= 0 && max_order <= degree);
+  const double x0 = x_.front();
+  // wrap into [x0, x0 + period) (fast path: already there)
+  if (!(x >= x0 && x < x0 + period_)) x -= std::floor((x - x0) / period_) * period_;
+  const std::size_t i = locate(x);
+  evaluate_piece(i, x - x_[i], max_order, out);
+}
+
+// ---------------------------------------------------------------------------------------
+// natural spline
+
+Spline Spline::interpolate(std::span<const double> x, std::span<const double> y) {
+  constexpr const char* who = "Spline::interpolate";
+  check_data(who, x, y, 3);
+  const int n = static_cast<int>(x.size());
+  constexpr int p = kDegree;
+  const int nb = n + 4;  // number of b-splines
+
+  // clamped knots: x0 (p+1 times), x1 .. x_{n-2}, x_{n-1} (p+1 times)
+  std::vector<double> U;
+  U.reserve(static_cast<std::size_t>(n + 2 * p));
+  for (int k = 0; k < p; ++k) U.push_back(x.front());
+  U.insert(U.end(), x.begin(), x.end());
+  for (int k = 0; k < p; ++k) U.push_back(x.back());
+  const int last_span = n + p - 2;  // piece n-2: [x_{n-2}, x_{n-1}]
+
+  // rows: interpolation at every site, then f''' = f'''' = 0 at both ends (scaled by
+  // h^k of the end piece for conditioning)
+  double ders[6][6];
+  std::vector<Eigen::Triplet<double>> triplets;
+  triplets.reserve(static_cast<std::size_t>(nb) * (p + 1));
+  Eigen::VectorXd b = Eigen::VectorXd::Zero(nb);
+  for (int i = 0; i < n; ++i) {
+    const int span = std::min(i + p, last_span);
+    basis_derivatives(U.data(), span, x[static_cast<std::size_t>(i)], 0, ders);
+    for (int r = 0; r <= p; ++r) {
+      if (ders[0][r] != 0.0) triplets.emplace_back(i, span - p + r, ders[0][r]);
+    }
+    b[i] = y[static_cast<std::size_t>(i)];
+  }
+  int row = n;
+  const double h_first = x[1] - x[0];
+  const double h_last = x[static_cast<std::size_t>(n - 1)] - x[static_cast<std::size_t>(n - 2)];
+  for (const int span : {p, last_span}) {
+    const double u = span == p ? x.front() : x.back();
+    const double h = span == p ? h_first : h_last;
+    basis_derivatives(U.data(), span, u, 4, ders);
+    for (int k = 3; k <= 4; ++k, ++row) {
+      const double scale = std::pow(h, k);
+      for (int r = 0; r <= p; ++r) {
+        if (ders[k][r] != 0.0) triplets.emplace_back(row, span - p + r, ders[k][r] * scale);
+      }
+    }
+  }
+  Eigen::SparseMatrix<double> A(nb, nb);
+  A.setFromTriplets(triplets.begin(), triplets.end());
+  const Eigen::VectorXd c = solve(who, A, b);
+
+  Spline s;
+  s.x_.assign(x.begin(), x.end());
+  s.coef_.resize(static_cast<std::size_t>(n - 1));
+  for (int i = 0; i < n - 1; ++i) {
+    basis_derivatives(U.data(), i + p, x[static_cast<std::size_t>(i)], p, ders);
+    for (int k = 0; k <= p; ++k) {
+      double v = 0.0;
+      for (int r = 0; r <= p; ++r) v += ders[k][r] * c[i + r];
+      s.coef_[static_cast<std::size_t>(i)][static_cast<std::size_t>(k)] = v * kInvFactorial[k];
+    }
+  }
+  s.init_lookup(x.back());
+
+  // end data for the linear extrapolation and the cumulative integral at the knots
+  s.f_first_ = s.coef_.front()[0];
+  s.df_first_ = s.coef_.front()[1];
+  double end[2];
+  s.evaluate_piece(static_cast<std::size_t>(n - 2), h_last, 1, end);
+  s.f_last_ = end[0];
+  s.df_last_ = end[1];
+  s.cumulative_.assign(static_cast<std::size_t>(n), 0.0);
+  for (std::size_t i = 0; i + 1 < static_cast<std::size_t>(n); ++i) {
+    s.cumulative_[i + 1] = s.cumulative_[i] + s.integrate_piece(i, s.x_[i + 1] - s.x_[i]);
+  }
+  return s;
+}
+
+void Spline::evaluate(double x, int max_order, double* out) const noexcept {
+  CAMOPT_ASSERT_MSG(!x_.empty(), "evaluate on an empty Spline");
+  CAMOPT_ASSERT(max_order >= 0 && max_order <= degree);
+  // linear extrapolation with the end value and slope
+  const bool before = x < x_.front();
+  if (before || x > x_.back()) {
+    const double d = before ? x - x_.front() : x - x_.back();
+    const double f = before ? f_first_ : f_last_;
+    const double df = before ? df_first_ : df_last_;
+    out[0] = f + df * d;
+    if (max_order >= 1) out[1] = df;
+    for (int k = 2; k <= max_order; ++k) out[k] = 0.0;
+    return;
+  }
+  const std::size_t i = locate(x);
+  evaluate_piece(i, x - x_[i], max_order, out);
+}
+
+void Spline::antiderivative_parts(double x, double& base, double& local) const noexcept {
+  CAMOPT_ASSERT_MSG(!x_.empty(), "antiderivative of an empty Spline");
+  if (x < x_.front()) {
+    // int_{x0}^{x} (f0 + f0' (u - x0)) du
+    const double d = x - x_.front();
+    base = 0.0;
+    local = d * (f_first_ + 0.5 * df_first_ * d);
+  } else if (x > x_.back()) {
+    const double d = x - x_.back();
+    base = cumulative_.back();
+    local = d * (f_last_ + 0.5 * df_last_ * d);
+  } else {
+    const std::size_t i = locate(x);
+    base = cumulative_[i];
+    local = integrate_piece(i, x - x_[i]);
+  }
+}
+
+double Spline::integral(double a, double b) const noexcept {
+  // grouped so that a shared anchor cancels exactly
+  double base_a, local_a, base_b, local_b;
+  antiderivative_parts(a, base_a, local_a);
+  antiderivative_parts(b, base_b, local_b);
+  return (base_b - base_a) + (local_b - local_a);
+}
+
+}  // namespace camopt

@@ -1,0 +1,346 @@
+#include "camopt/io/csv.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <stdexcept>
+#include <system_error>
+
+#include "camopt/core/error.hpp"
+#include "camopt/io/atomic_file.hpp"
+
+namespace camopt::io {
+namespace {
+
+// accepted angle column names per basis (compared case-insensitively)
+const std::vector<std::string> kCamAngleNames = {"cam_deg", "cam_angle_deg"};
+const std::vector<std::string> kCrankAngleNames = {"crank_deg", "crank_angle_deg"};
+
+bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
+
+std::string_view trim(std::string_view s) {
+  while (!s.empty() && is_blank(s.front())) s.remove_prefix(1);
+  while (!s.empty() && is_blank(s.back())) s.remove_suffix(1);
+  return s;
+}
+
+std::string to_lower(std::string_view s) {
+  std::string out(s);
+  for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return out;
+}
+
+bool iequals(std::string_view a, std::string_view b) { return to_lower(a) == to_lower(b); }
+
+std::string join(const std::vector<std::string>& items, std::string_view separator = ", ") {
+  std::string out;
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    if (i > 0) out += separator;
+    out += items[i];
+  }
+  return out;
+}
+
+// shortest text that reads back to the same double
+std::string format_number(double value) {
+  char buffer[64];
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
+  return std::string(buffer, result.ptr);
+}
+
+std::string where(const std::string& file, int line) { return file + ":" + std::to_string(line); }
+
+enum class ParseOutcome { ok, not_a_number, not_finite };
+
+// the whole cell must be one finite number; a leading '+' is accepted
+ParseOutcome parse_number(std::string_view cell, double& value) {
+  std::string_view digits = cell;
+  if (digits.size() > 1 && digits.front() == '+' && digits[1] != '-' && digits[1] != '+')
+    digits.remove_prefix(1);
+  const char* first = digits.data();
+  const char* last = digits.data() + digits.size();
+  const auto [ptr, ec] = std::from_chars(first, last, value);
+  if (ptr != last || (ec != std::errc() && ec != std::errc::result_out_of_range))
+    return ParseOutcome::not_a_number;
+  if (ec == std::errc::result_out_of_range) {
+    // overflow is not finite; underflow reads as the nearest tiny value
+    value = std::strtod(std::string(digits).c_str(), nullptr);
+  }
+  return std::isfinite(value) ? ParseOutcome::ok : ParseOutcome::not_finite;
+}
+
+// delimiter of the header line: ',' then ';' then runs of whitespace (' ')
+char detect_delimiter(std::string_view header) {
+  if (header.find(',') != std::string_view::npos) return ',';
+  if (header.find(';') != std::string_view::npos) return ';';
+  return ' ';
+}
+
+std::vector<std::string_view> split_cells(std::string_view line, char delimiter) {
+  std::vector<std::string_view> cells;
+  if (delimiter == ' ') {
+    std::size_t i = 0;
+    while (i < line.size()) {
+      while (i < line.size() && is_blank(line[i])) ++i;
+      const std::size_t start = i;
+      while (i < line.size() && !is_blank(line[i])) ++i;
+      if (i > start) cells.push_back(line.substr(start, i - start));
+    }
+    return cells;
+  }
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t end = line.find(delimiter, start);
+    cells.push_back(trim(line.substr(start, end == std::string_view::npos ? end : end - start)));
+    if (end == std::string_view::npos) break;
+    start = end + 1;
+  }
+  return cells;
+}
+
+// the line without its trailing comment, CR and surrounding whitespace
+std::string_view content_of(std::string_view line) {
+  const std::size_t hash = line.find('#');
+  if (hash != std::string_view::npos) line = line.substr(0, hash);
+  return trim(line);
+}
+
+}  // namespace
+
+std::optional<std::size_t> CsvTable::find(std::string_view name) const {
+  for (std::size_t i = 0; i < columns.size(); ++i)
+    if (iequals(columns[i], name)) return i;
+  return std::nullopt;
+}
+
+const std::vector<double>& CsvTable::column(std::string_view name) const {
+  const auto index = find(name);
+  if (!index)
+    throw InputError(file + ": no column '" + std::string(name) + "' (columns: " + join(columns) + ")");
+  return values[*index];
+}
+
+std::size_t CsvTable::require_one_of(const std::vector<std::string>& names, std::string_view what) const {
+  for (std::size_t i = 0; i < columns.size(); ++i)
+    for (const auto& name : names)
+      if (iequals(columns[i], name)) return i;
+  throw InputError(file + ": no " + std::string(what) + " column: expected one of " + join(names) +
+                   " (columns: " + join(columns) + ")");
+}
+
+CsvTable parse_csv(std::string_view text, const std::string& file_name) {
+  CsvTable table;
+  table.file = file_name;
+
+  // utf-8 byte order mark
+  if (text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);
+  if (text.find_first_not_of(" \t\r\n\v\f") == std::string_view::npos)
+    throw InputError(file_name + ": empty file (a header line naming the columns is required)");
+
+  char delimiter = ',';
+  bool have_header = false;
+  int line_number = 0;
+  std::size_t position = 0;
+  while (position < text.size()) {
+    const std::size_t end = std::min(text.find('\n', position), text.size());
+    const std::string_view line = content_of(text.substr(position, end - position));
+    position = end + 1;
+    ++line_number;
+    if (line.empty()) continue;
+
+    if (!have_header) {
+      delimiter = detect_delimiter(line);
+      const auto names = split_cells(line, delimiter);
+      bool all_numeric = true;
+      for (std::size_t i = 0; i < names.size(); ++i) {
+        if (names[i].empty())
+          throw InputError(where(file_name, line_number) + ": header column " + std::to_string(i + 1) +
+                           " has no name");
+        for (std::size_t j = 0; j < i; ++j)
+          if (iequals(names[i], names[j]))
+            throw InputError(where(file_name, line_number) + ": duplicate column name '" +
+                             std::string(names[i]) + "' (columns " + std::to_string(j + 1) + " and " +
+                             std::to_string(i + 1) + ")");
+        double ignored = 0.0;
+        if (parse_number(names[i], ignored) == ParseOutcome::not_a_number) all_numeric = false;
+      }
+      if (all_numeric)
+        throw InputError(where(file_name, line_number) + ": expected a header line naming the columns, found '" +
+                         std::string(line) + "'");
+      for (const auto& name : names) table.columns.emplace_back(name);
+      table.values.resize(table.columns.size());
+      have_header = true;
+      continue;
+    }
+
+    const auto cells = split_cells(line, delimiter);
+    if (cells.size() != table.columns.size())
+      throw InputError(where(file_name, line_number) + ": expected " + std::to_string(table.columns.size()) +
+                       " cells (columns: " + join(table.columns) + "), found " + std::to_string(cells.size()));
+    for (std::size_t c = 0; c < cells.size(); ++c) {
+      const std::string prefix = where(file_name, line_number) + ": column '" + table.columns[c] + "'";
+      if (cells[c].empty()) throw InputError(prefix + " is empty");
+      double value = 0.0;
+      switch (parse_number(cells[c], value)) {
+        case ParseOutcome::ok: break;
+        case ParseOutcome::not_a_number:
+          throw InputError(prefix + " value '" + std::string(cells[c]) + "' is not a number");
+        case ParseOutcome::not_finite:
+          throw InputError(prefix + " value '" + std::string(cells[c]) + "' is not finite");
+      }
+      table.values[c].push_back(value);
+    }
+    table.lines.push_back(line_number);
+  }
+
+  if (!have_header)
+    throw InputError(file_name + ": no header line (the file holds only comments and blank lines)");
+  if (table.rows() == 0)
+    throw InputError(file_name + ": no data rows after the header (columns: " + join(table.columns) + ")");
+  return table;
+}
+
+CsvTable read_csv(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw InputError("cannot read '" + path + "': is a directory");
+  std::FILE* stream = std::fopen(path.c_str(), "rb");
+  if (!stream) throw InputError("cannot read '" + path + "': " + std::strerror(errno));
+  std::string text;
+  char buffer[65536];
+  std::size_t count = 0;
+  while ((count = std::fread(buffer, 1, sizeof buffer, stream)) > 0) text.append(buffer, count);
+  const bool failed = std::ferror(stream) != 0;
+  const int error = errno;
+  std::fclose(stream);
+  if (failed) throw InputError("cannot read '" + path + "': " + std::strerror(error));
+  return parse_csv(text, path);
+}
+
+void require_strictly_increasing(const CsvTable& table, std::size_t column) {
+  CAMOPT_ASSERT(column < table.columns.size());
+  const auto& values = table.values[column];
+  for (std::size_t row = 1; row < values.size(); ++row) {
+    if (values[row] > values[row - 1]) continue;
+    throw InputError(where(table.file, table.lines[row]) + ": column '" + table.columns[column] + "' value " +
+                     format_number(values[row]) + " is not greater than the previous value " +
+                     format_number(values[row - 1]) + " (line " + std::to_string(table.lines[row - 1]) +
+                     "); angles must be strictly increasing");
+  }
+}
+
+const char* to_string(AngleBasis basis) {
+  switch (basis) {
+    case AngleBasis::cam: return "cam";
+    case AngleBasis::crank: return "crank";
+  }
+  return "unknown";
+}
+
+AngleTable read_angle_table(const CsvTable& table, const std::vector<std::string>& value_names) {
+  const std::string accepted = join(kCamAngleNames) + " (cam angle) or " + join(kCrankAngleNames) +
+                               " (crank angle)";
+
+  // exactly one column naming its basis
+  std::vector<std::pair<std::size_t, AngleBasis>> angle_columns;
+  for (std::size_t i = 0; i < table.columns.size(); ++i) {
+    for (const auto& name : kCamAngleNames)
+      if (iequals(table.columns[i], name)) angle_columns.emplace_back(i, AngleBasis::cam);
+    for (const auto& name : kCrankAngleNames)
+      if (iequals(table.columns[i], name)) angle_columns.emplace_back(i, AngleBasis::crank);
+  }
+  if (angle_columns.size() > 1)
+    throw InputError(table.file + ": more than one angle column ('" + table.columns[angle_columns[0].first] +
+                     "', '" + table.columns[angle_columns[1].first] + "'); keep exactly one of " + accepted);
+  if (angle_columns.empty()) {
+    // a generic angle column: the basis cannot be guessed
+    for (const auto& name : table.columns) {
+      const std::string lower = to_lower(name);
+      if (lower.find("angle") != std::string::npos || lower.find("deg") != std::string::npos ||
+          lower == "theta" || lower == "phi")
+        throw InputError(table.file + ": column '" + name +
+                         "' does not say whether it is cam or crank angle; the angle basis must be "
+                         "explicit: name the column one of " + accepted);
+    }
+    throw InputError(table.file + ": no angle column: expected one of " + accepted + " (columns: " +
+                     join(table.columns) + ")");
+  }
+
+  const auto [angle_index, basis] = angle_columns.front();
+  const std::size_t value_index = table.require_one_of(value_names, "value");
+  if (table.rows() < 2)
+    throw InputError(table.file + ": an angle table needs at least 2 rows, found " +
+                     std::to_string(table.rows()));
+  require_strictly_increasing(table, angle_index);
+
+  AngleTable out;
+  out.file = table.file;
+  out.basis = basis;
+  out.angle_column = table.columns[angle_index];
+  out.value_column = table.columns[value_index];
+  out.angle_deg = table.values[angle_index];
+  out.value = table.values[value_index];
+  out.lines = table.lines;
+  return out;
+}
+
+void require_full_cycle(const AngleTable& table, double period_deg) {
+  CAMOPT_ASSERT(period_deg > 0.0);
+  CAMOPT_ASSERT(table.angle_deg.size() >= 2);
+  const double first = table.angle_deg.front();
+  const double last = table.angle_deg.back();
+  const double span = last - first;
+  double max_step = 0.0;
+  for (std::size_t i = 1; i < table.angle_deg.size(); ++i)
+    max_step = std::max(max_step, table.angle_deg[i] - table.angle_deg[i - 1]);
+
+  const std::string basis = to_string(table.basis);
+  const std::string covered = format_number(first) + " to " + format_number(last) + " deg " + basis +
+                              " (span " + format_number(span) + " deg)";
+  const std::string period = format_number(period_deg) + " deg " + basis;
+  // the closing step wraps from last to first + period
+  if (span + max_step < period_deg * (1.0 - 1e-9))
+    throw InputError(table.file + ": table covers " + covered + ", less than the full cycle of " + period +
+                     " required");
+  if (span > period_deg * (1.0 + 1e-9))
+    throw InputError(table.file + ": table covers " + covered + ", more than one cycle of " + period +
+                     "; give exactly one cycle");
+}
+
+void write_csv(const std::string& path, const std::vector<std::string>& header,
+               const std::vector<std::vector<double>>& columns, int significant_digits) {
+  CAMOPT_ASSERT(!header.empty());
+  CAMOPT_ASSERT(header.size() == columns.size());
+  CAMOPT_ASSERT(significant_digits >= 1 && significant_digits <= 17);
+  for (const auto& name : header)
+    CAMOPT_ASSERT_MSG(!name.empty() && name.find_first_of(",#\r\n") == std::string::npos,
+                      "write_csv: header names must be non-empty without ',', '#' or newlines");
+  const std::size_t rows = columns.front().size();
+  for (std::size_t c = 0; c < columns.size(); ++c) {
+    CAMOPT_ASSERT_MSG(columns[c].size() == rows, "write_csv: columns differ in length");
+    // a non-finite value here is a kernel bug, not bad input
+    for (std::size_t r = 0; r < rows; ++r)
+      if (!std::isfinite(columns[c][r]))
+        throw std::logic_error("write_csv: non-finite value in column '" + header[c] + "' row " +
+                               std::to_string(r + 1) + " (writing '" + path + "')");
+  }
+
+  std::string text = join(header, ",") + "\n";
+  char buffer[64];
+  for (std::size_t r = 0; r < rows; ++r) {
+    for (std::size_t c = 0; c < columns.size(); ++c) {
+      if (c > 0) text += ',';
+      std::snprintf(buffer, sizeof buffer, "%.*g", significant_digits, columns[c][r]);
+      text += buffer;
+    }
+    text += '\n';
+  }
+  write_text_atomic(path, text);
+}
+
+}  // namespace camopt::io

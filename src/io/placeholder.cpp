@@ -1,1 +1,0 @@
-namespace camopt::io { int placeholder() { return 0; } }

@@ -1,0 +1,121 @@
+#include "camopt/kinematics/cam_profile.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+namespace camopt::kin {
+
+namespace {
+constexpr double two_pi = 2.0 * std::numbers::pi;
+constexpr double deg = std::numbers::pi / 180.0;
+
+void require(bool ok, const ProfileSpec& spec, const std::string& rule) {
+  if (!ok) throw InputError(spec.where, "profile '" + spec.name + "': " + rule);
+}
+}  // namespace
+
+CamProfile CamProfile::build(const ProfileSpec& spec) {
+  CamProfile p;
+  p.name_ = spec.name;
+  switch (spec.form) {
+    case ProfileForm::circle:
+    case ProfileForm::eccentric: {
+      require(spec.disc_radius_mm > 0, spec, "disc_radius_mm must be > 0");
+      const double e = spec.form == ProfileForm::eccentric ? spec.eccentricity_mm : 0.0;
+      require(e >= 0 && e < spec.disc_radius_mm, spec, "eccentricity_mm must lie in [0, disc_radius_mm)");
+      p.is_disc_ = true;
+      p.disc_radius_ = spec.disc_radius_mm;
+      p.disc_center_x_ = e;
+      p.base_radius_ = spec.disc_radius_mm - e;
+      p.max_radius_ = spec.disc_radius_mm + e;
+      return p;
+    }
+    case ProfileForm::polar:
+    case ProfileForm::base_plus_lift: {
+      const bool lift = spec.form == ProfileForm::base_plus_lift;
+      const auto& values = lift ? spec.lift_mm : spec.radius_mm;
+      require(spec.angle_deg.size() == values.size() && values.size() >= 6, spec,
+              "needs at least 6 (angle, radius) points of equal count");
+      std::vector<double> u(values.size()), r(values.size());
+      for (std::size_t i = 0; i < values.size(); ++i) {
+        u[i] = spec.angle_deg[i] * deg;
+        r[i] = lift ? spec.base_radius_mm + values[i] : values[i];
+        require(r[i] > 0, spec, "radius at " + std::to_string(spec.angle_deg[i]) + " deg is not > 0");
+        if (i > 0) require(u[i] > u[i - 1], spec, "angles must be strictly increasing");
+      }
+      require(u.back() - u.front() < two_pi, spec, "angles must span less than 360 deg");
+      p.polar_ = true;
+      p.r_ = PeriodicSpline::interpolate(u, r, two_pi);
+      break;
+    }
+    case ProfileForm::xy: {
+      require(spec.x_mm.size() == spec.y_mm.size() && spec.x_mm.size() >= 6, spec,
+              "needs at least 6 (x, y) points of equal count");
+      const std::size_t n = spec.x_mm.size();
+      std::vector<double> s(n, 0.0);
+      double total = 0.0, area2 = 0.0;
+      for (std::size_t i = 0; i < n; ++i) {
+        const std::size_t j = (i + 1) % n;
+        const double chord = std::hypot(spec.x_mm[j] - spec.x_mm[i], spec.y_mm[j] - spec.y_mm[i]);
+        require(chord > 0, spec, "point " + std::to_string(i) + " repeats its successor");
+        if (i + 1 < n) s[i + 1] = s[i] + chord;
+        total += chord;
+        area2 += spec.x_mm[i] * spec.y_mm[j] - spec.x_mm[j] * spec.y_mm[i];
+      }
+      require(area2 > 0, spec, "points must run counter-clockwise around the profile origin");
+      for (auto& v : s) v *= two_pi / total;
+      p.polar_ = false;
+      p.x_ = PeriodicSpline::interpolate(s, spec.x_mm, two_pi);
+      p.y_ = PeriodicSpline::interpolate(s, spec.y_mm, two_pi);
+      break;
+    }
+  }
+  // base and maximum radius on a fine scan, refined by golden-section-free local search
+  constexpr int scan = 4096;
+  double rmin = 1e300, rmax = 0.0;
+  for (int i = 0; i < scan; ++i) {
+    const auto c = p.point(two_pi * i / scan);
+    const double rad = std::hypot(c.x, c.y);
+    rmin = std::min(rmin, rad);
+    rmax = std::max(rmax, rad);
+  }
+  p.base_radius_ = rmin;
+  p.max_radius_ = rmax;
+  return p;
+}
+
+double CamProfile::radius_at(double polar_angle_rad) const {
+  if (polar_ && !is_disc_) return r_(polar_angle_rad);
+  if (is_disc_) {
+    // ray from the origin at angle a meets the disc |x - (e,0)| = R: r = e cos a + sqrt(R^2 - e^2 sin^2 a)
+    const double e = disc_center_x_, a = polar_angle_rad;
+    return e * std::cos(a) + std::sqrt(disc_radius_ * disc_radius_ - e * e * std::sin(a) * std::sin(a));
+  }
+  // xy: find the parameter whose polar angle matches by bisection on the monotone angle
+  const double target = std::remainder(polar_angle_rad, two_pi);
+  double lo = 0.0, hi = two_pi;
+  auto angle_of = [&](double u) {
+    const auto c = point(u);
+    return std::atan2(c.y, c.x);
+  };
+  const double a0 = angle_of(0.0);
+  auto unwrapped = [&](double u) {
+    double a = angle_of(u) - a0;
+    while (a < 0) a += two_pi;
+    if (u > 0 && a == 0) a = two_pi;
+    return a;
+  };
+  double t = target - a0;
+  while (t < 0) t += two_pi;
+  while (t >= two_pi) t -= two_pi;
+  for (int it = 0; it < 80; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (unwrapped(mid) < t ? lo : hi) = mid;
+  }
+  const auto c = point(0.5 * (lo + hi));
+  return std::hypot(c.x, c.y);
+}
+
+}  // namespace camopt::kin

@@ -1,0 +1,197 @@
+#pragma once
+// templated geometry of the kinematics kernel, written once for double (values),
+// Jet<1> (jacobian columns) and Jet<3> (velocity, acceleration, jerk).
+#include <cmath>
+
+#include "camopt/core/jet.hpp"
+#include "camopt/kinematics/mechanism.hpp"
+
+namespace camopt::kin::detail {
+
+template <class T>
+struct V2 {
+  T x, y;
+};
+
+template <class T>
+T dot(const V2<T>& a, const V2<T>& b) {
+  return a.x * b.x + a.y * b.y;
+}
+template <class T>
+T cross(const V2<T>& a, const V2<T>& b) {
+  return a.x * b.y - a.y * b.x;
+}
+
+// rigid map drawing -> current: p = t + R (p_drawing - ref)
+template <class T>
+struct Pose {
+  T tx, ty, c, s;
+  double rx = 0.0, ry = 0.0;
+
+  template <class P>
+  V2<T> apply(const P& px, const P& py) const {
+    const auto dx = px - rx, dy = py - ry;
+    return {tx + c * dx - s * dy, ty + s * dx + c * dy};
+  }
+  template <class P>
+  V2<T> rotate(const P& vx, const P& vy) const {
+    return {c * vx - s * vy, s * vx + c * vy};
+  }
+};
+
+// pose of node n given all variables (vars) and the current pivots (controls applied)
+template <class T>
+Pose<T> node_pose(const Mechanism& m, int n, const T* vars, const Eigen::Vector2d* pivots) {
+  using std::cos;
+  using std::sin;
+  const Node& node = m.nodes[n];
+  Pose<T> p;
+  if (node.ground) {
+    p.tx = T(0.0);
+    p.ty = T(0.0);
+    p.c = T(1.0);
+    p.s = T(0.0);
+    return p;
+  }
+  switch (node.kind) {
+    case NodeKind::rotational: {
+      const T& q = vars[node.first_variable];
+      p.c = cos(q);
+      p.s = sin(q);
+      p.tx = T(pivots[n].x());
+      p.ty = T(pivots[n].y());
+      p.rx = node.pivot.x();
+      p.ry = node.pivot.y();
+      break;
+    }
+    case NodeKind::translational: {
+      const T& q = vars[node.first_variable];
+      p.c = T(1.0);
+      p.s = T(0.0);
+      p.tx = q * node.direction.x();
+      p.ty = q * node.direction.y();
+      break;
+    }
+    case NodeKind::floating: {
+      const T* q = vars + node.first_variable;
+      p.c = cos(q[2]);
+      p.s = sin(q[2]);
+      p.tx = q[0] + node.reference.x();
+      p.ty = q[1] + node.reference.y();
+      p.rx = node.reference.x();
+      p.ry = node.reference.y();
+      break;
+    }
+  }
+  return p;
+}
+
+// a surface point in global coordinates with d/du and d2/du2 (curve and line surfaces)
+template <class T>
+struct SurfacePoint {
+  V2<T> p, d1, d2;
+};
+
+template <class T>
+SurfacePoint<T> surface_point(const Mechanism& m, const Surface& s, const Pose<T>& pose, const T* vars) {
+  SurfacePoint<T> out;
+  switch (s.kind) {
+    case SurfaceKind::point:
+      out.p = pose.apply(s.origin.x(), s.origin.y());
+      out.d1 = {T(0.0), T(0.0)};
+      out.d2 = out.d1;
+      break;
+    case SurfaceKind::line: {
+      const T& u = vars[s.variable];
+      const double tx = -s.normal.y(), ty = s.normal.x();  // tangent: outward normal on its right
+      out.p = pose.apply(s.origin.x() + u * tx, s.origin.y() + u * ty);
+      out.d1 = pose.rotate(tx, ty);
+      out.d2 = {T(0.0), T(0.0)};
+      break;
+    }
+    case SurfaceKind::curve: {
+      const CurvePoint<T> c = m.profiles[s.profile].point(vars[s.variable]);
+      const double co = s.cos_orient, so = s.sin_orient;
+      out.p = pose.apply(s.origin.x() + co * c.x - so * c.y, s.origin.y() + so * c.x + co * c.y);
+      out.d1 = pose.rotate(co * c.dx - so * c.dy, so * c.dx + co * c.dy);
+      out.d2 = pose.rotate(co * c.ddx - so * c.ddy, so * c.ddx + co * c.ddy);
+      break;
+    }
+  }
+  return out;
+}
+
+// F(q) = integral_0^q ratio for a variable gear
+inline double gear_integral(const Connection& c, double q) { return c.ratio_table.integral(0.0, q); }
+template <int N>
+Jet<N> gear_integral(const Connection& c, const Jet<N>& q) {
+  const double x0 = c.ratio_table.knots()[0];
+  return c.ratio_table.antiderivative(q) - c.ratio_table.integral(x0, 0.0);
+}
+
+// residuals of connection c into out[0 .. equation_count); the last one of a contact is
+// its closure (signed gap + lash) [mm], the others tangency conditions [mm]
+template <class T>
+void connection_residual(const Mechanism& m, const Connection& c, const T* vars, const Eigen::Vector2d* pivots,
+                         T* out) {
+  using std::sqrt;
+  switch (c.kind) {
+    case ConnectionKind::link:
+    case ConnectionKind::crank_slider: {
+      const auto pa = node_pose(m, c.node_a, vars, pivots).apply(c.pin_a.x(), c.pin_a.y());
+      const auto pb = node_pose(m, c.node_b, vars, pivots).apply(c.pin_b.x(), c.pin_b.y());
+      const V2<T> d{pb.x - pa.x, pb.y - pa.y};
+      out[0] = sqrt(dot(d, d)) - c.length;
+      return;
+    }
+    case ConnectionKind::gear:
+      out[0] = (vars[m.nodes[c.node_b].first_variable] - c.ratio * vars[m.nodes[c.node_a].first_variable]) *
+               m.length_scale;
+      return;
+    case ConnectionKind::variable_gear:
+      out[0] = (vars[m.nodes[c.node_b].first_variable] - gear_integral(c, vars[m.nodes[c.node_a].first_variable])) *
+               m.length_scale;
+      return;
+    case ConnectionKind::rack_pinion:
+      out[0] = vars[m.nodes[c.node_b].first_variable] - c.pitch_radius * vars[m.nodes[c.node_a].first_variable];
+      return;
+    case ConnectionKind::contact:
+      break;
+  }
+  const auto pose_a = node_pose(m, c.node_a, vars, pivots);
+  const auto pose_b = node_pose(m, c.node_b, vars, pivots);
+  const Surface& sa = c.surface_a;
+  const Surface& sb = c.surface_b;
+  const auto a = surface_point(m, sa, pose_a, vars);
+  const auto b = surface_point(m, sb, pose_b, vars);
+  if (sa.kind == SurfaceKind::point && sb.kind == SurfaceKind::point) {
+    const V2<T> d{b.p.x - a.p.x, b.p.y - a.p.y};
+    const T dist = sqrt(dot(d, d));
+    const bool inside = sa.offset < 0 || sb.offset < 0;
+    const T gap = inside ? -(sa.offset + sb.offset) - dist : dist - (sa.offset + sb.offset);
+    out[0] = gap + c.lash;
+    return;
+  }
+  if (sa.kind == SurfaceKind::point || sb.kind == SurfaceKind::point) {
+    // curve/line x against the circle centre: (centre - p) . t = 0, (centre - p) . n - r = gap
+    const bool a_is_curve = sb.kind == SurfaceKind::point;
+    const auto& cu = a_is_curve ? a : b;
+    const auto& pt = a_is_curve ? b : a;
+    const double radius = a_is_curve ? sb.offset : sa.offset;
+    const V2<T> d{pt.p.x - cu.p.x, pt.p.y - cu.p.y};
+    const T len = sqrt(dot(cu.d1, cu.d1));
+    const V2<T> n{cu.d1.y / len, -cu.d1.x / len};  // outward: right of the ccw tangent
+    out[0] = dot(d, cu.d1) / len;
+    out[1] = dot(d, n) - radius + c.lash;
+    return;
+  }
+  // two curves: antiparallel tangents, zero tangential offset, closure along a's normal
+  const T la = sqrt(dot(a.d1, a.d1)), lb = sqrt(dot(b.d1, b.d1));
+  const V2<T> d{b.p.x - a.p.x, b.p.y - a.p.y};
+  const V2<T> n{a.d1.y / la, -a.d1.x / la};
+  out[0] = cross(a.d1, b.d1) / (la * lb) * m.length_scale;
+  out[1] = dot(d, a.d1) / la;
+  out[2] = dot(d, n) + c.lash;
+}
+
+}  // namespace camopt::kin::detail

@@ -1,0 +1,665 @@
+#include "camopt/kinematics/solver.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <sstream>
+
+#include "geometry.hpp"
+
+namespace camopt::kin {
+
+using detail::connection_residual;
+using detail::node_pose;
+using detail::surface_point;
+using detail::V2;
+
+namespace {
+
+constexpr double pi = std::numbers::pi;
+constexpr int max_newton_iterations = 40;
+constexpr int max_broyden_iterations = 8;
+constexpr double relative_tolerance = 1e-13;  // residual tolerance relative to the mechanism size
+
+double value_of(double x) { return x; }
+template <int N>
+double value_of(const Jet<N>& x) {
+  return x.value();
+}
+
+std::string fmt(double v) {
+  std::ostringstream os;
+  os.precision(6);
+  os << v;
+  return os.str();
+}
+
+std::string driver_text(const Mechanism& m, double driver) {
+  return m.driver_is_angle() ? "driver " + fmt(driver * 180.0 / pi) + " deg" : "driver " + fmt(driver) + " mm";
+}
+
+Workspace::Block make_block(const Mechanism& m, const SolveStep& step, bool tangency_only) {
+  Workspace::Block b;
+  b.connections = step.connections;
+  for (int ci : step.connections) {
+    const Connection& c = m.connections[ci];
+    const int count = tangency_only ? c.equation_count - 1 : c.equation_count;
+    for (int k = 0; k < count; ++k) b.equations.push_back({ci, k});
+  }
+  for (int v : step.unknowns)
+    if (!tangency_only || m.variables[v].node < 0) b.unknowns.push_back(v);
+  const int n = static_cast<int>(b.unknowns.size());
+  b.inverse.setZero(n, n);
+  b.jacobian.setZero(n, n);
+  b.lu = Eigen::PartialPivLU<Eigen::MatrixXd>(n);
+  b.x.setZero(n);
+  b.f.setZero(n);
+  b.dx.setZero(n);
+  b.f_new.setZero(n);
+  b.u.setZero(n);
+  return b;
+}
+
+// residuals of a block at scalar type T; vars must hold every variable
+template <class T>
+void block_residual(const Mechanism& m, const Workspace::Block& b, const T* vars, const Eigen::Vector2d* pivots,
+                    T* scratch, T* out) {
+  int i = 0;
+  for (int ci : b.connections) {
+    const Connection& c = m.connections[ci];
+    connection_residual(m, c, vars, pivots, scratch);
+    for (const auto& [eci, k] : b.equations)
+      if (eci == ci) out[i++] = scratch[k];
+  }
+}
+
+class Kernel {
+ public:
+  Kernel(const Mechanism& m, Workspace& ws, const Request& rq) : m_(m), ws_(ws), rq_(rq) {}
+
+  Status run(double driver);
+
+ private:
+  double evaluate(Workspace::Block& b, const Eigen::VectorXd& x, Eigen::VectorXd& f);
+  void jacobian(Workspace::Block& b, const Eigen::VectorXd& x);
+  Status solve_values(Workspace::Block& b, double driver);
+  bool broyden(Workspace::Block& b, double tol);
+  Status newton(Workspace::Block& b, double tol, double driver);
+  void differentiate(Workspace::Block& b);
+  void scan_contact_parameters(const Workspace::Block& b);
+  Status closed_form(const SolveStep& step, double driver);
+  template <class T>
+  Status link_closed_form(const SolveStep& step, const T* vars, T& q, double driver);
+  void set_constant(int var, double v) {
+    ws_.values[var] = v;
+    ws_.vars[var] = Jet3(v);
+  }
+  void contact_outputs(int step_index);
+  double tolerance() const { return relative_tolerance * m_.length_scale; }
+
+  const Mechanism& m_;
+  Workspace& ws_;
+  const Request& rq_;
+};
+
+double Kernel::evaluate(Workspace::Block& b, const Eigen::VectorXd& x, Eigen::VectorXd& f) {
+  for (int i = 0; i < static_cast<int>(b.unknowns.size()); ++i) ws_.values[b.unknowns[i]] = x[i];
+  block_residual(m_, b, ws_.values.data(), ws_.pivots.data(), ws_.residual_buffer.data(), f.data());
+  return f.lpNorm<Eigen::Infinity>();
+}
+
+// exact jacobian by forward mode: one Jet<1> sweep per unknown
+void Kernel::jacobian(Workspace::Block& b, const Eigen::VectorXd& x) {
+  const int n = static_cast<int>(b.unknowns.size());
+  for (std::size_t v = 0; v < ws_.values.size(); ++v) ws_.vars1[v] = Jet<1>(ws_.values[v]);
+  for (int i = 0; i < n; ++i) ws_.vars1[b.unknowns[i]] = Jet<1>(x[i]);
+  Jet<1> out[16];
+  CAMOPT_ASSERT(n <= 16);
+  for (int j = 0; j < n; ++j) {
+    ws_.vars1[b.unknowns[j]].c[1] = 1.0;
+    block_residual(m_, b, ws_.vars1.data(), ws_.pivots.data(), ws_.residual_buffer1.data(), out);
+    for (int i = 0; i < n; ++i) b.jacobian(i, j) = out[i].c[1];
+    ws_.vars1[b.unknowns[j]].c[1] = 0.0;
+  }
+}
+
+bool Kernel::broyden(Workspace::Block& b, double tol) {
+  // "good" broyden update of the inverse jacobian (Broyden 1965; Kelley, Iterative
+  // Methods for Linear and Nonlinear Equations, ch. 7), started from the last exact one
+  double norm = evaluate(b, b.x, b.f);
+  if (norm <= tol) return true;
+  for (int it = 0; it < max_broyden_iterations; ++it) {
+    ++ws_.stats.broyden_iterations;
+    b.dx.noalias() = -b.inverse * b.f;
+    b.x += b.dx;
+    const double new_norm = evaluate(b, b.x, b.f_new);
+    if (!std::isfinite(new_norm) || new_norm > 4.0 * norm) {
+      b.x -= b.dx;
+      evaluate(b, b.x, b.f);
+      return false;
+    }
+    b.f = b.f_new - b.f;  // df
+    b.u.noalias() = b.inverse * b.f;
+    const double denom = b.dx.dot(b.u);
+    if (std::abs(denom) > 1e-300) {
+      const Eigen::RowVectorXd row = b.dx.transpose() * b.inverse;
+      b.inverse.noalias() += (b.dx - b.u) * row / denom;
+    }
+    b.f = b.f_new;
+    norm = new_norm;
+    if (norm <= tol) return true;
+  }
+  return false;
+}
+
+Status Kernel::newton(Workspace::Block& b, double tol, double driver) {
+  ++ws_.stats.newton_fallbacks;
+  double norm = evaluate(b, b.x, b.f);
+  for (int it = 0; it < max_newton_iterations; ++it) {
+    if (norm <= tol) return Status::success();
+    ++ws_.stats.newton_iterations;
+    jacobian(b, b.x);
+    b.lu.compute(b.jacobian);
+    b.dx = -b.lu.solve(b.f);
+    if (!b.dx.allFinite()) break;
+    // backtracking on the residual norm
+    double step = 1.0, new_norm = 0.0;
+    for (int ls = 0; ls < 30; ++ls) {
+      b.u = b.x + step * b.dx;
+      new_norm = evaluate(b, b.u, b.f_new);
+      if (std::isfinite(new_norm) && new_norm < norm) break;
+      step *= 0.5;
+    }
+    if (!(new_norm < norm)) {
+      if (norm <= 1e3 * tol) return Status::success();  // at round-off: cannot improve further
+      break;
+    }
+    b.x = b.u;
+    b.f = b.f_new;
+    norm = new_norm;
+  }
+  evaluate(b, b.x, b.f);
+  if (norm <= tol) return Status::success();
+  const Connection& c = m_.connections[b.connections.front()];
+  std::string names;
+  for (int ci : b.connections) names += (names.empty() ? "'" : ", '") + m_.connections[ci].name + "'";
+  return {StatusCode::no_convergence,
+          "connection(s) " + names + " did not converge: residual " + fmt(norm) + " mm > tolerance " + fmt(tol) +
+              " mm (" + (c.kind == ConnectionKind::contact ? "the follower cannot reach the cam surface, or the "
+                                                              "contact jumped to another lobe"
+                                                            : "the loop cannot close") + ")",
+          driver_text(m_, driver) + ", residual " + fmt(norm) + " mm"};
+}
+
+// contact parameters from a global scan: used on the first point and after a failure
+void Kernel::scan_contact_parameters(const Workspace::Block& b) {
+  constexpr int samples = 720;
+  for (int ci : b.connections) {
+    const Connection& c = m_.connections[ci];
+    if (c.kind != ConnectionKind::contact) continue;
+    const Surface& sa = c.surface_a;
+    const Surface& sb = c.surface_b;
+    if (sa.variable < 0 && sb.variable < 0) continue;
+    const double* v = ws_.values.data();
+    const auto pa = node_pose(m_, c.node_a, v, ws_.pivots.data());
+    const auto pb = node_pose(m_, c.node_b, v, ws_.pivots.data());
+    auto range = [&](const Surface& s) -> std::pair<double, double> {
+      if (s.kind == SurfaceKind::curve) return {0.0, 2 * pi};
+      return {-2.0 * m_.length_scale, 2.0 * m_.length_scale};
+    };
+    if (sa.variable >= 0 && sb.variable >= 0) {
+      // two curves: closest pair with antiparallel tangents
+      const auto [a0, a1] = range(sa);
+      const auto [b0, b1] = range(sb);
+      double best = 1e300, best_a = 0, best_b = 0;
+      constexpr int n2 = 180;
+      for (int i = 0; i < n2; ++i)
+        for (int j = 0; j < n2; ++j) {
+          ws_.values[sa.variable] = a0 + (a1 - a0) * i / n2;
+          ws_.values[sb.variable] = b0 + (b1 - b0) * j / n2;
+          const auto A = surface_point(m_, sa, pa, ws_.values.data());
+          const auto B = surface_point(m_, sb, pb, ws_.values.data());
+          const V2<double> d{B.p.x - A.p.x, B.p.y - A.p.y};
+          const double align = 1.0 + detail::dot(A.d1, B.d1) / std::sqrt(detail::dot(A.d1, A.d1) * detail::dot(B.d1, B.d1));
+          const double score = std::sqrt(detail::dot(d, d)) + m_.length_scale * align;
+          if (score < best) best = score, best_a = ws_.values[sa.variable], best_b = ws_.values[sb.variable];
+        }
+      ws_.values[sa.variable] = best_a;
+      ws_.values[sb.variable] = best_b;
+      continue;
+    }
+    const bool a_param = sa.variable >= 0;
+    const Surface& sp = a_param ? sa : sb;   // the parametrised surface
+    const Surface& so = a_param ? sb : sa;   // the circle (point + offset)
+    const auto& pose_p = a_param ? pa : pb;
+    const auto& pose_o = a_param ? pb : pa;
+    const auto centre = pose_o.apply(so.origin.x(), so.origin.y());
+    const auto [u0, u1] = range(sp);
+    double best = 1e300, best_u = 0.0;
+    for (int i = 0; i < samples; ++i) {
+      ws_.values[sp.variable] = u0 + (u1 - u0) * i / samples;
+      const auto P = surface_point(m_, sp, pose_p, ws_.values.data());
+      const V2<double> d{centre.x - P.p.x, centre.y - P.p.y};
+      const double len = std::sqrt(detail::dot(P.d1, P.d1));
+      const double along = std::abs(detail::dot(d, P.d1)) / len;
+      const double normal = (d.x * P.d1.y - d.y * P.d1.x) / len;  // d . outward normal
+      // the contact candidate: tangency (along = 0) on the side facing the circle centre
+      // (convex circle outside: normal > 0; concave circle around the curve: normal < 0)
+      const bool facing = so.offset >= 0 ? normal > 0 : normal < 0;
+      const double score = along + (facing ? 0.0 : 1e6) + 1e-3 * std::abs(std::abs(normal) - std::abs(so.offset));
+      if (score < best) best = score, best_u = ws_.values[sp.variable];
+    }
+    ws_.values[sp.variable] = best_u;
+  }
+}
+
+Status Kernel::solve_values(Workspace::Block& b, double driver) {
+  const int n = static_cast<int>(b.unknowns.size());
+  for (int i = 0; i < n; ++i) b.x[i] = ws_.values[b.unknowns[i]];
+  const double tol = tolerance();
+  if (b.have_inverse && broyden(b, tol)) return Status::success();
+  Status st = newton(b, tol, driver);
+  if (!st.ok()) {
+    // retry from a fresh scan of the contact points
+    for (int i = 0; i < n; ++i) ws_.values[b.unknowns[i]] = b.x[i];
+    scan_contact_parameters(b);
+    for (int i = 0; i < n; ++i) b.x[i] = ws_.values[b.unknowns[i]];
+    st = newton(b, tol, driver);
+    if (!st.ok()) return st;
+  }
+  // keep an inverse for the next point's broyden start
+  jacobian(b, b.x);
+  b.lu.compute(b.jacobian);
+  b.inverse = b.lu.inverse();
+  b.have_inverse = b.inverse.allFinite();
+  evaluate(b, b.x, b.f);
+  return Status::success();
+}
+
+// taylor coefficients of the block's unknowns: J x_k = -r_k, k = 1..order
+void Kernel::differentiate(Workspace::Block& b) {
+  const int n = static_cast<int>(b.unknowns.size());
+  jacobian(b, b.x);
+  b.lu.compute(b.jacobian);
+  b.inverse = b.lu.inverse();
+  b.have_inverse = b.inverse.allFinite();
+  // condition estimate in the 1-norm
+  const double cond = b.jacobian.cwiseAbs().colwise().sum().maxCoeff() * b.inverse.cwiseAbs().colwise().sum().maxCoeff();
+  ws_.max_condition = std::max(ws_.max_condition, cond);
+  for (int i = 0; i < n; ++i) {
+    ws_.vars[b.unknowns[i]] = Jet3(b.x[i]);
+  }
+  Jet3 out[16];
+  for (int k = 1; k <= rq_.derivative_order; ++k) {
+    block_residual(m_, b, ws_.vars.data(), ws_.pivots.data(), ws_.residual_buffer3.data(), out);
+    for (int i = 0; i < n; ++i) b.f[i] = out[i].c[k];
+    b.dx = -b.lu.solve(b.f);
+    for (int i = 0; i < n; ++i) ws_.vars[b.unknowns[i]].c[k] = b.dx[i];
+  }
+}
+
+template <class T>
+Status Kernel::link_closed_form(const SolveStep& step, const T* vars, T& q, double driver) {
+  using std::acos;
+  using std::atan2;
+  using std::sqrt;
+  const Connection& c = m_.connections[step.connections[0]];
+  const int u = step.output_node;
+  const int k = u == c.node_a ? c.node_b : c.node_a;
+  const Eigen::Vector2d pin_u = u == c.node_a ? c.pin_a : c.pin_b;
+  const Eigen::Vector2d pin_k = u == c.node_a ? c.pin_b : c.pin_a;
+  const Node& node = m_.nodes[u];
+  const auto pk = node_pose(m_, k, vars, ws_.pivots.data()).apply(pin_k.x(), pin_k.y());
+  const double L = c.length;
+  if (node.kind == NodeKind::rotational) {
+    // four-bar / crank closure: law of cosines in the triangle pivot - known pin - unknown pin
+    const Eigen::Vector2d o = ws_.pivots[u];
+    const Eigen::Vector2d a0 = pin_u - node.pivot;
+    const double rho = a0.norm();
+    const V2<T> d{pk.x - o.x(), pk.y - o.y()};
+    const T dist2 = detail::dot(d, d);
+    const T dist = sqrt(dist2);
+    const T cos_beta = (dist2 + rho * rho - L * L) / (2.0 * dist * rho);
+    const double cb = value_of(cos_beta);
+    if (!(std::abs(cb) <= 1.0))
+      return {StatusCode::cannot_assemble,
+              "link '" + c.name + "' cannot close: pivot of '" + node.name + "' is " + fmt(value_of(dist)) +
+                  " mm from the known pin, outside the reach [" + fmt(std::abs(rho - L)) + ", " + fmt(rho + L) +
+                  "] mm of arm " + fmt(rho) + " mm and link " + fmt(L) + " mm",
+              driver_text(m_, driver)};
+    ws_.max_condition = std::max(ws_.max_condition, 1.0 / std::max(1e-300, std::sqrt(1.0 - cb * cb)));
+    if (std::abs(cb) == 1.0)
+      return {StatusCode::singular, "link '" + c.name + "' is exactly at toggle (transmission angle 0 or 180 deg)",
+              driver_text(m_, driver)};
+    const T beta = acos(cos_beta);
+    q = atan2(d.y, d.x) + double(step.branch) * beta - std::atan2(a0.y(), a0.x());
+  } else {
+    // slider: |pin_u + s dir - pk| = L  ->  s^2 + 2 w s + (|e|^2 - L^2) = 0
+    const V2<T> e{pin_u.x() - pk.x, pin_u.y() - pk.y};
+    const T w = node.direction.x() * e.x + node.direction.y() * e.y;
+    const T disc = w * w - (detail::dot(e, e) - L * L);
+    if (!(value_of(disc) >= 0.0))
+      return {StatusCode::cannot_assemble,
+              "link '" + c.name + "' cannot close: the line of '" + node.name + "' passes farther than the link "
+                  "length " + fmt(L) + " mm from the known pin",
+              driver_text(m_, driver)};
+    if (value_of(disc) == 0.0)
+      return {StatusCode::singular, "link '" + c.name + "' is at toggle (link perpendicular to the slide)",
+              driver_text(m_, driver)};
+    ws_.max_condition = std::max(ws_.max_condition, L / std::sqrt(value_of(disc)));
+    q = -w + double(step.branch) * sqrt(disc);
+  }
+  return Status::success();
+}
+
+Status Kernel::closed_form(const SolveStep& step, double driver) {
+  const Connection& c = m_.connections[step.connections[0]];
+  const int var = m_.nodes[step.output_node].first_variable;
+  const bool out_b = step.output_node == c.node_b;
+  const int ia = m_.nodes[c.node_a].first_variable, ib = m_.nodes[c.node_b].first_variable;
+  Jet3 q;
+  switch (step.method) {
+    case StepMethod::link_closed_form: {
+      Status st = rq_.derivative_order > 0 ? link_closed_form(step, ws_.vars.data(), q, driver)
+                                           : Status::success();
+      if (rq_.derivative_order == 0) {
+        double qv = 0;
+        st = link_closed_form(step, ws_.values.data(), qv, driver);
+        q = Jet3(qv);
+      }
+      if (!st.ok()) return st;
+      if (m_.nodes[step.output_node].kind == NodeKind::rotational) {
+        // keep the angle continuous with the previous value
+        const double turns = std::round((ws_.values[var] - q.value()) / (2 * pi));
+        q.c[0] += turns * 2 * pi;
+      }
+      break;
+    }
+    case StepMethod::gear_closed_form:
+      q = out_b ? c.ratio * ws_.vars[ia] : ws_.vars[ib] / c.ratio;
+      break;
+    case StepMethod::rack_closed_form:
+      q = out_b ? c.pitch_radius * ws_.vars[ia] : ws_.vars[ib] / c.pitch_radius;
+      break;
+    case StepMethod::variable_gear_closed_form:
+      q = detail::gear_integral(c, ws_.vars[ia]);
+      break;
+    case StepMethod::implicit:
+      CAMOPT_ASSERT(false);
+  }
+  for (int k = rq_.derivative_order + 1; k <= 3; ++k) q.c[k] = 0.0;
+  ws_.vars[var] = q;
+  ws_.values[var] = q.value();
+  return Status::success();
+}
+
+Status Kernel::run(double driver) {
+  const int nv = static_cast<int>(m_.variables.size());
+  const bool fresh = ws_.history == 0;
+  // predictor for the warm start: taylor series from the last point, else extrapolation
+  if (ws_.history >= 1) {
+    const double h = driver - ws_.prev_driver;
+    for (int v = 0; v < nv; ++v) {
+      double x = ws_.prev_values[v];
+      if (ws_.prev_order >= 1) {
+        double hp = h;
+        for (int k = 1; k <= ws_.prev_order; ++k, hp *= h) x += ws_.prev_jets[v].c[k] * hp;
+      } else if (ws_.history >= 2 && ws_.prev_driver != ws_.prev2_driver) {
+        x += (ws_.prev_values[v] - ws_.prev2_values[v]) * h / (ws_.prev_driver - ws_.prev2_driver);
+      }
+      ws_.values[v] = x;
+    }
+  }
+  // known variables: driver and control-set nodes
+  ws_.values[m_.driver_variable()] = driver;
+  ws_.vars[m_.driver_variable()] = Jet3::variable(driver, rq_.derivative_order > 0 ? 1.0 : 0.0);
+  for (const auto& n : m_.nodes)
+    if (n.control >= 0) {
+      const double cv = ws_.controls()[n.control];
+      set_constant(n.first_variable, m_.controls[n.control].is_angle ? cv * pi / 180.0 : cv);
+    }
+  ws_.max_condition = 0.0;
+  for (std::size_t si = 0; si < m_.plan.size(); ++si) {
+    const SolveStep& step = m_.plan[si];
+    if (step.method != StepMethod::implicit) {
+      Status st = closed_form(step, driver);
+      if (!st.ok()) return st;
+      continue;
+    }
+    auto& b = ws_.full_blocks[si];
+    if (fresh) scan_contact_parameters(b);
+    ws_.open[si] = false;
+    if (step.one_sided) {
+      // lash: with the follower at rest, is the closure residual (= the physical gap) open?
+      const int var = m_.nodes[step.output_node].first_variable;
+      auto& t = ws_.tangency_blocks[si];
+      const double saved = ws_.values[var];
+      ws_.values[var] = m_.nodes[step.output_node].rest;
+      double gap = 0.0;
+      Status st = Status::success();
+      if (!t.unknowns.empty()) {
+        st = solve_values(t, driver);
+      }
+      if (st.ok()) {
+        const Connection& c = m_.connections[step.connections[0]];
+        double r[3];
+        connection_residual(m_, c, ws_.values.data(), ws_.pivots.data(), r);
+        gap = r[c.equation_count - 1];
+      }
+      if (st.ok() && gap > 0.0) {
+        ws_.open[si] = true;
+        set_constant(var, m_.nodes[step.output_node].rest);
+        if (rq_.derivative_order > 0 && !t.unknowns.empty()) differentiate(t);
+        else
+          for (int v : t.unknowns) ws_.vars[v] = Jet3(ws_.values[v]);
+        ws_.contacts[step.connections[0]].gap = gap;
+        continue;
+      }
+      ws_.values[var] = saved;
+      ws_.contacts[step.connections[0]].gap = 0.0;
+    }
+    Status st = solve_values(b, driver);
+    if (!st.ok()) return st;
+    if (rq_.derivative_order > 0) {
+      differentiate(b);
+    } else {
+      for (int v : b.unknowns) ws_.vars[v] = Jet3(ws_.values[v]);
+    }
+  }
+  for (int v = 0; v < nv; ++v) {
+    if (!std::isfinite(ws_.values[v]))
+      return {StatusCode::no_convergence, "variable '" + m_.variables[v].name + "' is not finite",
+              driver_text(m_, driver)};
+  }
+  if (rq_.contacts)
+    for (std::size_t si = 0; si < m_.plan.size(); ++si) contact_outputs(static_cast<int>(si));
+  // history for the next predictor
+  ws_.prev2_values.swap(ws_.prev_values);
+  ws_.prev_values = ws_.values;
+  ws_.prev_jets = ws_.vars;
+  ws_.prev2_driver = ws_.prev_driver;
+  ws_.prev_driver = driver;
+  ws_.prev_order = rq_.derivative_order;
+  ws_.history = std::min(ws_.history + 1, 2);
+  ++ws_.stats.points;
+  return Status::success();
+}
+
+// velocity [per driver] of the material point of node n at drawing position p
+V2<double> material_velocity(const Mechanism& m, const Workspace& ws, int n, const Eigen::Vector2d& local) {
+  const auto pose = node_pose(m, n, ws.vars.data(), ws.pivots.data());
+  const auto p = pose.apply(local.x(), local.y());
+  return {p.x.c[1], p.y.c[1]};
+}
+
+// drawing coordinates of a global point on node n (inverse pose at the current values)
+Eigen::Vector2d to_local(const Mechanism& m, const Workspace& ws, int n, double gx, double gy) {
+  const auto pose = node_pose(m, n, ws.values.data(), ws.pivots.data());
+  const double dx = gx - pose.tx, dy = gy - pose.ty;
+  return {pose.rx + pose.c * dx + pose.s * dy, pose.ry - pose.s * dx + pose.c * dy};
+}
+
+void Kernel::contact_outputs(int step_index) {
+  const SolveStep& step = m_.plan[step_index];
+  for (int ci : step.connections) {
+    const Connection& c = m_.connections[ci];
+    if (c.kind != ConnectionKind::contact) continue;
+    ContactState& out = ws_.contacts[ci];
+    out.open = ws_.open[step_index];
+    if (!out.open) out.gap = 0.0;
+    const auto pa = node_pose(m_, c.node_a, ws_.vars.data(), ws_.pivots.data());
+    const auto pb = node_pose(m_, c.node_b, ws_.vars.data(), ws_.pivots.data());
+    const auto A = surface_point(m_, c.surface_a, pa, ws_.vars.data());
+    const auto B = surface_point(m_, c.surface_b, pb, ws_.vars.data());
+    // unit normal from a into b and the contact point (on a's surface)
+    V2<Jet3> n, p;
+    auto curvature = [](const detail::SurfacePoint<Jet3>& s) {
+      const double dx = s.d1.x.value(), dy = s.d1.y.value();
+      return (dx * s.d2.y.value() - dy * s.d2.x.value()) / std::pow(dx * dx + dy * dy, 1.5);
+    };
+    const Surface& sa = c.surface_a;
+    const Surface& sb = c.surface_b;
+    using std::sqrt;
+    if (sa.kind != SurfaceKind::point) {
+      const Jet3 len = sqrt(detail::dot(A.d1, A.d1));
+      n = {A.d1.y / len, -A.d1.x / len};
+      p = A.p;
+    } else if (sb.kind != SurfaceKind::point) {
+      const Jet3 len = sqrt(detail::dot(B.d1, B.d1));
+      n = {-B.d1.y / len, B.d1.x / len};  // b's outward normal points into a
+      p = {B.p.x + n.x * 0.0, B.p.y + n.y * 0.0};
+      // the point on a's surface (the circle) lies along the normal from a's centre
+      p = {A.p.x + n.x * sa.offset, A.p.y + n.y * sa.offset};
+    } else {
+      const V2<Jet3> d{B.p.x - A.p.x, B.p.y - A.p.y};
+      const Jet3 len = sqrt(detail::dot(d, d));
+      const double sign = (sa.offset < 0 || sb.offset < 0) ? (sa.offset < 0 ? -1.0 : 1.0) : 1.0;
+      n = {sign * d.x / len, sign * d.y / len};
+      p = {A.p.x + d.x / len * std::abs(sa.offset), A.p.y + d.y / len * std::abs(sa.offset)};
+    }
+    if (sa.kind == SurfaceKind::point && sb.kind != SurfaceKind::point) {
+      // contact point on b's surface is the parametrised point
+      p = B.p;
+    }
+    out.x = p.x.value();
+    out.y = p.y.value();
+    out.normal_x = n.x.value();
+    out.normal_y = n.y.value();
+    const Eigen::Vector2d la = to_local(m_, ws_, c.node_a, out.x, out.y);
+    const Eigen::Vector2d lb = to_local(m_, ws_, c.node_b, out.x, out.y);
+    out.local_a_x = la.x();
+    out.local_a_y = la.y();
+    out.local_b_x = lb.x();
+    out.local_b_y = lb.y();
+    out.polar_angle_a = sa.variable >= 0 ? ws_.values[sa.variable] : 0.0;
+    out.curvature_a = sa.kind == SurfaceKind::curve ? curvature(A) : sa.kind == SurfaceKind::point ? 1.0 / sa.offset : 0.0;
+    out.curvature_b = sb.kind == SurfaceKind::curve ? curvature(B) : sb.kind == SurfaceKind::point ? 1.0 / sb.offset : 0.0;
+    // material and contact-point velocities [mm per driver unit]
+    const V2<double> va = material_velocity(m_, ws_, c.node_a, la);
+    const V2<double> vb = material_velocity(m_, ws_, c.node_b, lb);
+    const V2<double> vc{p.x.c[1], p.y.c[1]};
+    const V2<double> t{-out.normal_y, out.normal_x};
+    double ua = (va.x - vc.x) * t.x + (va.y - vc.y) * t.y;
+    double ub = (vb.x - vc.x) * t.x + (vb.y - vc.y) * t.y;
+    out.roller_speed = 0.0;
+    const bool roller_a = sa.kind == SurfaceKind::point && sa.roller;
+    const bool roller_b = sb.kind == SurfaceKind::point && sb.roller;
+    if (roller_a || roller_b) {
+      // perfect rolling: the roller's surface moves with the other body's surface
+      const Surface& sr = roller_a ? sa : sb;
+      const int carrier = roller_a ? c.node_a : c.node_b;
+      const V2<double> v_other = roller_a ? vb : va;
+      const V2<double> v_centre = material_velocity(m_, ws_, carrier, sr.origin);
+      const auto cpose = node_pose(m_, carrier, ws_.vars.data(), ws_.pivots.data());
+      const auto centre = cpose.apply(sr.origin.x(), sr.origin.y());
+      const double ex = (out.x - centre.x.value()) / sr.offset, ey = (out.y - centre.y.value()) / sr.offset;
+      // omega_abs * r * (z x e) = (v_other - v_centre) tangential
+      const double omega_abs = ((v_other.x - v_centre.x) * (-ey) + (v_other.y - v_centre.y) * ex) / sr.offset;
+      // carrier angular velocity: d(phi)/d(driver)
+      double omega_carrier = 0.0;
+      const Node& cn = m_.nodes[carrier];
+      if (!cn.ground && cn.kind == NodeKind::rotational) omega_carrier = ws_.vars[cn.first_variable].c[1];
+      if (!cn.ground && cn.kind == NodeKind::floating) omega_carrier = ws_.vars[cn.first_variable + 2].c[1];
+      out.roller_speed = omega_abs - omega_carrier;
+      if (roller_a) ua = ub; else ub = ua;
+    }
+    out.sliding = ua - ub;
+    out.entrainment = 0.5 * (ua + ub);
+    // pressure angle: normal against the follower's direction of motion at the contact
+    const int follower = step.output_node >= 0 ? step.output_node : c.node_b;
+    const Node& fn = m_.nodes[follower];
+    V2<double> dir{0, 0};
+    if (fn.kind == NodeKind::translational) {
+      dir = {fn.direction.x(), fn.direction.y()};
+    } else if (fn.kind == NodeKind::rotational) {
+      const Eigen::Vector2d o = ws_.pivots[follower];
+      dir = {-(out.y - o.y()), out.x - o.x()};
+    } else {
+      dir = follower == c.node_a ? va : vb;
+    }
+    const double dn = std::hypot(dir.x, dir.y);
+    out.pressure_angle = dn > 0 ? std::acos(std::min(1.0, std::abs(dir.x * out.normal_x + dir.y * out.normal_y) / dn)) : 0.0;
+  }
+}
+
+}  // namespace
+
+Workspace::Workspace(const Mechanism& mech) {
+  const std::size_t nv = mech.variables.size();
+  vars.assign(nv, Jet3(0.0));
+  values.assign(nv, 0.0);
+  prev_values.assign(nv, 0.0);
+  prev2_values.assign(nv, 0.0);
+  prev_jets.assign(nv, Jet3(0.0));
+  vars1.assign(nv, Jet<1>(0.0));
+  vars3.assign(nv, Jet3(0.0));
+  contacts.assign(mech.connections.size(), ContactState{});
+  open.assign(mech.plan.size(), false);
+  residual_buffer.assign(4, 0.0);
+  residual_buffer1.assign(4, Jet<1>(0.0));
+  residual_buffer3.assign(4, Jet3(0.0));
+  for (const auto& step : mech.plan) {
+    CAMOPT_ASSERT(step.unknowns.size() <= 16);
+    full_blocks.push_back(make_block(mech, step, false));
+    tangency_blocks.push_back(make_block(mech, step, true));
+  }
+  controls_.resize(mech.controls.size());
+  for (std::size_t i = 0; i < mech.controls.size(); ++i) controls_[i] = mech.controls[i].default_value;
+  pivots.resize(mech.nodes.size());
+  set_controls(controls_);
+}
+
+void Workspace::reset() {
+  history = 0;
+  std::fill(values.begin(), values.end(), 0.0);
+  for (auto& b : full_blocks) b.have_inverse = false;
+  for (auto& b : tangency_blocks) b.have_inverse = false;
+}
+
+void Workspace::set_controls(std::span<const double> values_in) {
+  CAMOPT_ASSERT(values_in.size() == controls_.size());
+  std::copy(values_in.begin(), values_in.end(), controls_.begin());
+  reset();
+}
+
+Status solve(const Mechanism& mech, Workspace& ws, double driver, const Request& request) {
+  CAMOPT_ASSERT(request.derivative_order >= 0 && request.derivative_order <= 3);
+  CAMOPT_ASSERT(!request.contacts || request.derivative_order >= 1);
+  // pivots moved by controls
+  for (std::size_t i = 0; i < mech.nodes.size(); ++i) {
+    const Node& n = mech.nodes[i];
+    ws.pivots[i] = n.pivot;
+    if (n.pivot_control >= 0) {
+      const double a = n.pivot_gain * ws.controls()[n.pivot_control];
+      const Eigen::Vector2d r = n.pivot - n.pivot_about;
+      ws.pivots[i] = n.pivot_about + Eigen::Vector2d(std::cos(a) * r.x() - std::sin(a) * r.y(),
+                                                     std::sin(a) * r.x() + std::cos(a) * r.y());
+    }
+  }
+  Kernel kernel(mech, ws, request);
+  Status st = kernel.run(driver);
+  if (!st.ok()) ws.reset();
+  return st;
+}
+
+}  // namespace camopt::kin

@@ -1,0 +1,389 @@
+// quintic interpolating splines: interpolation, convergence order, c4 continuity,
+// periodic wrap, jet overloads, natural end conditions, extrapolation and exact integrals.
+#include "camopt/core/spline.hpp"
+
+#include <algorithm>
+#include <array>
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <cstdint>
+#include <numbers>
+#include <random>
+#include <stdexcept>
+#include <vector>
+
+namespace {
+
+using camopt::Jet;
+using camopt::PeriodicSpline;
+using camopt::Spline;
+
+constexpr double kTwoPi = 2.0 * std::numbers::pi;
+constexpr double kNodeTol = 1e-12;         // interpolation at the data sites [abs, |f| ~ 1]
+constexpr double kContinuityTol = 1e-9;    // left/right limits, relative to max |f^(k)|
+constexpr double kWrapTol = 1e-12;         // f^(k)(x + 3 period) vs f^(k)(x), relative
+constexpr double kJetTol = 1e-14;          // jet overload vs scalar derivatives, relative
+constexpr double kIntegralTol = 1e-12;     // integral vs gauss-legendre, relative
+constexpr double kPolyTol = 1e-10;         // quadratic reproduction [abs]
+constexpr std::uint32_t kSeed = 20240611;  // jittered grids
+
+// test function sin x + 0.3 cos 3x and its derivatives
+double f_exact(double x, int k) {
+  switch (k) {
+    case 0:
+      return std::sin(x) + 0.3 * std::cos(3 * x);
+    case 1:
+      return std::cos(x) - 0.9 * std::sin(3 * x);
+    case 2:
+      return -std::sin(x) - 2.7 * std::cos(3 * x);
+    case 3:
+      return -std::cos(x) + 8.1 * std::sin(3 * x);
+    default:
+      return 0.0;
+  }
+}
+
+// uniform in [-1, 1) from raw mt19937 output (portable, unlike the std distributions)
+double unit(std::mt19937& gen) { return 2.0 * (gen() / 4294967296.0) - 1.0; }
+
+// n nodes on [x0, x0 + 2 pi), each moved by up to jitter * h
+std::vector<double> grid(int n, double jitter, double x0 = 0.0, std::uint32_t seed = kSeed) {
+  std::mt19937 gen(seed);
+  const double h = kTwoPi / n;
+  std::vector<double> x(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) x[static_cast<std::size_t>(i)] = x0 + (i + jitter * unit(gen)) * h;
+  return x;
+}
+
+std::vector<double> sample(const std::vector<double>& x) {
+  std::vector<double> y(x.size());
+  for (std::size_t i = 0; i < x.size(); ++i) y[i] = f_exact(x[i], 0);
+  return y;
+}
+
+// max |f^(k) - s^(k)| over a fine grid, k = 0..3
+std::array<double, 4> max_errors(const PeriodicSpline& s) {
+  std::array<double, 4> err{};
+  constexpr int kFine = 4000;
+  for (int j = 0; j < kFine; ++j) {
+    const double x = (j + 0.5) * kTwoPi / kFine;
+    double d[4];
+    s.evaluate(x, 3, d);
+    for (int k = 0; k < 4; ++k) {
+      err[static_cast<std::size_t>(k)] =
+          std::max(err[static_cast<std::size_t>(k)], std::abs(d[k] - f_exact(x, k)));
+    }
+  }
+  return err;
+}
+
+// left and right limits of f..f'''' at every knot agree (left limit one ulp below)
+template <class S>
+void check_c4(const S& s, std::span<const double> knots, double left_of_first) {
+  std::array<double, 5> scale{};
+  std::vector<std::array<double, 5>> right(knots.size()), left(knots.size());
+  for (std::size_t i = 0; i < knots.size(); ++i) {
+    const double xl = i == 0 ? left_of_first : std::nextafter(knots[i], -INFINITY);
+    s.evaluate(knots[i], 4, right[i].data());
+    s.evaluate(xl, 4, left[i].data());
+    for (int k = 0; k <= 4; ++k) {
+      scale[static_cast<std::size_t>(k)] = std::max(
+          scale[static_cast<std::size_t>(k)], std::abs(right[i][static_cast<std::size_t>(k)]));
+    }
+  }
+  for (std::size_t i = 0; i < knots.size(); ++i) {
+    for (std::size_t k = 0; k <= 4; ++k) {
+      INFO("knot " << i << " at x = " << knots[i] << ", derivative " << k);
+      CHECK(std::abs(right[i][k] - left[i][k]) <= kContinuityTol * scale[k]);
+    }
+  }
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------
+// periodic spline
+
+TEST_CASE("periodic spline: interpolates the data") {
+  for (const double jitter : {0.0, 0.3}) {
+    for (const int n : {6, 7, 33, 100}) {
+      const auto x = grid(n, jitter, -1.0);
+      const auto y = sample(x);
+      const auto s = PeriodicSpline::interpolate(x, y, kTwoPi);
+      CHECK(s.period() == kTwoPi);
+      REQUIRE(s.knots().size() == x.size());
+      for (std::size_t i = 0; i < x.size(); ++i) {
+        INFO("n = " << n << ", jitter = " << jitter << ", node " << i);
+        CHECK(s(x[i]) == Approx(y[i]).margin(kNodeTol));
+        // the closing point x0 + period has the value y0
+        CHECK(s(x[0] + kTwoPi) == Approx(y[0]).margin(kNodeTol));
+      }
+    }
+  }
+}
+
+TEST_CASE("periodic spline: convergence order on uniform and jittered grids") {
+  // theory: (f - s)^(k) = O(h^(6-k)) (de Boor, ch. XIII); measured orders on the uniform
+  // grid are 6.0, 5.0, 4.0 and 3.0 for f .. f'''
+  const std::array<int, 3> sizes = {32, 64, 128};
+  const auto orders = [](const std::array<std::array<double, 4>, 3>& err, std::size_t m0,
+                         std::size_t m1) {
+    std::array<double, 4> order{};
+    const double steps = static_cast<double>(m1 - m0);  // each step halves h
+    for (std::size_t k = 0; k < 4; ++k) order[k] = std::log2(err[m0][k] / err[m1][k]) / steps;
+    return order;
+  };
+  const auto check_orders = [](const std::array<double, 4>& order) {
+    CHECK(order[0] >= 5.5);
+    CHECK(order[0] <= 6.5);
+    CHECK(order[1] >= 4.5);
+    CHECK(order[2] >= 3.5);
+    CHECK(order[3] >= 2.7);
+  };
+
+  SECTION("uniform: every doubling") {
+    std::array<std::array<double, 4>, 3> err{};
+    for (std::size_t m = 0; m < sizes.size(); ++m) {
+      const auto x = grid(sizes[m], 0.0);
+      err[m] = max_errors(PeriodicSpline::interpolate(x, sample(x), kTwoPi));
+    }
+    for (std::size_t m = 0; m + 1 < sizes.size(); ++m) {
+      const auto order = orders(err, m, m + 1);
+      INFO("n = " << sizes[m] << " -> " << sizes[m + 1] << ": errors " << err[m][0] << " "
+                  << err[m][1] << " " << err[m][2] << " " << err[m][3] << ", orders " << order[0]
+                  << " " << order[1] << " " << order[2] << " " << order[3]);
+      check_orders(order);
+    }
+  }
+
+  SECTION("jittered: nested refinement, fitted over 32 -> 128") {
+    // a jittered 32-node grid refined by bisecting every interval, so the local mesh
+    // ratios stay fixed while h halves (independent jitter per n lets the worst mesh
+    // ratio grow with n and biases the observed order low)
+    std::array<std::array<double, 4>, 3> err{};
+    auto x = grid(sizes[0], 0.3);
+    for (std::size_t m = 0; m < sizes.size(); ++m) {
+      REQUIRE(x.size() == static_cast<std::size_t>(sizes[m]));
+      err[m] = max_errors(PeriodicSpline::interpolate(x, sample(x), kTwoPi));
+      std::vector<double> refined;
+      for (std::size_t i = 0; i < x.size(); ++i) {
+        const double next = i + 1 < x.size() ? x[i + 1] : x[0] + kTwoPi;
+        refined.push_back(x[i]);
+        refined.push_back(0.5 * (x[i] + next));
+      }
+      x = refined;
+    }
+    const auto order = orders(err, 0, 2);
+    INFO("errors n = 32: " << err[0][0] << " " << err[0][1] << " " << err[0][2] << " " << err[0][3]
+                           << ", n = 128: " << err[2][0] << " " << err[2][1] << " " << err[2][2]
+                           << " " << err[2][3] << ", orders " << order[0] << " " << order[1] << " "
+                           << order[2] << " " << order[3]);
+    check_orders(order);
+  }
+}
+
+TEST_CASE("periodic spline: c4 at every knot including the seam") {
+  for (const double jitter : {0.0, 0.3}) {
+    const auto x = grid(40, jitter, 0.5);
+    const auto s = PeriodicSpline::interpolate(x, sample(x), kTwoPi);
+    // left limit at the first knot is the end of the closing piece
+    check_c4(s, s.knots(), std::nextafter(x[0] + kTwoPi, -INFINITY));
+  }
+}
+
+TEST_CASE("periodic spline: wraps by whole periods") {
+  const auto x = grid(50, 0.3, -2.0);
+  const auto s = PeriodicSpline::interpolate(x, sample(x), kTwoPi);
+  for (int j = 0; j < 200; ++j) {
+    const double xe = -2.0 + j * kTwoPi / 200.0 + 0.001;
+    double a[6], b[6], c[6];
+    s.evaluate(xe, 5, a);
+    s.evaluate(xe + 3 * kTwoPi, 5, b);
+    s.evaluate(xe - 7 * kTwoPi, 5, c);
+    // |f^(k)| <= 25 here; x + 3 period carries a rounding of ~1e-15 [rad]
+    for (int k = 0; k <= 5; ++k) {
+      const double scale = std::max(1.0, std::abs(a[k]));
+      CHECK(std::abs(a[k] - b[k]) <= kWrapTol * scale);
+      CHECK(std::abs(a[k] - c[k]) <= kWrapTol * scale);
+    }
+  }
+}
+
+TEST_CASE("periodic spline: jet overload equals the scalar derivatives") {
+  const auto x = grid(24, 0.2);
+  const auto s = PeriodicSpline::interpolate(x, sample(x), kTwoPi);
+  for (const double x0 : {0.1, 1.7, 4.0, 6.2, -3.0}) {
+    double d[6];
+    s.evaluate(x0, 5, d);
+    const Jet<3> j = s(Jet<3>::variable(x0));
+    for (int k = 0; k <= 3; ++k)
+      CHECK(j.derivative(k) == Approx(d[k]).epsilon(kJetTol).margin(kJetTol));
+    // chain rule for x(t) = x0 + 2t: d^k/dt^k = 2^k f^(k)
+    const Jet<5> j5 = s(Jet<5>::variable(x0, 2.0));
+    for (int k = 0; k <= 5; ++k) {
+      CHECK(j5.derivative(k) == Approx(std::pow(2.0, k) * d[k]).epsilon(kJetTol).margin(kJetTol));
+    }
+    // beyond degree 5 every derivative vanishes
+    const Jet<7> j7 = s(Jet<7>::variable(x0));
+    CHECK(j7.derivative(6) == 0.0);
+    CHECK(j7.derivative(7) == 0.0);
+  }
+}
+
+TEST_CASE("periodic spline: rejects misuse") {
+  const std::vector<double> x = {0, 1, 2, 3, 4, 5};
+  const std::vector<double> y = {0, 1, 0, 1, 0, 1};
+  CHECK_NOTHROW(PeriodicSpline::interpolate(x, y, 6.0));
+  CHECK_THROWS_AS(PeriodicSpline::interpolate(x, y, 5.0), std::invalid_argument);
+  CHECK_THROWS_AS(PeriodicSpline::interpolate(std::span(x).first(5), std::span(y).first(5), 6.0),
+                  std::invalid_argument);
+  CHECK_THROWS_AS(PeriodicSpline::interpolate(x, std::span(y).first(5), 6.0),
+                  std::invalid_argument);
+  const std::vector<double> xd = {0, 1, 2, 2, 4, 5};
+  CHECK_THROWS_AS(PeriodicSpline::interpolate(xd, y, 6.0), std::invalid_argument);
+  const std::vector<double> yn = {0, 1, NAN, 1, 0, 1};
+  CHECK_THROWS_AS(PeriodicSpline::interpolate(x, yn, 6.0), std::invalid_argument);
+}
+
+// ---------------------------------------------------------------------------------------
+// natural (non-periodic) spline
+
+TEST_CASE("spline: interpolates and reproduces quadratics") {
+  // the natural quintic spline (f''' = f'''' = 0 at the ends) is exact for degree <= 2
+  const auto q = [](double x) { return 0.7 - 1.3 * x + 0.45 * x * x; };
+  for (const int n : {3, 4, 5, 6, 11, 40}) {
+    auto x = grid(n, 0.3, 0.2);
+    std::vector<double> y(x.size());
+    for (std::size_t i = 0; i < x.size(); ++i) y[i] = q(x[i]);
+    const auto s = Spline::interpolate(x, y);
+    for (int j = 0; j <= 300; ++j) {
+      const double xe = x.front() + (x.back() - x.front()) * j / 300.0;
+      double d[4];
+      s.evaluate(xe, 3, d);
+      INFO("n = " << n << ", x = " << xe);
+      CHECK(d[0] == Approx(q(xe)).margin(kPolyTol));
+      CHECK(d[1] == Approx(-1.3 + 0.9 * xe).margin(kPolyTol));
+      CHECK(d[2] == Approx(0.9).margin(kPolyTol));
+      CHECK(d[3] == Approx(0.0).margin(kPolyTol));
+    }
+  }
+  // general data: nodes hit, natural end conditions hold
+  const auto x = grid(30, 0.3);
+  const auto y = sample(x);
+  const auto s = Spline::interpolate(x, y);
+  for (std::size_t i = 0; i < x.size(); ++i) CHECK(s(x[i]) == Approx(y[i]).margin(kNodeTol));
+  double d0[5], dn[5];
+  s.evaluate(x.front(), 4, d0);
+  s.evaluate(x.back(), 4, dn);
+  CHECK(std::abs(d0[3]) < 1e-9);
+  CHECK(std::abs(d0[4]) < 1e-8);
+  CHECK(std::abs(dn[3]) < 1e-9);
+  CHECK(std::abs(dn[4]) < 1e-8);
+}
+
+TEST_CASE("spline: c4 at every interior knot") {
+  for (const double jitter : {0.0, 0.35}) {
+    const auto x = grid(45, jitter, 1.0);
+    const auto s = Spline::interpolate(x, sample(x));
+    const auto k = s.knots();
+    // interior knots only: the ends switch to linear extrapolation
+    check_c4(s, k.subspan(1, k.size() - 2), std::nextafter(k[1], -INFINITY));
+  }
+}
+
+TEST_CASE("spline: linear extrapolation with the end slope") {
+  const auto x = grid(20, 0.25);
+  const auto s = Spline::interpolate(x, sample(x));
+  double a[3], b[3];
+  s.evaluate(x.front(), 2, a);
+  s.evaluate(x.back(), 2, b);
+  for (const double d : {1e-9, 0.1, 3.0}) {
+    double l[4], r[4];
+    s.evaluate(x.front() - d, 3, l);
+    s.evaluate(x.back() + d, 3, r);
+    CHECK(l[0] == Approx(a[0] - a[1] * d).margin(1e-14));
+    CHECK(l[1] == a[1]);
+    CHECK(l[2] == 0.0);
+    CHECK(l[3] == 0.0);
+    CHECK(r[0] == Approx(b[0] + b[1] * d).margin(1e-14));
+    CHECK(r[1] == b[1]);
+    CHECK(r[2] == 0.0);
+    CHECK(r[3] == 0.0);
+  }
+  // jets outside the range: value and slope only
+  const Jet<3> j = s(Jet<3>::variable(x.back() + 1.0));
+  CHECK(j.derivative(1) == b[1]);
+  CHECK(j.derivative(2) == 0.0);
+}
+
+TEST_CASE("spline: exact integral against gauss-legendre of the spline") {
+  // 5-point gauss-legendre on [a, b]: exact for degree <= 9, so exact per polynomial piece
+  // (Abramowitz & Stegun 25.4.29)
+  const auto gauss5 = [](const Spline& s, double a, double b) {
+    constexpr std::array<double, 5> node = {0.0, -0.5384693101056831, 0.5384693101056831,
+                                            -0.9061798459386640, 0.9061798459386640};
+    constexpr std::array<double, 5> weight = {0.5688888888888889, 0.4786286704993665,
+                                              0.4786286704993665, 0.2369268850561891,
+                                              0.2369268850561891};
+    double sum = 0.0;
+    for (std::size_t i = 0; i < 5; ++i)
+      sum += weight[i] * s(0.5 * (a + b) + 0.5 * (b - a) * node[i]);
+    return 0.5 * (b - a) * sum;
+  };
+  // quadrature split at every breakpoint (and at the ends of the data range)
+  const auto quadrature = [&](const Spline& s, double a, double b) {
+    std::vector<double> cuts = {a, b};
+    for (const double k : s.knots()) {
+      if (k > std::min(a, b) && k < std::max(a, b)) cuts.push_back(k);
+    }
+    std::sort(cuts.begin(), cuts.end());
+    double sum = 0.0;
+    for (std::size_t i = 0; i + 1 < cuts.size(); ++i) sum += gauss5(s, cuts[i], cuts[i + 1]);
+    return a <= b ? sum : -sum;
+  };
+
+  const auto x = grid(25, 0.3, 0.5);
+  std::vector<double> y = sample(x);
+  for (double& v : y) v += 2.0;  // keep integrals away from zero for a relative check
+  const auto s = Spline::interpolate(x, y);
+  const double x0 = x.front();
+  const double xn = x.back();
+  const std::array<std::array<double, 2>, 7> ranges = {{{x0, xn},
+                                                        {x0 + 0.3, xn - 1.1},
+                                                        {2.0, 2.05},
+                                                        {x[3], x[9]},
+                                                        {x0 - 1.5, x0 + 2.0},
+                                                        {3.0, xn + 2.5},
+                                                        {xn - 0.4, 1.0}}};
+  for (const auto& [a, b] : ranges) {
+    const double expected = quadrature(s, a, b);
+    INFO("integral over [" << a << ", " << b << "] = " << s.integral(a, b) << ", quadrature "
+                           << expected);
+    CHECK(std::abs(s.integral(a, b) - expected) <= kIntegralTol * std::abs(expected));
+    CHECK(s.integral(b, a) == -s.integral(a, b));
+  }
+  CHECK(s.integral(1.3, 1.3) == 0.0);
+
+  // antiderivative jet: F(x) = int_{x0}^{x} f, F' = f, F'' = f', F''' = f''
+  for (const double xe : {x0 - 0.5, x0, 1.234, 4.0, xn, xn + 0.7}) {
+    const Jet<3> F = s.antiderivative(Jet<3>::variable(xe));
+    double d[3];
+    s.evaluate(xe, 2, d);
+    INFO("x = " << xe);
+    CHECK(F.value() == Approx(s.integral(x0, xe)).epsilon(1e-15).margin(1e-15));
+    CHECK(F.derivative(1) == Approx(d[0]).epsilon(kJetTol));
+    CHECK(F.derivative(2) == Approx(d[1]).epsilon(kJetTol).margin(kJetTol));
+    CHECK(F.derivative(3) == Approx(d[2]).epsilon(kJetTol).margin(kJetTol));
+  }
+}
+
+TEST_CASE("spline: rejects misuse") {
+  const std::vector<double> x = {0, 1, 2};
+  const std::vector<double> y = {0, 1, 0};
+  CHECK_NOTHROW(Spline::interpolate(x, y));
+  CHECK_THROWS_AS(Spline::interpolate(std::span(x).first(2), std::span(y).first(2)),
+                  std::invalid_argument);
+  const std::vector<double> xd = {0, 2, 1};
+  CHECK_THROWS_AS(Spline::interpolate(xd, y), std::invalid_argument);
+  CHECK_THROWS_AS(Spline::interpolate(x, std::span(y).first(2)), std::invalid_argument);
+}
