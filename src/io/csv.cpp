@@ -312,8 +312,8 @@ void require_full_cycle(const AngleTable& table, double period_deg) {
                      "; give exactly one cycle");
 }
 
-void write_csv(const std::string& path, const std::vector<std::string>& header,
-               const std::vector<std::vector<double>>& columns, int significant_digits) {
+std::string format_csv(const std::vector<std::string>& header, const std::vector<std::vector<double>>& columns,
+                       int significant_digits) {
   CAMOPT_ASSERT(!header.empty());
   CAMOPT_ASSERT(header.size() == columns.size());
   CAMOPT_ASSERT(significant_digits >= 1 && significant_digits <= 17);
@@ -327,7 +327,7 @@ void write_csv(const std::string& path, const std::vector<std::string>& header,
     for (std::size_t r = 0; r < rows; ++r)
       if (!std::isfinite(columns[c][r]))
         throw std::logic_error("write_csv: non-finite value in column '" + header[c] + "' row " +
-                               std::to_string(r + 1) + " (writing '" + path + "')");
+                               std::to_string(r + 1));
   }
 
   std::string text = join(header, ",") + "\n";
@@ -340,7 +340,12 @@ void write_csv(const std::string& path, const std::vector<std::string>& header,
     }
     text += '\n';
   }
-  write_text_atomic(path, text);
+  return text;
+}
+
+void write_csv(const std::string& path, const std::vector<std::string>& header,
+               const std::vector<std::vector<double>>& columns, int significant_digits) {
+  write_text_atomic(path, format_csv(header, columns, significant_digits));
 }
 
 }  // namespace camopt::io

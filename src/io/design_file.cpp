@@ -870,8 +870,10 @@ class Parser {
     for (const Reference& r : references_) {
       switch (r.to) {
         case Reference::To::node: {
+          // "ground" is the implicit fixed frame: any connection may attach to it
+          if (r.name == "ground" && !r.kind && !r.free_node) break;
           const NodeSpec* node = find_named(spec.nodes, r.name);
-          if (!node) unknown(r, "node", names_of(spec.nodes));
+          if (!node) unknown(r, "node", names_of(spec.nodes) + "; or 'ground' for the fixed frame");
           if (r.kind && node->kind != *r.kind)
             throw InputError(r.where, "node " + quote(r.name) + " is " + to_string(node->kind) + "; " + r.role +
                                           " needs a " + to_string(*r.kind) + " node");

@@ -51,6 +51,11 @@ AngleTable read_angle_table(const CsvTable& table, const std::vector<std::string
 // throws InputError naming the file and the covered range when it does not
 void require_full_cycle(const AngleTable& table, double period_deg);
 
+// csv text of columns (header names must carry units); a non-finite value is a kernel bug
+// and throws std::logic_error naming the column and row
+std::string format_csv(const std::vector<std::string>& header, const std::vector<std::vector<double>>& columns,
+                       int significant_digits = 10);
+
 // write columns (header names must carry units) to `path` atomically
 void write_csv(const std::string& path, const std::vector<std::string>& header,
                const std::vector<std::vector<double>>& columns, int significant_digits = 10);
