@@ -5,7 +5,6 @@
 #include <numbers>
 #include <sstream>
 
-#include "geometry.hpp"
 
 namespace camopt::kin {
 
@@ -49,25 +48,30 @@ Workspace::Block make_block(const Mechanism& m, const SolveStep& step, bool tang
   for (int v : step.unknowns)
     if (!tangency_only || m.variables[v].node < 0) b.unknowns.push_back(v);
   const int n = static_cast<int>(b.unknowns.size());
+  b.solving.assign(m.nodes.size(), 0);
+  for (int v : b.unknowns)
+    if (m.variables[v].node >= 0) b.solving[m.variables[v].node] = 1;
   b.inverse.setZero(n, n);
   b.jacobian.setZero(n, n);
-  b.lu = Eigen::PartialPivLU<Eigen::MatrixXd>(n);
+  b.lu = Eigen::PartialPivLU<Workspace::Matrix>(n);
   b.x.setZero(n);
   b.f.setZero(n);
   b.dx.setZero(n);
   b.f_new.setZero(n);
   b.u.setZero(n);
+  b.row.setZero(n);
   return b;
 }
 
 // residuals of a block at scalar type T; vars must hold every variable
 template <class T>
 void block_residual(const Mechanism& m, const Workspace::Block& b, const T* vars, const Eigen::Vector2d* pivots,
-                    T* scratch, T* out) {
+                    detail::PoseCache<T>& cache, long point, T* scratch, T* out) {
+  const detail::CachedPoses<T> poses{m, vars, pivots, cache, point, b.solving};
   int i = 0;
   for (int ci : b.connections) {
     const Connection& c = m.connections[ci];
-    connection_residual(m, c, vars, pivots, scratch);
+    connection_residual(m, c, vars, poses, scratch);
     for (const auto& [eci, k] : b.equations)
       if (eci == ci) out[i++] = scratch[k];
   }
@@ -80,8 +84,12 @@ class Kernel {
   Status run(double driver);
 
  private:
-  double evaluate(Workspace::Block& b, const Eigen::VectorXd& x, Eigen::VectorXd& f);
-  void jacobian(Workspace::Block& b, const Eigen::VectorXd& x);
+  double evaluate(Workspace::Block& b, const Workspace::Vector& x, Workspace::Vector& f);
+  void jacobian(Workspace::Block& b, const Workspace::Vector& x);
+  void finish_block(const Workspace::Block& b) {
+    for (int v : b.unknowns)
+      if (m_.variables[v].node >= 0) ws_.invalidate_pose(m_.variables[v].node);
+  }
   Status solve_values(Workspace::Block& b, double driver);
   bool broyden(Workspace::Block& b, double tol);
   Status newton(Workspace::Block& b, double tol, double driver);
@@ -102,14 +110,15 @@ class Kernel {
   const Request& rq_;
 };
 
-double Kernel::evaluate(Workspace::Block& b, const Eigen::VectorXd& x, Eigen::VectorXd& f) {
+double Kernel::evaluate(Workspace::Block& b, const Workspace::Vector& x, Workspace::Vector& f) {
   for (int i = 0; i < static_cast<int>(b.unknowns.size()); ++i) ws_.values[b.unknowns[i]] = x[i];
-  block_residual(m_, b, ws_.values.data(), ws_.pivots.data(), ws_.residual_buffer.data(), f.data());
+  block_residual(m_, b, ws_.values.data(), ws_.pivots.data(), ws_.poses0, ws_.point_id, ws_.residual_buffer.data(),
+                 f.data());
   return f.lpNorm<Eigen::Infinity>();
 }
 
 // exact jacobian by forward mode: one Jet<1> sweep per unknown
-void Kernel::jacobian(Workspace::Block& b, const Eigen::VectorXd& x) {
+void Kernel::jacobian(Workspace::Block& b, const Workspace::Vector& x) {
   const int n = static_cast<int>(b.unknowns.size());
   for (std::size_t v = 0; v < ws_.values.size(); ++v) ws_.vars1[v] = Jet<1>(ws_.values[v]);
   for (int i = 0; i < n; ++i) ws_.vars1[b.unknowns[i]] = Jet<1>(x[i]);
@@ -117,7 +126,8 @@ void Kernel::jacobian(Workspace::Block& b, const Eigen::VectorXd& x) {
   CAMOPT_ASSERT(n <= 16);
   for (int j = 0; j < n; ++j) {
     ws_.vars1[b.unknowns[j]].c[1] = 1.0;
-    block_residual(m_, b, ws_.vars1.data(), ws_.pivots.data(), ws_.residual_buffer1.data(), out);
+    block_residual(m_, b, ws_.vars1.data(), ws_.pivots.data(), ws_.poses1, ws_.point_id, ws_.residual_buffer1.data(),
+                   out);
     for (int i = 0; i < n; ++i) b.jacobian(i, j) = out[i].c[1];
     ws_.vars1[b.unknowns[j]].c[1] = 0.0;
   }
@@ -142,8 +152,9 @@ bool Kernel::broyden(Workspace::Block& b, double tol) {
     b.u.noalias() = b.inverse * b.f;
     const double denom = b.dx.dot(b.u);
     if (std::abs(denom) > 1e-300) {
-      const Eigen::RowVectorXd row = b.dx.transpose() * b.inverse;
-      b.inverse.noalias() += (b.dx - b.u) * row / denom;
+      b.row.noalias() = b.inverse.transpose() * b.dx;  // (dx^T B^-1)^T
+      b.u = (b.dx - b.u) / denom;
+      b.inverse.noalias() += b.u * b.row.transpose();
     }
     b.f = b.f_new;
     norm = new_norm;
@@ -160,7 +171,8 @@ Status Kernel::newton(Workspace::Block& b, double tol, double driver) {
     ++ws_.stats.newton_iterations;
     jacobian(b, b.x);
     b.lu.compute(b.jacobian);
-    b.dx = -b.lu.solve(b.f);
+    b.dx = b.lu.solve(b.f);
+    b.dx = -b.dx;
     if (!b.dx.allFinite()) break;
     // backtracking on the residual norm
     double step = 1.0, new_norm = 0.0;
@@ -257,6 +269,11 @@ Status Kernel::solve_values(Workspace::Block& b, double driver) {
   const int n = static_cast<int>(b.unknowns.size());
   for (int i = 0; i < n; ++i) b.x[i] = ws_.values[b.unknowns[i]];
   const double tol = tolerance();
+  if (b.have_lu && !b.have_inverse) {
+    // broyden starts from the last exact jacobian (factored for the derivatives)
+    b.inverse = b.lu.inverse();
+    b.have_inverse = b.inverse.allFinite();
+  }
   if (b.have_inverse && broyden(b, tol)) return Status::success();
   Status st = newton(b, tol, driver);
   if (!st.ok()) {
@@ -267,11 +284,11 @@ Status Kernel::solve_values(Workspace::Block& b, double driver) {
     st = newton(b, tol, driver);
     if (!st.ok()) return st;
   }
-  // keep an inverse for the next point's broyden start
+  // keep the exact jacobian for the next point's broyden start
   jacobian(b, b.x);
   b.lu.compute(b.jacobian);
-  b.inverse = b.lu.inverse();
-  b.have_inverse = b.inverse.allFinite();
+  b.have_lu = true;
+  b.have_inverse = false;
   evaluate(b, b.x, b.f);
   return Status::success();
 }
@@ -281,19 +298,20 @@ void Kernel::differentiate(Workspace::Block& b) {
   const int n = static_cast<int>(b.unknowns.size());
   jacobian(b, b.x);
   b.lu.compute(b.jacobian);
-  b.inverse = b.lu.inverse();
-  b.have_inverse = b.inverse.allFinite();
-  // condition estimate in the 1-norm
-  const double cond = b.jacobian.cwiseAbs().colwise().sum().maxCoeff() * b.inverse.cwiseAbs().colwise().sum().maxCoeff();
+  b.have_lu = true;
+  b.have_inverse = false;
+  // condition estimate in the 1-norm (Eigen's LAPACK-style estimator of |J^-1|)
+  const double cond = 1.0 / std::max(1e-300, b.lu.rcond());
   ws_.max_condition = std::max(ws_.max_condition, cond);
   for (int i = 0; i < n; ++i) {
     ws_.vars[b.unknowns[i]] = Jet3(b.x[i]);
   }
   Jet3 out[16];
   for (int k = 1; k <= rq_.derivative_order; ++k) {
-    block_residual(m_, b, ws_.vars.data(), ws_.pivots.data(), ws_.residual_buffer3.data(), out);
-    for (int i = 0; i < n; ++i) b.f[i] = out[i].c[k];
-    b.dx = -b.lu.solve(b.f);
+    block_residual(m_, b, ws_.vars.data(), ws_.pivots.data(), ws_.poses3, ws_.point_id, ws_.residual_buffer3.data(),
+                   out);
+    for (int i = 0; i < n; ++i) b.f[i] = -out[i].c[k];
+    b.dx = b.lu.solve(b.f);
     for (int i = 0; i < n; ++i) ws_.vars[b.unknowns[i]].c[k] = b.dx[i];
   }
 }
@@ -390,12 +408,14 @@ Status Kernel::closed_form(const SolveStep& step, double driver) {
   for (int k = rq_.derivative_order + 1; k <= 3; ++k) q.c[k] = 0.0;
   ws_.vars[var] = q;
   ws_.values[var] = q.value();
+  ws_.invalidate_pose(step.output_node);
   return Status::success();
 }
 
 Status Kernel::run(double driver) {
   const int nv = static_cast<int>(m_.variables.size());
   const bool fresh = ws_.history == 0;
+  ++ws_.point_id;  // every cached pose is stale
   // predictor for the warm start: taylor series from the last point, else extrapolation
   if (ws_.history >= 1) {
     const double h = driver - ws_.prev_driver;
@@ -443,7 +463,8 @@ Status Kernel::run(double driver) {
       if (st.ok()) {
         const Connection& c = m_.connections[step.connections[0]];
         double r[3];
-        connection_residual(m_, c, ws_.values.data(), ws_.pivots.data(), r);
+        connection_residual(m_, c, ws_.values.data(),
+                            detail::DirectPoses<double>{m_, ws_.values.data(), ws_.pivots.data()}, r);
         gap = r[c.equation_count - 1];
       }
       if (st.ok() && gap > 0.0) {
@@ -453,9 +474,11 @@ Status Kernel::run(double driver) {
         else
           for (int v : t.unknowns) ws_.vars[v] = Jet3(ws_.values[v]);
         ws_.contacts[step.connections[0]].gap = gap;
+        ws_.invalidate_pose(step.output_node);
         continue;
       }
       ws_.values[var] = saved;
+      ws_.invalidate_pose(step.output_node);
       ws_.contacts[step.connections[0]].gap = 0.0;
     }
     Status st = solve_values(b, driver);
@@ -465,6 +488,7 @@ Status Kernel::run(double driver) {
     } else {
       for (int v : b.unknowns) ws_.vars[v] = Jet3(ws_.values[v]);
     }
+    finish_block(b);
   }
   for (int v = 0; v < nv; ++v) {
     if (!std::isfinite(ws_.values[v]))
@@ -626,14 +650,17 @@ Workspace::Workspace(const Mechanism& mech) {
   controls_.resize(mech.controls.size());
   for (std::size_t i = 0; i < mech.controls.size(); ++i) controls_[i] = mech.controls[i].default_value;
   pivots.resize(mech.nodes.size());
+  poses0.resize(mech.nodes.size());
+  poses1.resize(mech.nodes.size());
+  poses3.resize(mech.nodes.size());
   set_controls(controls_);
 }
 
 void Workspace::reset() {
   history = 0;
   std::fill(values.begin(), values.end(), 0.0);
-  for (auto& b : full_blocks) b.have_inverse = false;
-  for (auto& b : tangency_blocks) b.have_inverse = false;
+  for (auto& b : full_blocks) b.have_inverse = b.have_lu = false;
+  for (auto& b : tangency_blocks) b.have_inverse = b.have_lu = false;
 }
 
 void Workspace::set_controls(std::span<const double> values_in) {

@@ -10,6 +10,7 @@
 
 #include "camopt/core/error.hpp"
 #include "camopt/core/jet.hpp"
+#include "camopt/kinematics/detail/geometry.hpp"
 #include "camopt/kinematics/mechanism.hpp"
 
 namespace camopt::kin {
@@ -57,15 +58,20 @@ class Workspace {
   SolveStats stats;
 
   // ---- internals used by the kernel ----
+  static constexpr int max_block = 16;  // unknowns solved simultaneously
+  using Matrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, max_block, max_block>;
+  using Vector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, max_block, 1>;
   struct Block {
     std::vector<int> connections;
     std::vector<std::pair<int, int>> equations;  // (connection, local equation)
     std::vector<int> unknowns;
-    Eigen::MatrixXd inverse;  // broyden inverse jacobian (warm start)
+    std::vector<char> solving;  // per node: its variables are unknowns here
+    Matrix inverse;             // broyden inverse jacobian (warm start)
     bool have_inverse = false;
-    Eigen::PartialPivLU<Eigen::MatrixXd> lu;
-    Eigen::MatrixXd jacobian;
-    Eigen::VectorXd x, f, dx, f_new, u;
+    bool have_lu = false;       // lu holds the last exact jacobian
+    Eigen::PartialPivLU<Matrix> lu;
+    Matrix jacobian;
+    Vector x, f, dx, f_new, u, row;
   };
   std::vector<Block> full_blocks;      // per plan step
   std::vector<Block> tangency_blocks;  // per plan step (one-sided contacts: params only)
@@ -74,6 +80,15 @@ class Workspace {
   std::vector<Jet<1>> vars1;
   std::vector<Jet3> vars3;
   std::vector<Eigen::Vector2d> pivots;
+  detail::PoseCache<double> poses0;
+  detail::PoseCache<Jet<1>> poses1;
+  detail::PoseCache<Jet3> poses3;
+  long point_id = 0;
+  void invalidate_pose(int node) {
+    poses0.invalidate(node);
+    poses1.invalidate(node);
+    poses3.invalidate(node);
+  }
   std::vector<bool> open;  // per plan step: lash gap open
   double prev_driver = 0.0, prev2_driver = 0.0;
   int history = 0;  // number of previous points available for prediction

@@ -2,6 +2,7 @@
 // templated geometry of the kinematics kernel, written once for double (values),
 // Jet<1> (jacobian columns) and Jet<3> (velocity, acceleration, jerk).
 #include <cmath>
+#include <vector>
 
 #include "camopt/core/jet.hpp"
 #include "camopt/kinematics/mechanism.hpp"
@@ -40,10 +41,17 @@ struct Pose {
 };
 
 // pose of node n given all variables (vars) and the current pivots (controls applied)
+inline void sin_cos(double x, double& s, double& c) {
+  s = std::sin(x);
+  c = std::cos(x);
+}
+template <int N>
+void sin_cos(const Jet<N>& x, Jet<N>& s, Jet<N>& c) {
+  sincos(x, s, c);
+}
+
 template <class T>
 Pose<T> node_pose(const Mechanism& m, int n, const T* vars, const Eigen::Vector2d* pivots) {
-  using std::cos;
-  using std::sin;
   const Node& node = m.nodes[n];
   Pose<T> p;
   if (node.ground) {
@@ -55,9 +63,7 @@ Pose<T> node_pose(const Mechanism& m, int n, const T* vars, const Eigen::Vector2
   }
   switch (node.kind) {
     case NodeKind::rotational: {
-      const T& q = vars[node.first_variable];
-      p.c = cos(q);
-      p.s = sin(q);
+      sin_cos(vars[node.first_variable], p.s, p.c);
       p.tx = T(pivots[n].x());
       p.ty = T(pivots[n].y());
       p.rx = node.pivot.x();
@@ -74,8 +80,7 @@ Pose<T> node_pose(const Mechanism& m, int n, const T* vars, const Eigen::Vector2
     }
     case NodeKind::floating: {
       const T* q = vars + node.first_variable;
-      p.c = cos(q[2]);
-      p.s = sin(q[2]);
+      sin_cos(q[2], p.s, p.c);
       p.tx = q[0] + node.reference.x();
       p.ty = q[1] + node.reference.y();
       p.rx = node.reference.x();
@@ -85,6 +90,45 @@ Pose<T> node_pose(const Mechanism& m, int n, const T* vars, const Eigen::Vector2
   }
   return p;
 }
+
+// pose providers for the residuals: direct (recomputed) or cached per point
+template <class T>
+struct DirectPoses {
+  const Mechanism& m;
+  const T* vars;
+  const Eigen::Vector2d* pivots;
+  Pose<T> get(int n) const { return node_pose(m, n, vars, pivots); }
+};
+
+// poses of nodes whose variables are final at this point are computed once; the nodes
+// being solved (stamp < 0 requested by the caller) are recomputed on every call
+template <class T>
+struct PoseCache {
+  std::vector<Pose<T>> poses;
+  std::vector<long> stamp;  // point id at which poses[n] was computed
+  void resize(std::size_t nodes) {
+    poses.resize(nodes);
+    stamp.assign(nodes, -1);
+  }
+  void invalidate(int n) { stamp[n] = -1; }
+};
+
+template <class T>
+struct CachedPoses {
+  const Mechanism& m;
+  const T* vars;
+  const Eigen::Vector2d* pivots;
+  PoseCache<T>& cache;
+  long point;
+  const std::vector<char>& solving;  // per node: its variables are unknowns of this block
+  const Pose<T>& get(int n) const {
+    if (solving[n] || cache.stamp[n] != point) {
+      cache.poses[n] = node_pose(m, n, vars, pivots);
+      cache.stamp[n] = solving[n] ? -1 : point;
+    }
+    return cache.poses[n];
+  }
+};
 
 // a surface point in global coordinates with d/du and d2/du2 (curve and line surfaces)
 template <class T>
@@ -131,15 +175,14 @@ Jet<N> gear_integral(const Connection& c, const Jet<N>& q) {
 
 // residuals of connection c into out[0 .. equation_count); the last one of a contact is
 // its closure (signed gap + lash) [mm], the others tangency conditions [mm]
-template <class T>
-void connection_residual(const Mechanism& m, const Connection& c, const T* vars, const Eigen::Vector2d* pivots,
-                         T* out) {
+template <class T, class Poses>
+void connection_residual(const Mechanism& m, const Connection& c, const T* vars, const Poses& poses, T* out) {
   using std::sqrt;
   switch (c.kind) {
     case ConnectionKind::link:
     case ConnectionKind::crank_slider: {
-      const auto pa = node_pose(m, c.node_a, vars, pivots).apply(c.pin_a.x(), c.pin_a.y());
-      const auto pb = node_pose(m, c.node_b, vars, pivots).apply(c.pin_b.x(), c.pin_b.y());
+      const auto pa = poses.get(c.node_a).apply(c.pin_a.x(), c.pin_a.y());
+      const auto pb = poses.get(c.node_b).apply(c.pin_b.x(), c.pin_b.y());
       const V2<T> d{pb.x - pa.x, pb.y - pa.y};
       out[0] = sqrt(dot(d, d)) - c.length;
       return;
@@ -158,8 +201,8 @@ void connection_residual(const Mechanism& m, const Connection& c, const T* vars,
     case ConnectionKind::contact:
       break;
   }
-  const auto pose_a = node_pose(m, c.node_a, vars, pivots);
-  const auto pose_b = node_pose(m, c.node_b, vars, pivots);
+  const auto& pose_a = poses.get(c.node_a);
+  const auto& pose_b = poses.get(c.node_b);
   const Surface& sa = c.surface_a;
   const Surface& sb = c.surface_b;
   const auto a = surface_point(m, sa, pose_a, vars);
