@@ -93,7 +93,7 @@ class Kernel {
   Status solve_values(Workspace::Block& b, double driver);
   bool broyden(Workspace::Block& b, double tol);
   Status newton(Workspace::Block& b, double tol, double driver);
-  void differentiate(Workspace::Block& b);
+  Status differentiate(Workspace::Block& b, double driver);
   void scan_contact_parameters(const Workspace::Block& b);
   Status closed_form(const SolveStep& step, double driver);
   template <class T>
@@ -117,18 +117,26 @@ double Kernel::evaluate(Workspace::Block& b, const Workspace::Vector& x, Workspa
   return f.lpNorm<Eigen::Infinity>();
 }
 
-// exact jacobian by forward mode: one Jet<1> sweep per unknown
+// exact jacobian by forward mode. Known variables carry their true first-order rates, so
+// the sweep with every unknown rate zero gives r_1 (kept in b.row), and each seeded sweep
+// gives J e_j + r_1: n + 1 Jet<1> sweeps give both the jacobian and the first-order residual.
 void Kernel::jacobian(Workspace::Block& b, const Workspace::Vector& x) {
   const int n = static_cast<int>(b.unknowns.size());
-  for (std::size_t v = 0; v < ws_.values.size(); ++v) ws_.vars1[v] = Jet<1>(ws_.values[v]);
+  CAMOPT_ASSERT(n <= Workspace::max_block);
+  for (std::size_t v = 0; v < ws_.values.size(); ++v) {
+    ws_.vars1[v].c[0] = ws_.values[v];
+    ws_.vars1[v].c[1] = ws_.vars[v].c[1];
+  }
   for (int i = 0; i < n; ++i) ws_.vars1[b.unknowns[i]] = Jet<1>(x[i]);
-  Jet<1> out[16];
-  CAMOPT_ASSERT(n <= 16);
+  Jet<1> out[Workspace::max_block];
+  block_residual(m_, b, ws_.vars1.data(), ws_.pivots.data(), ws_.poses1, ws_.point_id, ws_.residual_buffer1.data(),
+                 out);
+  for (int i = 0; i < n; ++i) b.row[i] = out[i].c[1];
   for (int j = 0; j < n; ++j) {
     ws_.vars1[b.unknowns[j]].c[1] = 1.0;
     block_residual(m_, b, ws_.vars1.data(), ws_.pivots.data(), ws_.poses1, ws_.point_id, ws_.residual_buffer1.data(),
                    out);
-    for (int i = 0; i < n; ++i) b.jacobian(i, j) = out[i].c[1];
+    for (int i = 0; i < n; ++i) b.jacobian(i, j) = out[i].c[1] - b.row[i];
     ws_.vars1[b.unknowns[j]].c[1] = 0.0;
   }
 }
@@ -293,27 +301,38 @@ Status Kernel::solve_values(Workspace::Block& b, double driver) {
   return Status::success();
 }
 
-// taylor coefficients of the block's unknowns: J x_k = -r_k, k = 1..order
-void Kernel::differentiate(Workspace::Block& b) {
+// taylor coefficients of the block's unknowns: J x_k = -r_k, k = 1..order, where r_k is
+// the order-k residual coefficient with the unknowns' order >= k terms still zero
+Status Kernel::differentiate(Workspace::Block& b, double driver) {
   const int n = static_cast<int>(b.unknowns.size());
-  jacobian(b, b.x);
+  jacobian(b, b.x);  // also r_1 in b.row
   b.lu.compute(b.jacobian);
   b.have_lu = true;
   b.have_inverse = false;
-  // condition estimate in the 1-norm (Eigen's LAPACK-style estimator of |J^-1|)
+  // condition estimate in the 1-norm (Eigen's LAPACK-style estimate of |J^-1|)
   const double cond = 1.0 / std::max(1e-300, b.lu.rcond());
   ws_.max_condition = std::max(ws_.max_condition, cond);
-  for (int i = 0; i < n; ++i) {
-    ws_.vars[b.unknowns[i]] = Jet3(b.x[i]);
+  if (!(cond < 1e13)) {
+    std::string names;
+    for (int ci : b.connections) names += (names.empty() ? "'" : ", '") + m_.connections[ci].name + "'";
+    return {StatusCode::singular,
+            "connection(s) " + names + " are singular (condition number " + fmt(cond) +
+                "): a pressure angle reached 90 deg or a linkage is at toggle",
+            driver_text(m_, driver)};
   }
-  Jet3 out[16];
-  for (int k = 1; k <= rq_.derivative_order; ++k) {
+  for (int i = 0; i < n; ++i) ws_.vars[b.unknowns[i]] = Jet3(b.x[i]);
+  b.f = -b.row;
+  b.dx = b.lu.solve(b.f);
+  for (int i = 0; i < n; ++i) ws_.vars[b.unknowns[i]].c[1] = b.dx[i];
+  Jet3 out[Workspace::max_block];
+  for (int k = 2; k <= rq_.derivative_order; ++k) {
     block_residual(m_, b, ws_.vars.data(), ws_.pivots.data(), ws_.poses3, ws_.point_id, ws_.residual_buffer3.data(),
                    out);
     for (int i = 0; i < n; ++i) b.f[i] = -out[i].c[k];
     b.dx = b.lu.solve(b.f);
     for (int i = 0; i < n; ++i) ws_.vars[b.unknowns[i]].c[k] = b.dx[i];
   }
+  return Status::success();
 }
 
 template <class T>
@@ -470,8 +489,10 @@ Status Kernel::run(double driver) {
       if (st.ok() && gap > 0.0) {
         ws_.open[si] = true;
         set_constant(var, m_.nodes[step.output_node].rest);
-        if (rq_.derivative_order > 0 && !t.unknowns.empty()) differentiate(t);
-        else
+        if (rq_.derivative_order > 0 && !t.unknowns.empty()) {
+          Status dst = differentiate(t, driver);
+          if (!dst.ok()) return dst;
+        } else
           for (int v : t.unknowns) ws_.vars[v] = Jet3(ws_.values[v]);
         ws_.contacts[step.connections[0]].gap = gap;
         ws_.invalidate_pose(step.output_node);
@@ -484,7 +505,8 @@ Status Kernel::run(double driver) {
     Status st = solve_values(b, driver);
     if (!st.ok()) return st;
     if (rq_.derivative_order > 0) {
-      differentiate(b);
+      Status dst = differentiate(b, driver);
+      if (!dst.ok()) return dst;
     } else {
       for (int v : b.unknowns) ws_.vars[v] = Jet3(ws_.values[v]);
     }

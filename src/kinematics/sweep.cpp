@@ -118,8 +118,9 @@ PositionSummary summarize(const Mechanism& m, const SweepResult& r, std::size_t 
         if (!cs.open && pa > s.max_pressure_angle_deg)
           s.max_pressure_angle_deg = pa, s.max_pressure_angle_at = r.driver[i], s.max_pressure_angle_contact = conn.name;
         for (int side = 0; side < 2; ++side) {
+          // cam surfaces: profiles and discs (not rollers, not flat faces)
           const Surface& sf = side == 0 ? conn.surface_a : conn.surface_b;
-          if (sf.kind != SurfaceKind::curve) continue;
+          if (sf.kind == SurfaceKind::line || (sf.kind == SurfaceKind::point && sf.roller)) continue;
           const double k = side == 0 ? cs.curvature_a : cs.curvature_b;
           // convex radius 1/k; concave regions count by their (negative) radius magnitude
           const double radius = k > 0 ? 1.0 / k : (k < 0 ? 1.0 / k : 1e300);
