@@ -305,6 +305,13 @@ void setup_kinematics(CLI::App& app) {
       positions.push_back(j);
     }
     summary["positions"] = positions;
+    nlohmann::json profiles = nlohmann::json::array();
+    for (const auto& prof : mech.profiles)
+      profiles.push_back({{"name", prof.name()},
+                          {"base_circle_radius_mm", prof.base_radius_mm()},
+                          {"max_radius_mm", prof.max_radius_mm()},
+                          {"max_excess_radius_mm", prof.max_radius_mm() - prof.base_radius_mm()}});
+    summary["profiles"] = profiles;
 
     io::OutputTransaction out(o.out_dir);
     out.stage("kinematics.csv", io::format_csv(header, cols));

@@ -488,6 +488,10 @@ std::string describe(const Mechanism& m) {
     if (static_cast<int>(i) == m.driver_node) os << "  [driver]";
     os << "\n";
   }
+  if (!m.profiles.empty()) os << "profiles:\n";
+  for (const auto& p : m.profiles)
+    os << "  " << p.name() << "  base_circle_radius_mm=" << p.base_radius_mm() << "  max_radius_mm=" << p.max_radius_mm()
+       << "  max_excess_radius_mm=" << p.max_radius_mm() - p.base_radius_mm() << "\n";
   os << "connections:\n";
   for (const auto& c : m.connections) {
     os << "  " << c.name << "  " << to_string(c.kind) << "  " << m.nodes[c.node_a].name << " - "
