@@ -622,6 +622,15 @@ class Parser {
       Series s = read_series(t, angle_names, "angle_deg", value_key);
       s.x.check_min_points(6);
       s.x.check_increasing();
+      // a closed table that repeats its first point at +360 deg (common in measured data,
+      // e.g. MBSim's contour.asc) is accepted: the repeat is dropped when it matches
+      if (s.x.values.size() > 6 && std::abs(s.x.values.back() - s.x.values.front() - 360.0) <= 1e-9 &&
+          std::abs(s.y.values.back() - s.y.values.front()) <= 1e-9 * std::max(1.0, std::abs(s.y.values.front()))) {
+        s.x.values.pop_back();
+        s.x.refs.pop_back();
+        s.y.values.pop_back();
+        s.y.refs.pop_back();
+      }
       s.x.check_span_below_turn();
       s.y.check_each(value_rule);
       p.source_file = s.source_file;

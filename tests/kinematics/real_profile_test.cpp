@@ -1,0 +1,67 @@
+// the contact solver on a real, measured-looking polar table (MBSim's cam_contact contour,
+// offset polar origin) against an independent brute-force formulation of the roller lift:
+// the roller centre height is the largest height at which the roller still touches the cam,
+//   y_c(theta) = max over phi with |P_x| <= r of  P_y(phi) + sqrt(r^2 - P_x(phi)^2),
+// P(phi) the rotated profile point; found by a dense scan refined by golden section.
+#include <catch2/catch.hpp>
+#include <cmath>
+
+#include "camopt/io/design_file.hpp"
+#include "camopt/kinematics/mechanism.hpp"
+#include "camopt/kinematics/solver.hpp"
+
+using namespace camopt;
+
+namespace {
+constexpr double kLiftTolerance = 1e-8;  // [mm] brute force resolves ~1e-11 mm
+
+double touching_height(const kin::CamProfile& prof, double theta, double roller, double ox, double oy) {
+  auto height = [&](double phi) {
+    const auto c = prof.point(phi);  // profile frame, polar origin at (ox, oy) on the cam
+    const double bx = ox + c.x, by = oy + c.y;
+    const double px = std::cos(theta) * bx - std::sin(theta) * by;
+    const double py = std::sin(theta) * bx + std::cos(theta) * by;
+    if (std::abs(px) > roller) return -1e300;
+    return py + std::sqrt(roller * roller - px * px);
+  };
+  constexpr int samples = 20000;
+  int best = 0;
+  double best_h = -1e300;
+  for (int i = 0; i < samples; ++i) {
+    const double h = height(2 * M_PI * i / samples);
+    if (h > best_h) best_h = h, best = i;
+  }
+  // golden-section refinement of the maximum
+  double a = 2 * M_PI * (best - 1) / samples, b = 2 * M_PI * (best + 1) / samples;
+  const double g = (std::sqrt(5.0) - 1) / 2;
+  double c = b - g * (b - a), d = a + g * (b - a);
+  for (int it = 0; it < 100; ++it) {
+    if (height(c) > height(d)) b = d;
+    else a = c;
+    c = b - g * (b - a);
+    d = a + g * (b - a);
+  }
+  return height(0.5 * (a + b));
+}
+}  // namespace
+
+TEST_CASE("roller lift on the MBSim polar contour matches a brute-force envelope", "[kinematics][real]") {
+  const auto spec = io::load_design(std::string(CAMOPT_SOURCE_DIR) + "/tests/data/kinematics/mbsim_roller.toml");
+  const auto mech = kin::compile(spec);
+  REQUIRE(mech.profiles.size() == 1);
+  // the table is 361 rows with the 0-deg point repeated at 360 deg: the repeat is dropped
+  CHECK(mech.profiles[0].base_radius_mm() == Approx(22.0).margin(1e-3));
+  CHECK(mech.profiles[0].max_radius_mm() == Approx(26.517).margin(2e-3));
+  kin::Workspace ws(mech);
+  const int follower = mech.nodes[mech.output_node].first_variable;
+  double worst = 0.0;
+  for (int i = 0; i <= 720; ++i) {
+    const double theta = i * M_PI / 360.0;
+    const auto st = kin::solve(mech, ws, theta, {3, true});
+    REQUIRE(st.ok());
+    const double centre = 45.0 + ws.vars[follower].value();
+    const double expected = touching_height(mech.profiles[0], theta, 10.0, 3.0, 10.0);
+    worst = std::max(worst, std::abs(centre - expected));
+  }
+  CHECK(worst < kLiftTolerance);
+}
