@@ -9,6 +9,7 @@
 #include "camopt/io/atomic_file.hpp"
 #include "camopt/io/csv.hpp"
 #include "camopt/io/design_file.hpp"
+#include "camopt/kinematics/drawing_check.hpp"
 #include "camopt/kinematics/sweep.hpp"
 #include "cli_common.hpp"
 #include "range_option.hpp"
@@ -93,6 +94,7 @@ void setup_kinematics(CLI::App& app) {
     const OutputSelection sel = parse_outputs(o.outputs);
     const DesignSpec spec = io::load_design(o.design);
     const kin::Mechanism mech = kin::compile(spec);
+    for (const auto& note : kin::check_drawing(mech)) info(o.design + ": warning: " + note);
 
     kin::SweepSpec sweep;
     sweep.start = spec.driver.start_deg;

@@ -3,6 +3,7 @@
 #include <iostream>
 
 #include "camopt/io/design_file.hpp"
+#include "camopt/kinematics/drawing_check.hpp"
 #include "camopt/kinematics/mechanism.hpp"
 #include "cli_common.hpp"
 
@@ -17,7 +18,9 @@ void setup_validate(CLI::App& app) {
     for (const auto& f : *files) {
       const DesignSpec spec = io::load_design(f);
       const kin::Mechanism mech = kin::compile(spec);
-      if (!global_options().quiet) std::cout << f << ": ok\n" << kin::describe(mech) << "\n";
+      if (!global_options().quiet) std::cout << f << ": ok\n" << kin::describe(mech);
+      for (const auto& note : kin::check_drawing(mech)) info(f + ": warning: " + note);
+      if (!global_options().quiet) std::cout << "\n";
     }
   });
 }

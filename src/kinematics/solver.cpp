@@ -631,17 +631,31 @@ void Kernel::contact_outputs(int step_index) {
     }
     out.sliding = ua - ub;
     out.entrainment = 0.5 * (ua + ub);
-    // pressure angle: normal against the follower's direction of motion at the contact
-    const int follower = step.output_node >= 0 ? step.output_node : c.node_b;
+    // pressure angle: the normal against the direction of motion of the follower's trace
+    // point - a roller's or pad's centre (the normal passes through it), else the contact
+    // point on the follower's surface (Norton, Cam Design and Manufacturing Handbook, ch. 7)
+    const bool follower_is_a = step.output_node == c.node_a;
+    const int follower = follower_is_a || step.output_node == c.node_b ? step.output_node : c.node_b;
+    const Surface& fs = follower == c.node_a ? sa : sb;
     const Node& fn = m_.nodes[follower];
+    double trace_x = out.x, trace_y = out.y;
+    if (fs.kind == SurfaceKind::point) {
+      const auto centre = (follower == c.node_a ? pa : pb).apply(fs.origin.x(), fs.origin.y());
+      trace_x = centre.x.value();
+      trace_y = centre.y.value();
+    }
     V2<double> dir{0, 0};
     if (fn.kind == NodeKind::translational) {
       dir = {fn.direction.x(), fn.direction.y()};
     } else if (fn.kind == NodeKind::rotational) {
       const Eigen::Vector2d o = ws_.pivots[follower];
-      dir = {-(out.y - o.y()), out.x - o.x()};
+      dir = {-(trace_y - o.y()), trace_x - o.x()};
     } else {
-      dir = follower == c.node_a ? va : vb;
+      // a floating follower has no fixed path: use the trace point's velocity; while the
+      // body is at rest the angle is undefined and reported as 0
+      const Eigen::Vector2d local = to_local(m_, ws_, follower, trace_x, trace_y);
+      dir = material_velocity(m_, ws_, follower, local);
+      if (std::hypot(dir.x, dir.y) < 1e-9 * m_.length_scale) dir = {0.0, 0.0};
     }
     const double dn = std::hypot(dir.x, dir.y);
     out.pressure_angle = dn > 0 ? std::acos(std::min(1.0, std::abs(dir.x * out.normal_x + dir.y * out.normal_y) / dn)) : 0.0;

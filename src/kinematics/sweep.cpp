@@ -122,9 +122,10 @@ PositionSummary summarize(const Mechanism& m, const SweepResult& r, std::size_t 
           const Surface& sf = side == 0 ? conn.surface_a : conn.surface_b;
           if (sf.kind == SurfaceKind::line || (sf.kind == SurfaceKind::point && sf.roller)) continue;
           const double k = side == 0 ? cs.curvature_a : cs.curvature_b;
-          // convex radius 1/k; concave regions count by their (negative) radius magnitude
-          const double radius = k > 0 ? 1.0 / k : (k < 0 ? 1.0 / k : 1e300);
-          if (radius < s.min_cam_radius_mm)
+          // smallest |radius| (sign kept: negative = concave); flat points do not count
+          if (k == 0.0) continue;
+          const double radius = 1.0 / k;
+          if (std::abs(radius) < std::abs(s.min_cam_radius_mm))
             s.min_cam_radius_mm = radius, s.min_cam_radius_at = r.driver[i], s.min_cam_radius_contact = conn.name;
         }
         s.max_roller_speed = std::max(s.max_roller_speed, std::abs(cs.roller_speed) * unit);
