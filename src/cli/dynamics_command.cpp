@@ -19,7 +19,7 @@ void setup_dynamics(CLI::App& app) {
   cmd->add_option("--rpm", opts->rpm, "engine speed [rpm, crankshaft]: a value, a list a,b,c or START:STOP:COUNT")
       ->required();
   cmd->add_option("--out", opts->out_dir, "output directory")->required();
-  cmd->callback([] { throw NotBuilt{"dynamics is not built yet (issues #6 rigid, #7 flexible)"}; });
+  cmd->callback([opts] { throw NotBuilt{"dynamics is not built yet (issues #6 rigid, #7 flexible)"}; });
 }
 
 }  // namespace camopt::cli

@@ -20,7 +20,7 @@ void setup_lift(CLI::App& app) {
   cmd->add_option("--lift", opts->lift_mm, "maximum lift [mm]");
   cmd->add_option("--duration", opts->duration_deg, "duration [cam deg]");
   cmd->add_option("--out", opts->out, "output CSV (cam_deg, lift_mm, ...)")->required();
-  cmd->callback([] { throw NotBuilt{"lift is not built yet (issue #4: lift-law library)"}; });
+  cmd->callback([opts] { throw NotBuilt{"lift is not built yet (issue #4: lift-law library)"}; });
 }
 
 }  // namespace camopt::cli

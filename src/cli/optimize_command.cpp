@@ -21,7 +21,7 @@ void setup_optimize(CLI::App& app) {
   cmd->add_option("--solver", opts->solver, "ipopt, slsqp, mma, cobyla or global");
   cmd->add_option("--out", opts->out_dir, "output directory")->required();
   cmd->add_flag("--verify", opts->verify, "run the optimised design through kinematics and dynamics");
-  cmd->callback([] { throw NotBuilt{"optimize is not built yet (issue #5: constrained optimisation)"}; });
+  cmd->callback([opts] { throw NotBuilt{"optimize is not built yet (issue #5: constrained optimisation)"}; });
 }
 
 }  // namespace camopt::cli

@@ -22,7 +22,7 @@ void setup_synthesize(CLI::App& app) {
   cmd->add_option("--cam", opts->cam, "which cam to synthesize")->check(CLI::IsMember({"rotational", "swing"}));
   cmd->add_option("--control", opts->control_deg, "control position [deg or mm, per the design's control unit]");
   cmd->add_option("--points", opts->points, "profile points per revolution [count]")->check(CLI::PositiveNumber);
-  cmd->callback([] { throw NotBuilt{"synthesize is not built yet (issue #4: envelope-theory synthesis)"}; });
+  cmd->callback([opts] { throw NotBuilt{"synthesize is not built yet (issue #4: envelope-theory synthesis)"}; });
 }
 
 }  // namespace camopt::cli

@@ -658,7 +658,10 @@ void Kernel::contact_outputs(int step_index) {
       if (std::hypot(dir.x, dir.y) < 1e-9 * m_.length_scale) dir = {0.0, 0.0};
     }
     const double dn = std::hypot(dir.x, dir.y);
-    out.pressure_angle = dn > 0 ? std::acos(std::min(1.0, std::abs(dir.x * out.normal_x + dir.y * out.normal_y) / dn)) : 0.0;
+    // atan2 keeps full precision near 0 and 90 deg (acos of a dot product does not)
+    const double along = std::abs(dir.x * out.normal_x + dir.y * out.normal_y);
+    const double across = std::abs(dir.x * out.normal_y - dir.y * out.normal_x);
+    out.pressure_angle = dn > 0 ? std::atan2(across, along) : 0.0;
   }
 }
 

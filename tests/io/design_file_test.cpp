@@ -334,7 +334,7 @@ a = { node = "cam", point_mm = [0, 10] }
 b = { node = "rockr", point_mm = [0, 40] }
 )";
   CHECK_THAT(error_of(text),
-             Contains(at(text, "\"rockr\"") + ": connection[0].b.node: unknown node \"rockr\" (defined: cam, valve)"));
+             Contains(at(text, "\"rockr\"") + ": connection[0].b.node: unknown node \"rockr\" (defined: cam, valve; or 'ground' for the fixed frame)"));
 }
 
 TEST_CASE("design error: missing CSV file", "[io][design]") {

@@ -1,0 +1,164 @@
+#!/usr/bin/env bash
+# camopt set-up: install the Debian 12 packages, configure, build, and optionally test and
+# run the default design. Safe to run again: it installs, configures and builds only what is
+# missing or changed.
+set -euo pipefail
+
+# the main job run by --run-default (paths relative to the repo root)
+DEFAULT_DESIGN="designs/cvvl_swing_cam.toml"
+DEFAULT_COMMAND="kinematics"
+DEFAULT_ARGS=(--control 0:16:17 --step 0.5)  # control 0..16 deg in 17 positions, 0.5 deg cam steps
+DEFAULT_OUT="out/cvvl"
+
+# Debian 12 packages needed to build and test
+PACKAGES=(build-essential cmake ninja-build pkg-config libeigen3-dev libnlopt-cxx-dev coinor-libipopt-dev
+          libsundials-dev libcli11-dev catch2 libtomlplusplus-dev nlohmann-json3-dev)
+
+usage() {
+  cat <<EOF
+usage: scripts/setup.sh [--build-dir DIR] [--type Release|Debug] [--sanitize] [--test] [--run-default]
+
+  --build-dir DIR  build directory (default: build; a relative path is taken from the repo root)
+  --type TYPE      CMAKE_BUILD_TYPE: Release (default) or Debug
+  --sanitize       build with AddressSanitizer + UndefinedBehaviorSanitizer
+  --test           run the test suite (ctest) and exit with its status
+  --run-default    run '$DEFAULT_COMMAND' on $DEFAULT_DESIGN, results in $DEFAULT_OUT/
+EOF
+}
+
+die() {
+  echo "setup.sh: error: $*" >&2
+  exit 1
+}
+
+usage_error() {
+  echo "setup.sh: $*" >&2
+  usage >&2
+  exit 2
+}
+
+# repo root from the script location, so any cwd works
+REPO="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+
+build_dir="build"
+build_type="Release"
+sanitize="OFF"
+run_tests=0
+run_default=0
+while (($# > 0)); do
+  case "$1" in
+    --build-dir)
+      (($# >= 2)) || usage_error "--build-dir needs a directory"
+      build_dir="$2"
+      shift 2
+      ;;
+    --build-dir=*) build_dir="${1#*=}"; shift ;;
+    --type)
+      (($# >= 2)) || usage_error "--type needs Release or Debug"
+      build_type="$2"
+      shift 2
+      ;;
+    --type=*) build_type="${1#*=}"; shift ;;
+    --sanitize) sanitize="ON"; shift ;;
+    --test) run_tests=1; shift ;;
+    --run-default) run_default=1; shift ;;
+    -h | --help) usage; exit 0 ;;
+    *) usage_error "unknown argument '$1'" ;;
+  esac
+done
+case "$build_type" in
+  Release | Debug) ;;
+  *) usage_error "--type must be Release or Debug, got '$build_type'" ;;
+esac
+[[ -n "$build_dir" ]] || usage_error "--build-dir must not be empty"
+[[ "$build_dir" = /* ]] || build_dir="$REPO/$build_dir"
+
+jobs="$(nproc)"
+
+# --- packages: apt only when something is missing ---------------------------------------
+command -v dpkg-query >/dev/null 2>&1 ||
+  die "dpkg-query not found: this script supports Debian 12; install by hand: ${PACKAGES[*]}"
+missing=()
+for pkg in "${PACKAGES[@]}"; do
+  status="$(dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null || true)"
+  [[ "$status" == "install ok installed" ]] || missing+=("$pkg")
+done
+if ((${#missing[@]} == 0)); then
+  echo "== packages: nothing missing (${#PACKAGES[@]} installed)"
+else
+  if ((EUID == 0)); then
+    as_root=()
+  elif command -v sudo >/dev/null 2>&1; then
+    as_root=(sudo)
+  else
+    die "missing packages and not root, no sudo to install them; as root run:
+  apt-get update && apt-get install -y --no-install-recommends ${missing[*]}"
+  fi
+  echo "== installing: ${missing[*]}"
+  "${as_root[@]}" env DEBIAN_FRONTEND=noninteractive apt-get update
+  "${as_root[@]}" env DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends "${missing[@]}"
+fi
+
+# --- configure: only without a cache or when an option changed --------------------------
+cache="$build_dir/CMakeCache.txt"
+cache_get() { sed -n "s/^$1:[A-Za-z]*=//p" "$cache" | head -n 1; }
+as_bool() {
+  case "${1^^}" in
+    ON | TRUE | YES | Y | 1) echo ON ;;
+    *) echo OFF ;;
+  esac
+}
+reason=""
+if [[ ! -f "$cache" ]]; then
+  reason="new build directory"
+else
+  cached_source="$(cache_get CMAKE_HOME_DIRECTORY)"
+  [[ "$cached_source" -ef "$REPO" ]] ||
+    die "$build_dir was configured for the sources in '$cached_source'; use another --build-dir"
+  cached_generator="$(cache_get CMAKE_GENERATOR)"
+  [[ "$cached_generator" == "Ninja" ]] ||
+    die "$build_dir was configured with the '$cached_generator' generator, not Ninja; delete it or use another --build-dir"
+  if [[ "$(cache_get CMAKE_BUILD_TYPE)" != "$build_type" ]]; then
+    reason="build type changed to $build_type"
+  elif [[ "$(as_bool "$(cache_get CAMOPT_WERROR)")" != ON ]]; then
+    reason="CAMOPT_WERROR changed to ON"
+  elif [[ "$(as_bool "$(cache_get CAMOPT_SANITIZE)")" != "$sanitize" ]]; then
+    reason="CAMOPT_SANITIZE changed to $sanitize"
+  fi
+fi
+if [[ -n "$reason" ]]; then
+  echo "== configuring $build_dir ($build_type, sanitize $sanitize; $reason)"
+  cmake_args=(-S "$REPO" -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE="$build_type" -DCAMOPT_WERROR=ON)
+  if [[ "$sanitize" == ON ]]; then
+    cmake_args+=(-DCAMOPT_SANITIZE=ON)
+  else
+    cmake_args+=(-DCAMOPT_SANITIZE=OFF)
+  fi
+  cmake "${cmake_args[@]}"
+else
+  echo "== configuring: $build_dir is up to date ($build_type, sanitize $sanitize)"
+fi
+
+# --- build: ninja rebuilds only what changed --------------------------------------------
+echo "== building $build_dir ($jobs jobs)"
+cmake --build "$build_dir" --parallel "$jobs"
+
+# --- test ---------------------------------------------------------------------------------
+if ((run_tests)); then
+  echo "== testing"
+  test_status=0
+  ctest --test-dir "$build_dir" --output-on-failure --parallel "$jobs" || test_status=$?
+  if ((test_status != 0 || !run_default)); then
+    exit "$test_status"
+  fi
+fi
+
+# --- run the default design -----------------------------------------------------------------
+if ((run_default)); then
+  cd "$REPO"
+  [[ -f "$DEFAULT_DESIGN" ]] || die "default design $REPO/$DEFAULT_DESIGN not found"
+  echo "== running: camopt $DEFAULT_COMMAND $DEFAULT_DESIGN ${DEFAULT_ARGS[*]} --out $DEFAULT_OUT"
+  "$build_dir/camopt" "$DEFAULT_COMMAND" "$DEFAULT_DESIGN" "${DEFAULT_ARGS[@]}" --out "$DEFAULT_OUT"
+  echo "== results in $REPO/$DEFAULT_OUT/:"
+  ls -l "$DEFAULT_OUT"
+fi

@@ -1,0 +1,421 @@
+// end-to-end tests of the camopt executable: exit codes, help text, messages and the
+// files each subcommand writes (or must not write).
+#include <catch2/catch.hpp>
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "cli/cli_support.hpp"
+
+#if __has_include(<nlohmann/json.hpp>)
+#include <nlohmann/json.hpp>
+#define CAMOPT_TEST_HAVE_JSON 1
+#endif
+
+using namespace camopt::test;
+
+namespace {
+
+const std::vector<std::string> kSubcommands = {"validate", "kinematics", "synthesize", "lift",
+                                               "optimize", "dynamics",   "bench"};
+
+// small valid inputs of our own (tests/data/cli/)
+fs::path cli_data(const std::string& name) { return source_dir() / "tests" / "data" / "cli" / name; }
+fs::path bundled_design(const std::string& name) { return source_dir() / "designs" / name; }
+
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+// an output directory that was never created, or holds no files at all
+bool no_output(const fs::path& dir) { return files_under(dir).empty(); }
+
+// one entry of a CLI11 help text: the name column and its description (continuation lines
+// joined), e.g. "--lift FLOAT   maximum lift [mm]"
+struct HelpEntry {
+  std::vector<std::string> names;  // "-q", "--quiet"
+  std::string type;                // "FLOAT", "INT:POSITIVE", "TEXT", ... ("" for flags)
+  std::string text;                // the whole entry
+};
+
+std::vector<HelpEntry> help_entries(const std::string& help) {
+  std::vector<HelpEntry> entries;
+  bool in_entry = false;
+  for (const auto& line : split_lines(help)) {
+    const auto first = line.find_first_not_of(' ');
+    if (first == std::string::npos || first == 0) {
+      in_entry = false;  // blank line or section header
+    } else if (first == 2) {
+      HelpEntry e;
+      e.text = line;
+      std::istringstream tokens(line);
+      std::string name_column, type;
+      tokens >> name_column >> type;
+      std::string::size_type start = 0, comma;
+      while ((comma = name_column.find(',', start)) != std::string::npos) {
+        e.names.push_back(name_column.substr(start, comma - start));
+        start = comma + 1;
+      }
+      e.names.push_back(name_column.substr(start));
+      e.type = type;
+      entries.push_back(e);
+      in_entry = true;
+    } else if (in_entry) {
+      entries.back().text += " " + line.substr(first);
+    }
+  }
+  return entries;
+}
+
+const HelpEntry* find_option(const std::vector<HelpEntry>& entries, const std::string& name) {
+  for (const auto& e : entries)
+    for (const auto& n : e.names)
+      if (n == name) return &e;
+  return nullptr;
+}
+
+bool is_numeric_type(const std::string& type) {
+  static const std::regex numeric(R"(^(INT|UINT|FLOAT|DOUBLE|NUMBER)(:.*)?$)");
+  return std::regex_match(type, numeric);
+}
+
+// "[...]" somewhere in the entry, and (if given) one holding `unit` as a word
+bool has_bracketed_unit(const std::string& text, const std::string& unit = "") {
+  const std::regex any(R"(\[[^\]]+\])");
+  if (unit.empty()) return std::regex_search(text, any);
+  return std::regex_search(text, std::regex(R"(\[[^\]]*\b)" + unit + R"(\b[^\]]*\])"));
+}
+
+// a CSV column name ends in a unit: _deg, _mm, _mm_per_deg2, _rad_per_deg, _per_mm, _N, ...
+bool has_unit_suffix(const std::string& column) {
+  static const std::string unit = R"((deg|rad|mm|m|um|s|ms|N|Nm|Nmm|MPa|GPa|kg|kg_mm2|rpm|J|W|Hz|pct|1)[23]?)";
+  static const std::regex suffix("(_" + unit + "(_per_" + unit + ")*|(_per_" + unit + ")+)$");
+  return std::regex_search(column, suffix);
+}
+
+std::vector<std::string> split_csv_row(const std::string& line) {
+  std::vector<std::string> cells;
+  std::string::size_type start = 0, comma;
+  while ((comma = line.find(',', start)) != std::string::npos) {
+    cells.push_back(line.substr(start, comma - start));
+    start = comma + 1;
+  }
+  cells.push_back(line.substr(start));
+  for (auto& c : cells) {
+    const auto b = c.find_first_not_of(" \t"), e = c.find_last_not_of(" \t");
+    c = b == std::string::npos ? std::string() : c.substr(b, e - b + 1);
+  }
+  return cells;
+}
+
+std::string lower(std::string s) {
+  for (auto& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+}  // namespace
+
+// ---- version and help ---------------------------------------------------------------------
+
+TEST_CASE("camopt --version prints the version", "[cli]") {
+  const auto r = run_camopt({"--version"});
+  INFO(r.command << "\n" << r.all());
+  CHECK(r.exit_code == cli_ok);
+  CHECK(contains(r.out, CAMOPT_VERSION));
+}
+
+TEST_CASE("camopt --help lists every subcommand", "[cli]") {
+  const auto r = run_camopt({"--help"});
+  INFO(r.command << "\n" << r.all());
+  CHECK(r.exit_code == cli_ok);
+  const auto entries = help_entries(r.out);
+  for (const auto& sub : kSubcommands) {
+    INFO("subcommand " << sub);
+    CHECK(find_option(entries, sub) != nullptr);
+  }
+  // global numeric options carry units too
+  const HelpEntry* threads = find_option(entries, "--threads");
+  REQUIRE(threads != nullptr);
+  CHECK(has_bracketed_unit(threads->text, "count"));
+}
+
+TEST_CASE("every subcommand's --help gives the units of its numeric options", "[cli]") {
+  // options whose unit we know; checked when the subcommand has the option
+  struct Expected {
+    const char* subcommand;
+    const char* option;
+    const char* unit;
+  };
+  const std::vector<Expected> expected = {
+      {"kinematics", "--step", "deg"},  {"kinematics", "--rpm", "rpm"}, {"kinematics", "--control", ""},
+      {"synthesize", "--control", "deg"}, {"synthesize", "--points", "count"},
+      {"lift", "--lift", "mm"},           {"lift", "--duration", "deg"},
+      {"dynamics", "--rpm", "rpm"},
+  };
+  for (const auto& sub : kSubcommands) {
+    const auto r = run_camopt({sub, "--help"});
+    INFO(r.command << "\n" << r.all());
+    CHECK(r.exit_code == cli_ok);
+    const auto entries = help_entries(r.out);
+    // any option typed as a number names its unit in brackets
+    for (const auto& e : entries) {
+      if (!is_numeric_type(e.type)) continue;
+      INFO("numeric option: " << e.text);
+      CHECK(has_bracketed_unit(e.text));
+    }
+    for (const auto& x : expected) {
+      if (sub != x.subcommand) continue;
+      const HelpEntry* e = find_option(entries, x.option);
+      if (!e) {
+        WARN(sub << " has no option " << x.option << " (yet); not checked");
+        continue;
+      }
+      INFO("option entry: " << e->text << "\nexpected unit: [" << x.unit << "...]");
+      CHECK(has_bracketed_unit(e->text, x.unit));
+    }
+  }
+}
+
+// ---- usage errors (exit 2) -----------------------------------------------------------------
+
+TEST_CASE("usage errors exit 2", "[cli]") {
+  TempDir tmp;
+  const std::string design = cli_data("eccentric_flat.toml").string();
+  const std::string out = (tmp / "out").string();
+  const std::vector<std::vector<std::string>> cases = {
+      {},                                            // no subcommand
+      {"--no-such-option"},                          // unknown global option
+      {"validate", design, "--no-such-option"},      // unknown subcommand option
+      {"frobnicate"},                                // unknown subcommand
+      {"validate"},                                  // missing required positional
+      {"lift", "--out", out + "/lift.csv"},          // missing required --law
+      {"dynamics", design, "--out", out},            // missing required --rpm
+      {"optimize", design, "--out", out},            // missing required --constraints
+      {"--threads", "-1", "validate", design},       // value out of range
+      {"dynamics", design, "--rpm", "3000", "--out", out, "--model", "stiff"},  // not one of the choices
+  };
+  for (const auto& args : cases) {
+    const auto r = run_camopt(args);
+    INFO(r.command << "\n" << r.all());
+    CHECK(r.exit_code == cli_usage_error);
+    CHECK_FALSE(r.err.empty());
+  }
+  CHECK(no_output(tmp / "out"));
+}
+
+// ---- subcommands not built yet (exit 5), writing nothing ---------------------------------
+
+TEST_CASE("subcommands not built yet exit 5 and write nothing", "[cli]") {
+  const std::string design = cli_data("eccentric_flat.toml").string();
+  struct Case {
+    std::string name;
+    std::vector<std::string> args;  // "{out}" is replaced by the output directory
+  };
+  const std::vector<Case> cases = {
+      {"synthesize", {"synthesize", "{target}", "--design", design, "--out", "{out}", "--cam", "rotational",
+                      "--control", "4", "--points", "720"}},
+      {"lift", {"lift", "--law", "cycloidal", "--lift", "9.5", "--duration", "240", "--out", "{out}/lift.csv"}},
+      {"optimize", {"optimize", design, "--constraints", "{constraints}", "--solver", "ipopt", "--out", "{out}"}},
+      {"dynamics rigid", {"dynamics", design, "--rpm", "3000", "--out", "{out}"}},
+      {"dynamics flexible", {"dynamics", design, "--model", "flexible", "--rpm", "1000:7000:7", "--out", "{out}"}},
+      {"bench", {"bench", "--out", "{out}"}},
+  };
+  for (const auto& c : cases) {
+    TempDir tmp;
+    const fs::path out = tmp / "out";
+    // valid inputs for the options that name files
+    const fs::path target = tmp / "target_lift.csv";
+    write_text(target, "cam_deg,lift_mm\n0,0\n90,4.5\n180,9\n270,4.5\n");
+    const fs::path constraints = tmp / "constraints.toml";
+    write_text(constraints, "# no limits\n");
+    std::vector<std::string> args;
+    for (auto a : c.args) {
+      for (const auto& [key, value] : {std::pair<std::string, std::string>{"{out}", out.string()},
+                                       {"{target}", target.string()},
+                                       {"{constraints}", constraints.string()}}) {
+        const auto at = a.find(key);
+        if (at != std::string::npos) a.replace(at, key.size(), value);
+      }
+      args.push_back(a);
+    }
+    const auto r = run_camopt(args);
+    INFO(c.name << ": " << r.command << "\n" << r.all());
+    CHECK(r.exit_code == cli_not_built);
+    CHECK(contains(r.all(), "not built yet"));
+    CHECK((!fs::exists(out) || fs::is_empty(out)));
+  }
+}
+
+// ---- validate ------------------------------------------------------------------------------
+
+TEST_CASE("validate accepts every bundled design", "[cli][validate]") {
+  const auto designs = glob_files(source_dir() / "designs", ".toml");
+  if (designs.empty()) {
+    WARN("no designs/*.toml yet; nothing to validate");
+    return;
+  }
+  for (const auto& d : designs) {
+    const auto r = run_camopt({"validate", d.string()});
+    INFO(r.command << "\n" << r.all());
+    CHECK(r.exit_code == cli_ok);
+  }
+}
+
+TEST_CASE("validate rejects every bad design with its expected message", "[cli][validate]") {
+  const auto designs = glob_files(source_dir() / "tests" / "data" / "bad_designs", ".toml");
+  REQUIRE_FALSE(designs.empty());
+  const std::string marker = "# expect: ";
+  for (const auto& d : designs) {
+    const auto lines = split_lines(read_file(d));
+    INFO("bad design " << d.string());
+    REQUIRE_FALSE(lines.empty());
+    REQUIRE(lines[0].rfind(marker, 0) == 0);
+    const std::string expected = lines[0].substr(marker.size());
+    const auto r = run_camopt({"validate", d.string()});
+    INFO(r.command << "\n" << r.all() << "\nexpected on stderr: " << expected);
+    CHECK(r.exit_code == cli_input_error);
+    CHECK(contains(r.err, expected));
+  }
+}
+
+TEST_CASE("validate names a design file that does not exist", "[cli][validate]") {
+  TempDir tmp;
+  const std::string missing = (tmp / "no_such_design.toml").string();
+  const auto r = run_camopt({"validate", missing});
+  INFO(r.command << "\n" << r.all());
+  CHECK(r.exit_code == cli_input_error);
+  CHECK(contains(r.err, missing));
+}
+
+// ---- kinematics ----------------------------------------------------------------------------
+
+TEST_CASE("kinematics without --out is a usage error", "[cli][kinematics]") {
+  const auto r = run_camopt({"kinematics", cli_data("eccentric_flat.toml").string()});
+  INFO(r.command << "\n" << r.all());
+  CHECK(r.exit_code == cli_usage_error);
+}
+
+TEST_CASE("kinematics names a design file that does not exist and writes nothing", "[cli][kinematics]") {
+  TempDir tmp;
+  const std::string missing = (tmp / "no_such_design.toml").string();
+  const fs::path out = tmp / "out";
+  const auto r = run_camopt({"kinematics", missing, "--out", out.string()});
+  INFO(r.command << "\n" << r.all());
+  CHECK(r.exit_code == cli_input_error);
+  CHECK(contains(r.err, missing));
+  CHECK(no_output(out));
+}
+
+TEST_CASE("kinematics rejects a bad design with exit 3 and writes nothing", "[cli][kinematics]") {
+  const auto designs = glob_files(source_dir() / "tests" / "data" / "bad_designs", ".toml");
+  REQUIRE_FALSE(designs.empty());
+  for (const auto& d : designs) {
+    TempDir tmp;
+    const fs::path out = tmp / "out";
+    const auto r = run_camopt({"kinematics", d.string(), "--out", out.string()});
+    INFO(r.command << "\n" << r.all());
+    CHECK(r.exit_code == cli_input_error);
+    CHECK(no_output(out));
+  }
+}
+
+TEST_CASE("kinematics of a four-bar that cannot close fails with exit 4 and writes nothing",
+          "[cli][kinematics]") {
+  TempDir tmp;
+  const fs::path out = tmp / "out";
+  const auto r = run_camopt({"kinematics", cli_data("four_bar_cannot_close.toml").string(), "--out", out.string()});
+  INFO(r.command << "\n" << r.all());
+  CHECK(r.exit_code == cli_numerical_failure);
+  // the message names the connection and the driver angle where it failed
+  CHECK(contains(r.err, "short_coupler"));
+  CHECK(contains(r.err, "deg"));
+  CHECK(no_output(out));
+}
+
+namespace {
+
+// the files of a successful kinematics run: unit-labelled CSV with finite cells, JSON summary
+void check_kinematics_outputs(const fs::path& out) {
+  REQUIRE(fs::is_regular_file(out / "kinematics.csv"));
+  REQUIRE(fs::is_regular_file(out / "summary.json"));
+  // no temp file of the atomic writes is left behind
+  for (const auto& f : files_under(out)) {
+    INFO("output file " << f.string());
+    CHECK_FALSE(contains(f.filename().string(), ".tmp"));
+  }
+
+  // kinematics.csv: every column has a unit, every cell is finite
+  std::vector<std::string> header;
+  std::size_t rows = 0;
+  const auto lines = split_lines(read_file(out / "kinematics.csv"));
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    const std::string& line = lines[i];
+    if (line.empty() || line[0] == '#') continue;
+    const auto cells = split_csv_row(line);
+    if (header.empty()) {
+      header = cells;
+      for (const auto& column : header) {
+        INFO("kinematics.csv column '" << column << "' has no unit suffix");
+        CHECK(has_unit_suffix(column));
+      }
+      continue;
+    }
+    ++rows;
+    INFO("kinematics.csv line " << i + 1 << ": " << line);
+    REQUIRE(cells.size() == header.size());
+    for (std::size_t c = 0; c < cells.size(); ++c) {
+      const std::string cell = lower(cells[c]);
+      char* end = nullptr;
+      const double v = std::strtod(cells[c].c_str(), &end);
+      const bool number = !cell.empty() && end && *end == '\0';
+      const bool bad = cell.empty() || contains(cell, "nan") || contains(cell, "inf") || (number && !std::isfinite(v));
+      if (bad)
+        FAIL_CHECK("column " << header[c] << ": cell '" << cells[c] << "' is empty or not finite");
+    }
+  }
+  CHECK_FALSE(header.empty());
+  CHECK(rows > 1);
+
+  // summary.json parses
+  const std::string text = read_file(out / "summary.json");
+  INFO("summary.json: " << text.substr(0, 2000));
+#ifdef CAMOPT_TEST_HAVE_JSON
+  nlohmann::json summary;
+  REQUIRE_NOTHROW(summary = nlohmann::json::parse(text));
+  CHECK(summary.is_object());
+  CHECK_FALSE(summary.empty());
+#else
+  const auto first = text.find_first_not_of(" \t\r\n");
+  REQUIRE(first != std::string::npos);
+  CHECK(text[first] == '{');
+#endif
+}
+
+}  // namespace
+
+TEST_CASE("kinematics of a bundled design writes a unit-labelled CSV and a JSON summary",
+          "[cli][kinematics]") {
+  const fs::path design = bundled_design("eccentric_flat_follower.toml");
+  INFO("design " << design.string());
+  REQUIRE(fs::exists(design));
+  TempDir tmp;
+  const fs::path out = tmp / "out";
+  const auto r = run_camopt({"kinematics", design.string(), "--out", out.string()});
+  INFO(r.command << "\n" << r.all());
+  REQUIRE(r.exit_code == cli_ok);
+  check_kinematics_outputs(out);
+}
+
+TEST_CASE("kinematics with every output at an engine speed labels every column with its unit",
+          "[cli][kinematics]") {
+  TempDir tmp;
+  const fs::path out = tmp / "out";
+  const auto r = run_camopt({"kinematics", cli_data("eccentric_flat.toml").string(), "--out", out.string(),
+                             "--outputs", "all", "--rpm", "3000", "--step", "2"});
+  INFO(r.command << "\n" << r.all());
+  REQUIRE(r.exit_code == cli_ok);
+  check_kinematics_outputs(out);
+}

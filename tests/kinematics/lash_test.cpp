@@ -1,0 +1,147 @@
+// valve lash: a one-sided contact holds its follower at rest while the clearance is open.
+//
+// flat tappet on an eccentric disc (R, e), cam pivot at the origin, the disc's 0 axis at
+// -90 deg so the base circle (radius R - e) faces the tappet at theta = 0; the face drawn
+// touching the base circle at height y0 = R - e; lash L, rest 0. the disc's top is at
+// R - e cos(theta), and the closure "face - top + L = 0" gives the closed lift
+//   s_c(theta) = e (1 - cos theta) - L,
+// so the tappet displacement is s = max(0, s_c): at rest (all derivatives zero) while the
+// gap g = -s_c = L - e (1 - cos theta) is open, i.e. cos(theta) > 1 - L/e, and
+// e sin, e cos, -e sin once it closes. the peak lift is 2e - L: the lash is lost exactly.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "camopt/kinematics/sweep.hpp"
+#include "kinematics/kinematics_test_support.hpp"
+
+using namespace camopt;
+using namespace camopt::kin_test;
+
+namespace {
+
+constexpr double kR = 20.0, kE = 4.0;  // disc radius, eccentricity [mm]
+constexpr double kLash = 0.2;          // [mm]
+constexpr double kGapAbs = 1e-12;      // [mm] clearance against its closed form
+constexpr double kLiftLossAbs = 1e-12; // [mm]
+
+DesignSpec flat_with_lash(double lash, const Placement& p) {
+  DesignSpec d = design("lash_flat", "cam", "tappet");
+  const double y0 = kR - kE;
+  d.nodes = {rotational("cam", p.pt({0, 0})), translational("tappet", p.pt({0, y0}), p.dir({0, 1}))};
+  d.profiles = {eccentric_profile("disc", kR, kE)};
+  ConnectionSpec c = contact("cam_tappet", profile_surface("cam", "disc", p.pt({0, 0}), p.degrees(-90 * deg)),
+                             line_surface("tappet", p.pt({0, y0}), p.dir({0, -1})));
+  c.lash_mm = lash;
+  d.connections = {c};
+  return d;
+}
+
+}  // namespace
+
+TEST_CASE("lash: flat tappet on an eccentric disc is held at rest while the clearance is open",
+          "[kinematics][lash]") {
+  for (const Placement& place : {Placement{}, Placement{35 * deg, {8, -12}}}) {
+    const auto m = kin::compile(flat_with_lash(kLash, place));
+    REQUIRE(m.plan.size() == 1);
+    CHECK(m.plan[0].one_sided);
+    kin::Workspace ws(m);
+    kin::Request rq;
+    rq.contacts = true;
+    SweepCompare lift("lash flat, placement " + std::to_string(place.angle / deg), false);
+    int open_points = 0;
+    for (int i = 0; i < kSweepPoints; ++i) {
+      const double t = i * kSweepStepDeg * deg;
+      const Status st = kin::solve(m, ws, t, rq);
+      INFO(st.str());
+      REQUIRE(st.ok());
+      const double closed = kE * (1.0 - std::cos(t)) - kLash;
+      const bool open = closed < 0.0;
+      const Jet<3>& s = node_jet(m, ws, "tappet");
+      const auto& cs = ws.contacts[0];
+      INFO("theta " << t / deg << " deg, closed-form lift " << closed);
+      REQUIRE(cs.open == open);
+      if (open) {
+        // at rest, exactly, with zero rates; the gap is the clearance left
+        CHECK(s.value() == 0.0);
+        for (int k = 1; k <= 3; ++k) CHECK(s.derivative(k) == 0.0);
+        CHECK(std::abs(cs.gap - (-closed)) <= kGapAbs);
+        ++open_points;
+        lift.add(t, motion_of(s), {0, 0, 0, 0});
+      } else {
+        CHECK(cs.gap == 0.0);
+        lift.add(t, motion_of(s), {closed, kE * std::sin(t), kE * std::cos(t), -kE * std::sin(t)});
+      }
+    }
+    // open for cos(theta) > 1 - L/e: 2 acos(0.95) = 36.4 deg of the revolution
+    const double open_span = 2.0 * std::acos(1.0 - kLash / kE) / deg;
+    CHECK(open_points == Approx(open_span / kSweepStepDeg).margin(2));
+    lift.check();
+  }
+}
+
+TEST_CASE("lash: the lift lost is exactly the lash", "[kinematics][lash]") {
+  kin::SweepSpec spec;
+  spec.start = 0;
+  spec.stop = 360;
+  spec.step = kSweepStepDeg;
+  spec.request.contacts = true;
+  const auto with = kin::compile(flat_with_lash(kLash, {}));
+  const auto without = kin::compile(flat_with_lash(0.0, {}));
+  const auto rw = kin::sweep(with, spec), rn = kin::sweep(without, spec);
+  REQUIRE(rw.positions[0].status.ok());
+  REQUIRE(rn.positions[0].status.ok());
+  const auto sw = kin::summarize(with, rw, 0), sn = kin::summarize(without, rn, 0);
+  CHECK(std::abs(sn.max_lift - 2.0 * kE) <= kLiftLossAbs);
+  CHECK(std::abs((sn.max_lift - sw.max_lift) - kLash) <= kLiftLossAbs);
+  CHECK(sw.max_lift_at == Approx(180.0));
+  // the lash contact reports its separation; the closed contact does not
+  CHECK(sw.separations.size() == 1);
+  CHECK(sn.separations.empty());
+  // point by point: with lash = max(0, without - lash)
+  const std::size_t nv = with.variables.size();
+  const int v = with.nodes[static_cast<std::size_t>(with.node_index("tappet"))].first_variable;
+  for (std::size_t i = 0; i < rw.driver.size(); ++i)
+    CHECK(std::abs(rw.positions[0].at(i, nv, v, 0) - std::max(0.0, rn.positions[0].at(i, nv, v, 0) - kLash)) <=
+          kDisplacementRel * 2.0 * kE);
+}
+
+TEST_CASE("lash: offset roller on an eccentric disc closes along the contact normal", "[kinematics][lash]") {
+  // the closure |roller centre - disc centre| = R + r - L: the lift with lash is oracle (b)
+  // with the roller radius r - L, measured from the drawing (radius r), floored at rest;
+  // the gap at rest is |(offset, Y0) - disc centre| - (R + r) + L
+  const double R = 18, e = 3, phase = -90 * deg, r = 9, offset = 3;
+  const oracles::EccentricOffsetRoller drawn{R, e, phase, r, offset}, closed{R, e, phase, r - kLash, offset};
+  const double Y0 = drawn.centre_height(0)[0];
+  DesignSpec d = design("lash_roller", "cam", "tappet");
+  d.nodes = {rotational("cam", {0, 0}), translational("tappet", {offset, Y0}, {0, 1})};
+  d.profiles = {eccentric_profile("disc", R, e)};
+  ConnectionSpec c =
+      contact("cam_roller", profile_surface("cam", "disc", {0, 0}, phase / deg), circle_surface("tappet", {offset, Y0}, r, true));
+  c.lash_mm = kLash;
+  d.connections = {c};
+  const auto m = kin::compile(d);
+  kin::Workspace ws(m);
+  kin::Request rq;
+  rq.contacts = true;
+  SweepCompare lift("lash roller", false);
+  for (int i = 0; i < kSweepPoints; ++i) {
+    const double t = i * kSweepStepDeg * deg;
+    REQUIRE(kin::solve(m, ws, t, rq).ok());
+    const Vector2d disc = e * Vector2d(std::cos(t + phase), std::sin(t + phase));
+    const double gap = (Vector2d(offset, Y0) - disc).norm() - (R + r) + kLash;
+    const auto& cs = ws.contacts[0];
+    INFO("theta " << t / deg << " deg, gap at rest " << gap);
+    REQUIRE(cs.open == (gap > 0));
+    if (gap > 0) {
+      CHECK(std::abs(cs.gap - gap) <= kGapAbs);
+      lift.add(t, motion_of(node_jet(m, ws, "tappet")), {0, 0, 0, 0});
+    } else {
+      auto ref = closed.centre_height(t);
+      ref[0] -= Y0;
+      lift.add(t, motion_of(node_jet(m, ws, "tappet")), ref);
+    }
+  }
+  lift.check();
+}
