@@ -53,7 +53,6 @@ Workspace::Block make_block(const Mechanism& m, const SolveStep& step, bool tang
     if (m.variables[v].node >= 0) b.solving[m.variables[v].node] = 1;
   b.inverse.setZero(n, n);
   b.jacobian.setZero(n, n);
-  b.lu = Eigen::PartialPivLU<Workspace::Matrix>(n);
   b.x.setZero(n);
   b.f.setZero(n);
   b.dx.setZero(n);
@@ -178,8 +177,8 @@ Status Kernel::newton(Workspace::Block& b, double tol, double driver) {
     if (norm <= tol) return Status::success();
     ++ws_.stats.newton_iterations;
     jacobian(b, b.x);
-    b.lu.compute(b.jacobian);
-    b.dx = b.lu.solve(b.f);
+    b.lu.factor(static_cast<int>(b.unknowns.size()), b.jacobian);
+    b.lu.solve(b.f.data(), b.dx.data());
     b.dx = -b.dx;
     if (!b.dx.allFinite()) break;
     // backtracking on the residual norm
@@ -279,7 +278,7 @@ Status Kernel::solve_values(Workspace::Block& b, double driver) {
   const double tol = tolerance();
   if (b.have_lu && !b.have_inverse) {
     // broyden starts from the last exact jacobian (factored for the derivatives)
-    b.inverse = b.lu.inverse();
+    b.lu.inverse(b.inverse);
     b.have_inverse = b.inverse.allFinite();
   }
   if (b.have_inverse && broyden(b, tol)) return Status::success();
@@ -294,7 +293,7 @@ Status Kernel::solve_values(Workspace::Block& b, double driver) {
   }
   // keep the exact jacobian for the next point's broyden start
   jacobian(b, b.x);
-  b.lu.compute(b.jacobian);
+  b.lu.factor(n, b.jacobian);
   b.have_lu = true;
   b.have_inverse = false;
   evaluate(b, b.x, b.f);
@@ -306,11 +305,11 @@ Status Kernel::solve_values(Workspace::Block& b, double driver) {
 Status Kernel::differentiate(Workspace::Block& b, double driver) {
   const int n = static_cast<int>(b.unknowns.size());
   jacobian(b, b.x);  // also r_1 in b.row
-  b.lu.compute(b.jacobian);
+  b.lu.factor(n, b.jacobian);
   b.have_lu = true;
   b.have_inverse = false;
   // condition estimate in the 1-norm (Eigen's LAPACK-style estimate of |J^-1|)
-  const double cond = 1.0 / std::max(1e-300, b.lu.rcond());
+  const double cond = b.lu.condition();
   ws_.max_condition = std::max(ws_.max_condition, cond);
   if (!(cond < 1e13)) {
     std::string names;
@@ -322,14 +321,14 @@ Status Kernel::differentiate(Workspace::Block& b, double driver) {
   }
   for (int i = 0; i < n; ++i) ws_.vars[b.unknowns[i]] = Jet3(b.x[i]);
   b.f = -b.row;
-  b.dx = b.lu.solve(b.f);
+  b.lu.solve(b.f.data(), b.dx.data());
   for (int i = 0; i < n; ++i) ws_.vars[b.unknowns[i]].c[1] = b.dx[i];
   Jet3 out[Workspace::max_block];
   for (int k = 2; k <= rq_.derivative_order; ++k) {
     block_residual(m_, b, ws_.vars.data(), ws_.pivots.data(), ws_.poses3, ws_.point_id, ws_.residual_buffer3.data(),
                    out);
     for (int i = 0; i < n; ++i) b.f[i] = -out[i].c[k];
-    b.dx = b.lu.solve(b.f);
+    b.lu.solve(b.f.data(), b.dx.data());
     for (int i = 0; i < n; ++i) ws_.vars[b.unknowns[i]].c[k] = b.dx[i];
   }
   return Status::success();

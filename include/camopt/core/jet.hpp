@@ -283,9 +283,11 @@ inline Jet<N> log(const Jet<N>& u) noexcept {
 
 // coupled recurrence: s_k = (1/k) sum j u_j c_{k-j}, c_k = -(1/k) sum j u_j s_{k-j}
 template <int N>
-inline void sincos(const Jet<N>& u, Jet<N>& s, Jet<N>& c) noexcept {
-  Jet<N> ss(std::sin(u.c[0]));
-  Jet<N> cc(std::cos(u.c[0]));
+inline void sincos_from(const Jet<N>& u, double sin_u0, double cos_u0, Jet<N>& s, Jet<N>& c) noexcept {
+  // the recurrence of sincos, given sin and cos of the value (callers that already
+  // know them skip the libm calls)
+  Jet<N> ss(sin_u0);
+  Jet<N> cc(cos_u0);
   for (int k = 1; k <= N; ++k) {
     double a = 0.0;
     double b = 0.0;
@@ -299,6 +301,11 @@ inline void sincos(const Jet<N>& u, Jet<N>& s, Jet<N>& c) noexcept {
   }
   s = ss;
   c = cc;
+}
+
+template <int N>
+inline void sincos(const Jet<N>& u, Jet<N>& s, Jet<N>& c) noexcept {
+  sincos_from(u, std::sin(u.c[0]), std::cos(u.c[0]), s, c);
 }
 
 template <int N>

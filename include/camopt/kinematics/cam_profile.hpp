@@ -7,6 +7,7 @@
 #include "camopt/core/design_spec.hpp"
 #include "camopt/core/jet.hpp"
 #include "camopt/core/spline.hpp"
+#include "camopt/core/trig_cache.hpp"
 
 namespace camopt::kin {
 
@@ -33,13 +34,14 @@ class CamProfile {
   // polar radius at a polar angle [rad] (excess radius = radius - base radius)
   double radius_at(double polar_angle_rad) const;
 
+  // second = false leaves ddx, ddy unset (cheaper: residuals need no curvature)
   template <class T>
-  CurvePoint<T> point(const T& u) const;
+  CurvePoint<T> point(const T& u, bool second = true) const;
 
  private:
   template <int N>
-  static void spline_jets(const PeriodicSpline& s, const Jet<N>& u, Jet<N>& f, Jet<N>& f1, Jet<N>& f2);
-  static void spline_jets(const PeriodicSpline& s, double u, double& f, double& f1, double& f2);
+  static void spline_jets(const PeriodicSpline& s, const Jet<N>& u, Jet<N>& f, Jet<N>& f1, Jet<N>& f2, bool second);
+  static void spline_jets(const PeriodicSpline& s, double u, double& f, double& f1, double& f2, bool second);
 
   std::string name_;
   bool polar_ = true;
@@ -50,31 +52,33 @@ class CamProfile {
   double base_radius_ = 0.0, max_radius_ = 0.0;
 };
 
-inline void CamProfile::spline_jets(const PeriodicSpline& s, double u, double& f, double& f1, double& f2) {
+inline void CamProfile::spline_jets(const PeriodicSpline& s, double u, double& f, double& f1, double& f2,
+                                    bool second) {
   double d[3];
-  s.evaluate(u, 2, d);
+  s.evaluate(u, second ? 2 : 1, d);
   f = d[0];
   f1 = d[1];
-  f2 = d[2];
+  if (second) f2 = d[2];
 }
 
 template <int N>
-void CamProfile::spline_jets(const PeriodicSpline& s, const Jet<N>& u, Jet<N>& f, Jet<N>& f1, Jet<N>& f2) {
+void CamProfile::spline_jets(const PeriodicSpline& s, const Jet<N>& u, Jet<N>& f, Jet<N>& f1, Jet<N>& f2,
+                             bool second) {
   // f, f', f'' as jets need derivatives up to N + 2 (quintic: f^(5) piecewise constant)
   double d[N + 3 > 6 ? N + 3 : 6] = {};
-  s.evaluate(u.value(), N + 2 < 5 ? N + 2 : 5, d);
+  const int need = N + (second ? 2 : 1);
+  s.evaluate(u.value(), need < 5 ? need : 5, d);
   f = compose(d, u);
   f1 = compose(d + 1, u);
-  f2 = compose(d + 2, u);
+  if (second) f2 = compose(d + 2, u);
 }
 
 template <class T>
-CurvePoint<T> CamProfile::point(const T& u) const {
-  using std::cos;
-  using std::sin;
+CurvePoint<T> CamProfile::point(const T& u, bool second) const {
   CurvePoint<T> p;
+  T c, s;
+  if (is_disc_ || polar_) sin_cos(u, s, c);
   if (is_disc_) {
-    const T c = cos(u), s = sin(u);
     p.x = disc_center_x_ + disc_radius_ * c;
     p.y = disc_radius_ * s;
     p.dx = -disc_radius_ * s;
@@ -85,19 +89,20 @@ CurvePoint<T> CamProfile::point(const T& u) const {
   }
   if (polar_) {
     T r, r1, r2;
-    spline_jets(r_, u, r, r1, r2);
-    const T c = cos(u), s = sin(u);
+    spline_jets(r_, u, r, r1, r2, second);
     // p = r (cos u, sin u)
     p.x = r * c;
     p.y = r * s;
-    p.dx = r1 * c - r * s;
-    p.dy = r1 * s + r * c;
-    p.ddx = r2 * c - 2.0 * r1 * s - r * c;
-    p.ddy = r2 * s + 2.0 * r1 * c - r * s;
+    p.dx = r1 * c - p.y;
+    p.dy = r1 * s + p.x;
+    if (second) {
+      p.ddx = r2 * c - 2.0 * r1 * s - p.x;
+      p.ddy = r2 * s + 2.0 * r1 * c - p.y;
+    }
     return p;
   }
-  spline_jets(x_, u, p.x, p.dx, p.ddx);
-  spline_jets(y_, u, p.y, p.dy, p.ddy);
+  spline_jets(x_, u, p.x, p.dx, p.ddx, second);
+  spline_jets(y_, u, p.y, p.dy, p.ddy, second);
   return p;
 }
 

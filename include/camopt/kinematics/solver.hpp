@@ -4,7 +4,6 @@
 // taylor coefficients with respect to the driver [per rad or per mm of driver], exact:
 // closed forms run on jets, implicit blocks use implicit differentiation J x_k = -r_k.
 #include <Eigen/Core>
-#include <Eigen/LU>
 #include <span>
 #include <vector>
 
@@ -12,6 +11,7 @@
 #include "camopt/core/jet.hpp"
 #include "camopt/kinematics/detail/geometry.hpp"
 #include "camopt/kinematics/mechanism.hpp"
+#include "camopt/kinematics/small_lu.hpp"
 
 namespace camopt::kin {
 
@@ -69,7 +69,7 @@ class Workspace {
     Matrix inverse;             // broyden inverse jacobian (warm start)
     bool have_inverse = false;
     bool have_lu = false;       // lu holds the last exact jacobian
-    Eigen::PartialPivLU<Matrix> lu;
+    SmallLU<max_block> lu;
     Matrix jacobian;
     Vector x, f, dx, f_new, u, row;
   };

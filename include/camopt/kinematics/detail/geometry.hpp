@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "camopt/core/jet.hpp"
+#include "camopt/core/trig_cache.hpp"
 #include "camopt/kinematics/mechanism.hpp"
 
 namespace camopt::kin::detail {
@@ -41,15 +42,6 @@ struct Pose {
 };
 
 // pose of node n given all variables (vars) and the current pivots (controls applied)
-inline void sin_cos(double x, double& s, double& c) {
-  s = std::sin(x);
-  c = std::cos(x);
-}
-template <int N>
-void sin_cos(const Jet<N>& x, Jet<N>& s, Jet<N>& c) {
-  sincos(x, s, c);
-}
-
 template <class T>
 Pose<T> node_pose(const Mechanism& m, int n, const T* vars, const Eigen::Vector2d* pivots) {
   const Node& node = m.nodes[n];
@@ -136,8 +128,10 @@ struct SurfacePoint {
   V2<T> p, d1, d2;
 };
 
+// second = false skips d2 (the residuals need only the point and its tangent)
 template <class T>
-SurfacePoint<T> surface_point(const Mechanism& m, const Surface& s, const Pose<T>& pose, const T* vars) {
+SurfacePoint<T> surface_point(const Mechanism& m, const Surface& s, const Pose<T>& pose, const T* vars,
+                              bool second = true) {
   SurfacePoint<T> out;
   switch (s.kind) {
     case SurfaceKind::point:
@@ -154,11 +148,11 @@ SurfacePoint<T> surface_point(const Mechanism& m, const Surface& s, const Pose<T
       break;
     }
     case SurfaceKind::curve: {
-      const CurvePoint<T> c = m.profiles[s.profile].point(vars[s.variable]);
+      const CurvePoint<T> c = m.profiles[s.profile].point(vars[s.variable], second);
       const double co = s.cos_orient, so = s.sin_orient;
       out.p = pose.apply(s.origin.x() + co * c.x - so * c.y, s.origin.y() + so * c.x + co * c.y);
       out.d1 = pose.rotate(co * c.dx - so * c.dy, so * c.dx + co * c.dy);
-      out.d2 = pose.rotate(co * c.ddx - so * c.ddy, so * c.ddx + co * c.ddy);
+      if (second) out.d2 = pose.rotate(co * c.ddx - so * c.ddy, so * c.ddx + co * c.ddy);
       break;
     }
   }
@@ -205,8 +199,8 @@ void connection_residual(const Mechanism& m, const Connection& c, const T* vars,
   const auto& pose_b = poses.get(c.node_b);
   const Surface& sa = c.surface_a;
   const Surface& sb = c.surface_b;
-  const auto a = surface_point(m, sa, pose_a, vars);
-  const auto b = surface_point(m, sb, pose_b, vars);
+  const auto a = surface_point(m, sa, pose_a, vars, false);
+  const auto b = surface_point(m, sb, pose_b, vars, false);
   if (sa.kind == SurfaceKind::point && sb.kind == SurfaceKind::point) {
     const V2<T> d{b.p.x - a.p.x, b.p.y - a.p.y};
     const T dist = sqrt(dot(d, d));
