@@ -323,13 +323,23 @@ Status Kernel::differentiate(Workspace::Block& b, double driver) {
   b.f = -b.row;
   b.lu.solve(b.f.data(), b.dx.data());
   for (int i = 0; i < n; ++i) ws_.vars[b.unknowns[i]].c[1] = b.dx[i];
-  Jet3 out[Workspace::max_block];
-  for (int k = 2; k <= rq_.derivative_order; ++k) {
+  if (rq_.derivative_order >= 2) {
+    // order 2 needs only second-order jets: the known variables truncated to Jet<2>
+    for (std::size_t v = 0; v < ws_.values.size(); ++v) ws_.vars2[v] = truncate<2>(ws_.vars[v]);
+    Jet<2> out2[Workspace::max_block];
+    block_residual(m_, b, ws_.vars2.data(), ws_.pivots.data(), ws_.poses2, ws_.point_id, ws_.residual_buffer2.data(),
+                   out2);
+    for (int i = 0; i < n; ++i) b.f[i] = -out2[i].c[2];
+    b.lu.solve(b.f.data(), b.dx.data());
+    for (int i = 0; i < n; ++i) ws_.vars[b.unknowns[i]].c[2] = b.dx[i];
+  }
+  if (rq_.derivative_order >= 3) {
+    Jet3 out[Workspace::max_block];
     block_residual(m_, b, ws_.vars.data(), ws_.pivots.data(), ws_.poses3, ws_.point_id, ws_.residual_buffer3.data(),
                    out);
-    for (int i = 0; i < n; ++i) b.f[i] = -out[i].c[k];
+    for (int i = 0; i < n; ++i) b.f[i] = -out[i].c[3];
     b.lu.solve(b.f.data(), b.dx.data());
-    for (int i = 0; i < n; ++i) ws_.vars[b.unknowns[i]].c[k] = b.dx[i];
+    for (int i = 0; i < n; ++i) ws_.vars[b.unknowns[i]].c[3] = b.dx[i];
   }
   return Status::success();
 }
@@ -674,11 +684,12 @@ Workspace::Workspace(const Mechanism& mech) {
   prev2_values.assign(nv, 0.0);
   prev_jets.assign(nv, Jet3(0.0));
   vars1.assign(nv, Jet<1>(0.0));
-  vars3.assign(nv, Jet3(0.0));
+  vars2.assign(nv, Jet<2>(0.0));
   contacts.assign(mech.connections.size(), ContactState{});
   open.assign(mech.plan.size(), false);
   residual_buffer.assign(4, 0.0);
   residual_buffer1.assign(4, Jet<1>(0.0));
+  residual_buffer2.assign(4, Jet<2>(0.0));
   residual_buffer3.assign(4, Jet3(0.0));
   for (const auto& step : mech.plan) {
     CAMOPT_ASSERT(step.unknowns.size() <= 16);
@@ -690,6 +701,7 @@ Workspace::Workspace(const Mechanism& mech) {
   pivots.resize(mech.nodes.size());
   poses0.resize(mech.nodes.size());
   poses1.resize(mech.nodes.size());
+  poses2.resize(mech.nodes.size());
   poses3.resize(mech.nodes.size());
   set_controls(controls_);
 }

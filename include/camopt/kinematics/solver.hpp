@@ -78,15 +78,17 @@ class Workspace {
   std::vector<double> values, prev_values, prev2_values;
   std::vector<Jet3> prev_jets;
   std::vector<Jet<1>> vars1;
-  std::vector<Jet3> vars3;
+  std::vector<Jet<2>> vars2;
   std::vector<Eigen::Vector2d> pivots;
   detail::PoseCache<double> poses0;
   detail::PoseCache<Jet<1>> poses1;
+  detail::PoseCache<Jet<2>> poses2;
   detail::PoseCache<Jet3> poses3;
   long point_id = 0;
   void invalidate_pose(int node) {
     poses0.invalidate(node);
     poses1.invalidate(node);
+    poses2.invalidate(node);
     poses3.invalidate(node);
   }
   std::vector<bool> open;  // per plan step: lash gap open
@@ -95,6 +97,7 @@ class Workspace {
   int prev_order = 0;
   std::vector<double> residual_buffer;
   std::vector<Jet<1>> residual_buffer1;
+  std::vector<Jet<2>> residual_buffer2;
   std::vector<Jet3> residual_buffer3;
 
  private:

@@ -16,11 +16,11 @@ struct V2 {
 };
 
 template <class T>
-T dot(const V2<T>& a, const V2<T>& b) {
+[[gnu::always_inline]] inline T dot(const V2<T>& a, const V2<T>& b) {
   return a.x * b.x + a.y * b.y;
 }
 template <class T>
-T cross(const V2<T>& a, const V2<T>& b) {
+[[gnu::always_inline]] inline T cross(const V2<T>& a, const V2<T>& b) {
   return a.x * b.y - a.y * b.x;
 }
 
