@@ -73,13 +73,20 @@ std::pair<double, double> derivative_self_check(const kin::Mechanism& m, const s
   for (int i = 0; i < 360; i += 3) {
     const double th = i * deg;
     if (!kin::solve(m, ws, th, {3, false}).ok()) continue;
+    // skip stencils that straddle a lash opening or closing (the lift is only C0 there)
+    auto any_open = [](const kin::Workspace& w) {
+      for (bool o : w.open)
+        if (o) return true;
+      return false;
+    };
     double x[7];
-    bool ok = true;
+    bool ok = !any_open(ws);
     for (int k = -3; k <= 3; ++k) {
       ok &= kin::solve(m, fd, th + k * h, {0, false}).ok();
+      ok &= !any_open(fd);
       x[k + 3] = fd.values[out];
     }
-    if (!ok || ws.open[0]) continue;
+    if (!ok) continue;
     const double d1 = (-x[0] + 9 * x[1] - 45 * x[2] + 45 * x[4] - 9 * x[5] + x[6]) / (60 * h);
     const double d2 = (2 * x[0] - 27 * x[1] + 270 * x[2] - 490 * x[3] + 270 * x[4] - 27 * x[5] + 2 * x[6]) / (180 * h * h);
     const auto& j = ws.vars[out];

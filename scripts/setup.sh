@@ -7,7 +7,7 @@ set -euo pipefail
 # the main job run by --run-default (paths relative to the repo root)
 DEFAULT_DESIGN="designs/cvvl_swing_cam.toml"
 DEFAULT_COMMAND="kinematics"
-DEFAULT_ARGS=(--control 0:16:17 --step 0.5)  # control 0..16 deg in 17 positions, 0.5 deg cam steps
+DEFAULT_ARGS=(--control 0:16:17 --step 0.5 --outputs all)  # control 0..16 deg in 17 positions, 0.5 deg cam steps
 DEFAULT_OUT="out/cvvl"
 
 # Debian 12 packages needed to build and test
