@@ -25,6 +25,13 @@ namespace {
 
 constexpr double deg = M_PI / 180.0;
 
+// compact number for the csv (std::to_string prints 6 fixed decimals: 1e-14 -> 0.000000)
+std::string num(double v) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.4g", v);
+  return buffer;
+}
+
 double seconds_of(const std::function<void()>& f, int repeat) {
   double best = 1e300;
   for (int r = 0; r < repeat; ++r) {
@@ -157,8 +164,8 @@ int main(int argc, char** argv) {
       const char* names[4] = {"lift", "vel", "acc", "jerk"};
       for (int k = 0; k < 4; ++k)
         rows.push_back(d.name + ",1," + std::to_string(r.driver.size()) + ",derivatives," +
-                       std::to_string(t / r.driver.size() * 1e9) + "," + std::to_string(t * 1e3) + ",closed_form_" +
-                       names[k] + "," + std::to_string(err[k] / peak[k]));
+                       num(t / r.driver.size() * 1e9) + "," + num(t * 1e3) + ",closed_form_" + names[k] + "," +
+                       num(err[k] / peak[k]));
     }
   }
 
@@ -200,14 +207,14 @@ int main(int argc, char** argv) {
     const char* modes[3] = {"lift", "derivatives", "all"};
     for (int mode = 0; mode < 3; ++mode)
       rows.push_back(std::string(cs.file) + "," + std::to_string(controls.size()) + "," + std::to_string(points) + "," +
-                     modes[mode] + "," + std::to_string(t_mode[mode] / n * 1e9) + "," +
-                     std::to_string(t_mode[mode] * 1e3) + ",fd_vel_acc," + std::to_string(std::max(fd1, fd2)));
+                     modes[mode] + "," + num(t_mode[mode] / n * 1e9) + "," + num(t_mode[mode] * 1e3) +
+                     ",fd_vel_acc," + num(std::max(fd1, fd2)));
     if (controls.size() > 1 && threads > 1) {
       const double t = seconds_of([&] { run(m, 3, true, step, controls, threads); }, repeat);
       std::printf("%-30s all outputs with %d threads: %.2f ms\n", cs.file, threads, t * 1e3);
       rows.push_back(std::string(cs.file) + "," + std::to_string(controls.size()) + "," + std::to_string(points) +
-                     ",all_" + std::to_string(threads) + "_threads," + std::to_string(t / n * 1e9) + "," +
-                     std::to_string(t * 1e3) + ",,");
+                     ",all_" + std::to_string(threads) + "_threads," + num(t / n * 1e9) + "," + num(t * 1e3) +
+                     ",,");
     }
   }
   if (!csv_path.empty()) {
