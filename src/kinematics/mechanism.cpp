@@ -425,37 +425,50 @@ Mechanism compile(const DesignSpec& spec) {
     std::sort(step_nodes.begin(), step_nodes.end());
     step_nodes.erase(std::unique(step_nodes.begin(), step_nodes.end()), step_nodes.end());
     if (step_nodes.size() == 1 && m.nodes[step_nodes[0]].dof == 1) step.output_node = step_nodes[0];
-    if (step.connections.size() == 1 && step.unknowns.size() == 1 && step.output_node >= 0) {
-      const Connection& c = m.connections[step.connections[0]];
-      const int unknown = step.output_node, other = unknown == c.node_a ? c.node_b : c.node_a;
-      switch (c.kind) {
-        case ConnectionKind::link:
-        case ConnectionKind::crank_slider: {
-          step.method = StepMethod::link_closed_form;
-          const Node& u = m.nodes[unknown];
-          const Eigen::Vector2d pin_u = unknown == c.node_a ? c.pin_a : c.pin_b;
-          const Eigen::Vector2d pin_k = unknown == c.node_a ? c.pin_b : c.pin_a;
-          if (u.kind == NodeKind::rotational) {
-            const Eigen::Vector2d d = pin_k - u.pivot, a = pin_u - u.pivot;
-            if (a.norm() == 0) fail(c.where, "connection '" + c.name + "': pin lies on the pivot of '" + u.name + "'");
-            const double cross = d.x() * a.y() - d.y() * a.x();
-            step.branch = cross >= 0 ? 1 : -1;
-          } else {
-            const Eigen::Vector2d e = pin_u - pin_k;
-            const double w = u.direction.dot(e), cc = e.squaredNorm() - c.length * c.length;
-            const double disc = std::sqrt(std::max(0.0, w * w - cc));
-            step.branch = std::abs(-w + disc) <= std::abs(-w - disc) ? 1 : -1;
-          }
-          break;
-        }
-        case ConnectionKind::gear: step.method = StepMethod::gear_closed_form; break;
-        case ConnectionKind::rack_pinion: step.method = StepMethod::rack_closed_form; break;
-        case ConnectionKind::variable_gear:
-          if (unknown == c.node_b) step.method = StepMethod::variable_gear_closed_form;
-          break;
-        case ConnectionKind::contact: break;
+    // assembly branch of a distance constraint |pin_u - pin_k| = L from the drawing
+    auto distance_branch = [&](const Connection& c, const Node& u, const Eigen::Vector2d& pin_u,
+                               const Eigen::Vector2d& pin_k, double L) {
+      if (u.kind == NodeKind::rotational) {
+        const Eigen::Vector2d d = pin_k - u.pivot, a = pin_u - u.pivot;
+        if (a.norm() == 0) fail(c.where, "connection '" + c.name + "': pin lies on the pivot of '" + u.name + "'");
+        return d.x() * a.y() - d.y() * a.x() >= 0 ? 1 : -1;
       }
-      (void)other;
+      const Eigen::Vector2d e = pin_u - pin_k;
+      const double w = u.direction.dot(e), cc = e.squaredNorm() - L * L;
+      const double disc = std::sqrt(std::max(0.0, w * w - cc));
+      return std::abs(-w + disc) <= std::abs(-w - disc) ? 1 : -1;
+    };
+    if (step.connections.size() == 1 && step.output_node >= 0) {
+      const Connection& c = m.connections[step.connections[0]];
+      const int unknown = step.output_node;
+      const Node& u = m.nodes[unknown];
+      if (c.kind == ConnectionKind::contact) {
+        const Surface& su = unknown == c.node_a ? c.surface_a : c.surface_b;
+        const Surface& sk = unknown == c.node_a ? c.surface_b : c.surface_a;
+        if (su.kind == SurfaceKind::point && sk.kind == SurfaceKind::point && u.dof == 1) {
+          step.method = StepMethod::contact_distance_closed_form;
+          step.branch = distance_branch(c, u, su.origin, sk.origin, std::abs(su.offset + sk.offset));
+        } else if (u.kind == NodeKind::translational &&
+                   ((su.kind == SurfaceKind::line && sk.kind == SurfaceKind::point) ||
+                    (su.kind == SurfaceKind::point && sk.kind == SurfaceKind::line))) {
+          step.method = StepMethod::contact_line_closed_form;
+        }
+      } else if (step.unknowns.size() == 1) {
+        switch (c.kind) {
+          case ConnectionKind::link:
+          case ConnectionKind::crank_slider:
+            step.method = StepMethod::link_closed_form;
+            step.branch = distance_branch(c, u, unknown == c.node_a ? c.pin_a : c.pin_b,
+                                          unknown == c.node_a ? c.pin_b : c.pin_a, c.length);
+            break;
+          case ConnectionKind::gear: step.method = StepMethod::gear_closed_form; break;
+          case ConnectionKind::rack_pinion: step.method = StepMethod::rack_closed_form; break;
+          case ConnectionKind::variable_gear:
+            if (unknown == c.node_b) step.method = StepMethod::variable_gear_closed_form;
+            break;
+          case ConnectionKind::contact: break;
+        }
+      }
     }
     for (int ci : step.connections) {
       const Connection& c = m.connections[ci];
@@ -511,7 +524,11 @@ std::string describe(const Mechanism& m) {
       case StepMethod::link_closed_form: os << "  (closed form, branch " << (s.branch > 0 ? "+" : "-") << ")"; break;
       case StepMethod::gear_closed_form:
       case StepMethod::rack_closed_form:
-      case StepMethod::variable_gear_closed_form: os << "  (closed form)"; break;
+      case StepMethod::variable_gear_closed_form:
+      case StepMethod::contact_line_closed_form: os << "  (closed form)"; break;
+      case StepMethod::contact_distance_closed_form:
+        os << "  (closed form, centre distance, branch " << (s.branch > 0 ? "+" : "-") << ")";
+        break;
       case StepMethod::implicit:
         os << (s.connections.size() > 1 ? "  (coupled cluster, Broyden/Newton)" : "  (implicit, Broyden/Newton)");
         break;

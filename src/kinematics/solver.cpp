@@ -94,9 +94,13 @@ class Kernel {
   Status newton(Workspace::Block& b, double tol, double driver);
   Status differentiate(Workspace::Block& b, double driver);
   void scan_contact_parameters(const Workspace::Block& b);
-  Status closed_form(const SolveStep& step, double driver);
+  Status closed_form(const SolveStep& step, int step_index, double driver);
   template <class T>
-  Status link_closed_form(const SolveStep& step, const T* vars, T& q, double driver);
+  Status distance_closed_form(const SolveStep& step, const T* vars, T& q, double driver, const Eigen::Vector2d& pin_u,
+                              int k, const Eigen::Vector2d& pin_k, double L);
+  template <class T>
+  Status line_closed_form(const SolveStep& step, const T* vars, T& s_out, T& u_out, double& gap_at_rest,
+                          double driver);
   void set_constant(int var, double v) {
     ws_.values[var] = v;
     ws_.vars[var] = Jet3(v);
@@ -344,21 +348,23 @@ Status Kernel::differentiate(Workspace::Block& b, double driver) {
   return Status::success();
 }
 
+// |pin_u(q) - pin_k| = L for the one unknown q of node u (rotational: law of cosines in the
+// triangle pivot - known pin - unknown pin; translational: a quadratic in the travel)
 template <class T>
-Status Kernel::link_closed_form(const SolveStep& step, const T* vars, T& q, double driver) {
+Status Kernel::distance_closed_form(const SolveStep& step, const T* vars, T& q, double driver,
+                                    const Eigen::Vector2d& pin_u, int k, const Eigen::Vector2d& pin_k, double L) {
   using std::acos;
+  // the message prefix is built only on failure (no allocation on the hot path)
+  const auto what = [&] {
+    const Connection& c = m_.connections[step.connections[0]];
+    return (c.kind == ConnectionKind::contact ? "contact '" : "link '") + c.name + "'";
+  };
   using std::atan2;
   using std::sqrt;
-  const Connection& c = m_.connections[step.connections[0]];
   const int u = step.output_node;
-  const int k = u == c.node_a ? c.node_b : c.node_a;
-  const Eigen::Vector2d pin_u = u == c.node_a ? c.pin_a : c.pin_b;
-  const Eigen::Vector2d pin_k = u == c.node_a ? c.pin_b : c.pin_a;
   const Node& node = m_.nodes[u];
   const auto pk = node_pose(m_, k, vars, ws_.pivots.data()).apply(pin_k.x(), pin_k.y());
-  const double L = c.length;
   if (node.kind == NodeKind::rotational) {
-    // four-bar / crank closure: law of cosines in the triangle pivot - known pin - unknown pin
     const Eigen::Vector2d o = ws_.pivots[u];
     const Eigen::Vector2d a0 = pin_u - node.pivot;
     const double rho = a0.norm();
@@ -369,13 +375,13 @@ Status Kernel::link_closed_form(const SolveStep& step, const T* vars, T& q, doub
     const double cb = value_of(cos_beta);
     if (!(std::abs(cb) <= 1.0))
       return {StatusCode::cannot_assemble,
-              "link '" + c.name + "' cannot close: pivot of '" + node.name + "' is " + fmt(value_of(dist)) +
-                  " mm from the known pin, outside the reach [" + fmt(std::abs(rho - L)) + ", " + fmt(rho + L) +
-                  "] mm of arm " + fmt(rho) + " mm and link " + fmt(L) + " mm",
+              what() + " cannot close: pivot of '" + node.name + "' is " + fmt(value_of(dist)) +
+                  " mm from the known point, outside the reach [" + fmt(std::abs(rho - L)) + ", " + fmt(rho + L) +
+                  "] mm of arm " + fmt(rho) + " mm and distance " + fmt(L) + " mm",
               driver_text(m_, driver)};
     ws_.max_condition = std::max(ws_.max_condition, 1.0 / std::max(1e-300, std::sqrt(1.0 - cb * cb)));
     if (std::abs(cb) == 1.0)
-      return {StatusCode::singular, "link '" + c.name + "' is exactly at toggle (transmission angle 0 or 180 deg)",
+      return {StatusCode::singular, what() + " is exactly at toggle (transmission angle 0 or 180 deg)",
               driver_text(m_, driver)};
     const T beta = acos(cos_beta);
     q = atan2(d.y, d.x) + double(step.branch) * beta - std::atan2(a0.y(), a0.x());
@@ -386,39 +392,168 @@ Status Kernel::link_closed_form(const SolveStep& step, const T* vars, T& q, doub
     const T disc = w * w - (detail::dot(e, e) - L * L);
     if (!(value_of(disc) >= 0.0))
       return {StatusCode::cannot_assemble,
-              "link '" + c.name + "' cannot close: the line of '" + node.name + "' passes farther than the link "
-                  "length " + fmt(L) + " mm from the known pin",
+              what() + " cannot close: the line of '" + node.name + "' passes farther than " + fmt(L) +
+                  " mm from the known point",
               driver_text(m_, driver)};
     if (value_of(disc) == 0.0)
-      return {StatusCode::singular, "link '" + c.name + "' is at toggle (link perpendicular to the slide)",
-              driver_text(m_, driver)};
+      return {StatusCode::singular, what() + " is at toggle (perpendicular to the slide)", driver_text(m_, driver)};
     ws_.max_condition = std::max(ws_.max_condition, L / std::sqrt(value_of(disc)));
     q = -w + double(step.branch) * sqrt(disc);
   }
   return Status::success();
 }
 
-Status Kernel::closed_form(const SolveStep& step, double driver) {
+// a circle against a flat face, one of them on the translating unknown: the closure
+// (c - q_line) . n - r + lash = 0 is linear in the travel s; the face parameter is the
+// foot of the circle centre on the face. gap_at_rest (s = rest) is returned for lash.
+template <class T>
+Status Kernel::line_closed_form(const SolveStep& step, const T* vars, T& s_out, T& u_out, double& gap_at_rest,
+                                double driver) {
+  const Connection& c = m_.connections[step.connections[0]];
+  const int un = step.output_node;
+  const Node& node = m_.nodes[un];
+  const bool line_on_a = c.surface_a.kind == SurfaceKind::line;
+  const Surface& line = line_on_a ? c.surface_a : c.surface_b;
+  const Surface& circle = line_on_a ? c.surface_b : c.surface_a;
+  const int line_node = line_on_a ? c.node_a : c.node_b;
+  const int circle_node = line_on_a ? c.node_b : c.node_a;
+  const double tx0 = -line.normal.y(), ty0 = line.normal.x();
+  const Eigen::Vector2d dir = node.direction;
+  V2<T> centre, point, n, t;
+  T k;  // d(closure)/ds
+  if (line_node == un) {
+    const auto pose = node_pose(m_, circle_node, vars, ws_.pivots.data());
+    centre = pose.apply(circle.origin.x(), circle.origin.y());
+    point = {T(line.origin.x()), T(line.origin.y())};  // the face at s = 0
+    n = {T(line.normal.x()), T(line.normal.y())};
+    t = {T(tx0), T(ty0)};
+    k = T(-(dir.x() * line.normal.x() + dir.y() * line.normal.y()));
+  } else {
+    const auto pose = node_pose(m_, line_node, vars, ws_.pivots.data());
+    point = pose.apply(line.origin.x(), line.origin.y());
+    n = pose.rotate(line.normal.x(), line.normal.y());
+    t = pose.rotate(tx0, ty0);
+    centre = {T(circle.origin.x()), T(circle.origin.y())};  // the circle at s = 0
+    k = dir.x() * n.x + dir.y() * n.y;
+  }
+  const V2<T> d{centre.x - point.x, centre.y - point.y};
+  const T closure0 = detail::dot(d, n) - circle.offset + c.lash;  // at s = 0
+  const double kv = value_of(k);
+  if (!(std::abs(kv) > 1e-12))
+    return {StatusCode::singular,
+            "contact '" + c.name + "': the face normal is perpendicular to the travel of '" + node.name +
+                "' (pressure angle 90 deg)",
+            driver_text(m_, driver)};
+  ws_.max_condition = std::max(ws_.max_condition, 1.0 / std::abs(kv));
+  s_out = -closure0 / k;
+  gap_at_rest = value_of(closure0) + kv * node.rest;
+  // foot of the centre on the face, in the face's own parameter
+  const double sign = line_node == un ? -1.0 : 1.0;  // the moving side shifts d by s dir
+  const V2<T> ds{d.x + sign * s_out * dir.x(), d.y + sign * s_out * dir.y()};
+  u_out = detail::dot(ds, t);
+  return Status::success();
+}
+
+Status Kernel::closed_form(const SolveStep& step, int step_index, double driver) {
   const Connection& c = m_.connections[step.connections[0]];
   const int var = m_.nodes[step.output_node].first_variable;
   const bool out_b = step.output_node == c.node_b;
   const int ia = m_.nodes[c.node_a].first_variable, ib = m_.nodes[c.node_b].first_variable;
+  const bool jets = rq_.derivative_order > 0;
   Jet3 q;
+  ws_.open[step_index] = false;
+  // evaluates f on jets (derivatives requested) or on values
+  auto on_best_type = [&](auto&& f, Jet3& result) -> Status {
+    if (jets) return f(ws_.vars.data(), result);
+    double v = 0.0;
+    Status st = f(ws_.values.data(), v);
+    result = Jet3(v);
+    return st;
+  };
+  auto hold_at_rest = [&](double gap) {
+    ws_.open[step_index] = true;
+    ws_.contacts[step.connections[0]].gap = gap;
+    set_constant(var, m_.nodes[step.output_node].rest);
+    ws_.invalidate_pose(step.output_node);
+  };
   switch (step.method) {
-    case StepMethod::link_closed_form: {
-      Status st = rq_.derivative_order > 0 ? link_closed_form(step, ws_.vars.data(), q, driver)
-                                           : Status::success();
-      if (rq_.derivative_order == 0) {
-        double qv = 0;
-        st = link_closed_form(step, ws_.values.data(), qv, driver);
-        q = Jet3(qv);
+    case StepMethod::link_closed_form:
+    case StepMethod::contact_distance_closed_form: {
+      const int u = step.output_node, k = u == c.node_a ? c.node_b : c.node_a;
+      Eigen::Vector2d pin_u, pin_k;
+      double L = c.length;
+      if (step.method == StepMethod::contact_distance_closed_form) {
+        const Surface& su = u == c.node_a ? c.surface_a : c.surface_b;
+        const Surface& sk = u == c.node_a ? c.surface_b : c.surface_a;
+        pin_u = su.origin;
+        pin_k = sk.origin;
+        // centre distance at contact: r_a + r_b (outside) or R - r (inside a concave circle)
+        const bool inside = su.offset < 0 || sk.offset < 0;
+        const double touching = std::abs(su.offset + sk.offset);
+        L = inside ? touching + c.lash : touching - c.lash;
+        if (c.one_sided) {
+          // the follower at rest: is the physical gap open?
+          ws_.values[var] = m_.nodes[u].rest;
+          const auto pu = node_pose(m_, u, ws_.values.data(), ws_.pivots.data()).apply(pin_u.x(), pin_u.y());
+          const auto pk = node_pose(m_, k, ws_.values.data(), ws_.pivots.data()).apply(pin_k.x(), pin_k.y());
+          const double dist = std::hypot(pu.x - pk.x, pu.y - pk.y);
+          const double gap = (inside ? touching - dist : dist - touching) + c.lash;
+          if (gap > 0.0) {
+            hold_at_rest(gap);
+            return Status::success();
+          }
+          ws_.contacts[step.connections[0]].gap = 0.0;
+        }
+      } else {
+        pin_u = u == c.node_a ? c.pin_a : c.pin_b;
+        pin_k = u == c.node_a ? c.pin_b : c.pin_a;
       }
+      const double previous = ws_.values[var];
+      Status st = on_best_type(
+          [&](const auto* vars, auto& out) { return distance_closed_form(step, vars, out, driver, pin_u, k, pin_k, L); },
+          q);
       if (!st.ok()) return st;
       if (m_.nodes[step.output_node].kind == NodeKind::rotational) {
         // keep the angle continuous with the previous value
-        const double turns = std::round((ws_.values[var] - q.value()) / (2 * pi));
+        const double turns = std::round((previous - q.value()) / (2 * pi));
         q.c[0] += turns * 2 * pi;
       }
+      break;
+    }
+    case StepMethod::contact_line_closed_form: {
+      const Surface& line = c.surface_a.kind == SurfaceKind::line ? c.surface_a : c.surface_b;
+      Jet3 u;
+      double gap_at_rest = 0.0;
+      Status st;
+      if (jets) {
+        st = line_closed_form(step, ws_.vars.data(), q, u, gap_at_rest, driver);
+      } else {
+        double qv = 0, uv = 0;
+        st = line_closed_form(step, ws_.values.data(), qv, uv, gap_at_rest, driver);
+        q = Jet3(qv);
+        u = Jet3(uv);
+      }
+      if (!st.ok()) return st;
+      if (c.one_sided && gap_at_rest > 0.0) {
+        // open: the follower rests; the face parameter is the foot of the centre at rest
+        const double rest = m_.nodes[step.output_node].rest;
+        const double shift = rest - q.value();
+        const Node& node = m_.nodes[step.output_node];
+        const bool line_moves = (c.surface_a.kind == SurfaceKind::line) == (step.output_node == c.node_a);
+        const double tx = -line.normal.y(), ty = line.normal.x();
+        // the face moving by +shift moves the foot by -shift (dir . t); the circle by +shift
+        const double du = (line_moves ? -1.0 : 1.0) * shift * (node.direction.x() * tx + node.direction.y() * ty);
+        hold_at_rest(gap_at_rest);
+        u = Jet3(u.value() + du);
+        for (int k = rq_.derivative_order + 1; k <= 3; ++k) u.c[k] = 0.0;
+        ws_.vars[line.variable] = u;
+        ws_.values[line.variable] = u.value();
+        return Status::success();
+      }
+      if (c.one_sided) ws_.contacts[step.connections[0]].gap = 0.0;
+      for (int k = rq_.derivative_order + 1; k <= 3; ++k) u.c[k] = 0.0;
+      ws_.vars[line.variable] = u;
+      ws_.values[line.variable] = u.value();
       break;
     }
     case StepMethod::gear_closed_form:
@@ -470,7 +605,7 @@ Status Kernel::run(double driver) {
   for (std::size_t si = 0; si < m_.plan.size(); ++si) {
     const SolveStep& step = m_.plan[si];
     if (step.method != StepMethod::implicit) {
-      Status st = closed_form(step, driver);
+      Status st = closed_form(step, static_cast<int>(si), driver);
       if (!st.ok()) return st;
       continue;
     }

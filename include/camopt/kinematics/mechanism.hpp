@@ -72,7 +72,15 @@ struct Connection {
   SourceRef where;
 };
 
-enum class StepMethod { link_closed_form, gear_closed_form, rack_closed_form, variable_gear_closed_form, implicit };
+enum class StepMethod {
+  link_closed_form,
+  gear_closed_form,
+  rack_closed_form,
+  variable_gear_closed_form,
+  contact_distance_closed_form,  // circle on circle: a link between the centres
+  contact_line_closed_form,      // circle on a flat face, translating unknown: linear in it
+  implicit
+};
 
 struct SolveStep {
   std::vector<int> connections;  // whose equations form this block
