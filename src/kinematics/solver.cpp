@@ -675,18 +675,17 @@ Status Kernel::run(double driver) {
   return Status::success();
 }
 
-// velocity [per driver] of the material point of node n at drawing position p
-V2<double> material_velocity(const Mechanism& m, const Workspace& ws, int n, const Eigen::Vector2d& local) {
-  const auto pose = node_pose(m, n, ws.vars.data(), ws.pivots.data());
+// velocity [per driver] of the material point at drawing position `local` of a body with this pose
+V2<double> material_velocity(const detail::Pose<Jet3>& pose, const Eigen::Vector2d& local) {
   const auto p = pose.apply(local.x(), local.y());
   return {p.x.c[1], p.y.c[1]};
 }
 
-// drawing coordinates of a global point on node n (inverse pose at the current values)
-Eigen::Vector2d to_local(const Mechanism& m, const Workspace& ws, int n, double gx, double gy) {
-  const auto pose = node_pose(m, n, ws.values.data(), ws.pivots.data());
-  const double dx = gx - pose.tx, dy = gy - pose.ty;
-  return {pose.rx + pose.c * dx + pose.s * dy, pose.ry - pose.s * dx + pose.c * dy};
+// drawing coordinates of a global point on a body with this pose (inverse at the values)
+Eigen::Vector2d to_local(const detail::Pose<Jet3>& pose, double gx, double gy) {
+  const double c = pose.c.value(), s = pose.s.value();
+  const double dx = gx - pose.tx.value(), dy = gy - pose.ty.value();
+  return {pose.rx + c * dx + s * dy, pose.ry - s * dx + c * dy};
 }
 
 void Kernel::contact_outputs(int step_index) {
@@ -735,8 +734,8 @@ void Kernel::contact_outputs(int step_index) {
     out.y = p.y.value();
     out.normal_x = n.x.value();
     out.normal_y = n.y.value();
-    const Eigen::Vector2d la = to_local(m_, ws_, c.node_a, out.x, out.y);
-    const Eigen::Vector2d lb = to_local(m_, ws_, c.node_b, out.x, out.y);
+    const Eigen::Vector2d la = to_local(pa, out.x, out.y);
+    const Eigen::Vector2d lb = to_local(pb, out.x, out.y);
     out.local_a_x = la.x();
     out.local_a_y = la.y();
     out.local_b_x = lb.x();
@@ -745,8 +744,8 @@ void Kernel::contact_outputs(int step_index) {
     out.curvature_a = sa.kind == SurfaceKind::curve ? curvature(A) : sa.kind == SurfaceKind::point ? 1.0 / sa.offset : 0.0;
     out.curvature_b = sb.kind == SurfaceKind::curve ? curvature(B) : sb.kind == SurfaceKind::point ? 1.0 / sb.offset : 0.0;
     // material and contact-point velocities [mm per driver unit]
-    const V2<double> va = material_velocity(m_, ws_, c.node_a, la);
-    const V2<double> vb = material_velocity(m_, ws_, c.node_b, lb);
+    const V2<double> va = material_velocity(pa, la);
+    const V2<double> vb = material_velocity(pb, lb);
     const V2<double> vc{p.x.c[1], p.y.c[1]};
     const V2<double> t{-out.normal_y, out.normal_x};
     double ua = (va.x - vc.x) * t.x + (va.y - vc.y) * t.y;
@@ -759,8 +758,8 @@ void Kernel::contact_outputs(int step_index) {
       const Surface& sr = roller_a ? sa : sb;
       const int carrier = roller_a ? c.node_a : c.node_b;
       const V2<double> v_other = roller_a ? vb : va;
-      const V2<double> v_centre = material_velocity(m_, ws_, carrier, sr.origin);
-      const auto cpose = node_pose(m_, carrier, ws_.vars.data(), ws_.pivots.data());
+      const auto& cpose = roller_a ? pa : pb;
+      const V2<double> v_centre = material_velocity(cpose, sr.origin);
       const auto centre = cpose.apply(sr.origin.x(), sr.origin.y());
       const double ex = (out.x - centre.x.value()) / sr.offset, ey = (out.y - centre.y.value()) / sr.offset;
       // omega_abs * r * (z x e) = (v_other - v_centre) tangential
@@ -797,8 +796,8 @@ void Kernel::contact_outputs(int step_index) {
     } else {
       // a floating follower has no fixed path: use the trace point's velocity; while the
       // body is at rest the angle is undefined and reported as 0
-      const Eigen::Vector2d local = to_local(m_, ws_, follower, trace_x, trace_y);
-      dir = material_velocity(m_, ws_, follower, local);
+      const auto& fpose = follower == c.node_a ? pa : pb;
+      dir = material_velocity(fpose, to_local(fpose, trace_x, trace_y));
       if (std::hypot(dir.x, dir.y) < 1e-9 * m_.length_scale) dir = {0.0, 0.0};
     }
     const double dn = std::hypot(dir.x, dir.y);
