@@ -1,4 +1,5 @@
 #pragma once
+#include "temp_dir.hpp"
 // helpers for the CLI tests: run the built camopt executable, fresh temporary directories,
 // file reading. Header-only; the tests compare exit codes, messages and written files.
 #include <sys/wait.h>
@@ -60,27 +61,7 @@ inline void write_text(const fs::path& path, const std::string& text) {
   if (!out) throw std::runtime_error("cannot write " + path.string());
 }
 
-// a fresh directory under the system temp dir, removed with everything in it at scope exit
-class TempDir {
- public:
-  TempDir() {
-    std::string tmpl = (fs::temp_directory_path() / "camopt_cli_XXXXXX").string();
-    if (!::mkdtemp(tmpl.data())) throw std::runtime_error("mkdtemp failed for " + tmpl);
-    path_ = tmpl;
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-
-  const fs::path& path() const { return path_; }
-  fs::path operator/(const std::string& name) const { return path_ / name; }
-
- private:
-  fs::path path_;
-};
+using camopt::test::TempDir;
 
 struct RunResult {
   int exit_code = -1;  // WEXITSTATUS, or 128 + signal when killed

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "camopt/core/error.hpp"
+#include "temp_dir.hpp"
 
 namespace fs = std::filesystem;
 using camopt::InputError;
@@ -20,23 +21,10 @@ using camopt::io::OutputTransaction;
 using camopt::io::write_text_atomic;
 using Catch::Contains;
 
+using camopt::test::TempDir;
+
 namespace {
 
-// a fresh directory under the system temp dir, removed afterwards
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    std::random_device seed;
-    path = fs::temp_directory_path() /
-           ("camopt_atomic_test_" + std::to_string(::getpid()) + "_" + std::to_string(seed()));
-    fs::create_directories(path);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-  std::string file(const std::string& name) const { return (path / name).string(); }
-};
 
 // names of the entries of a directory, sorted
 std::vector<std::string> list_directory(const fs::path& directory) {
@@ -58,7 +46,7 @@ TEST_CASE("write_text_atomic writes the content and leaves no temp file", "[io][
   const std::string path = dir.file("lift.csv");
   write_text_atomic(path, "cam_deg,lift_mm\n0,0\n");
   CHECK(read_text(path) == "cam_deg,lift_mm\n0,0\n");
-  CHECK(list_directory(dir.path) == std::vector<std::string>{"lift.csv"});
+  CHECK(list_directory(dir.path()) == std::vector<std::string>{"lift.csv"});
 }
 
 TEST_CASE("write_text_atomic replaces an existing file", "[io][atomic]") {
@@ -69,7 +57,7 @@ TEST_CASE("write_text_atomic replaces an existing file", "[io][atomic]") {
   CHECK(read_text(path) == "second\n");
   write_text_atomic(path, "");
   CHECK(read_text(path).empty());
-  CHECK(list_directory(dir.path) == std::vector<std::string>{"out.txt"});
+  CHECK(list_directory(dir.path()) == std::vector<std::string>{"out.txt"});
 }
 
 TEST_CASE("write_text_atomic gives the file the usual permissions, not 0600", "[io][atomic]") {
@@ -91,7 +79,7 @@ TEST_CASE("write_text_atomic into a missing directory names the path and the dir
   REQUIRE_THROWS_WITH(write_text_atomic(path, "x"),
                       Contains("cannot write '" + path + "'") &&
                           Contains("directory '" + missing + "' does not exist"));
-  CHECK(fs::is_empty(dir.path));
+  CHECK(fs::is_empty(dir.path()));
 }
 
 TEST_CASE("write_text_atomic whose rename fails removes its temp file", "[io][atomic]") {
@@ -100,7 +88,7 @@ TEST_CASE("write_text_atomic whose rename fails removes its temp file", "[io][at
   const std::string path = dir.file("occupied");
   fs::create_directories(fs::path(path) / "inside");
   REQUIRE_THROWS_WITH(write_text_atomic(path, "x"), Contains("cannot write '" + path + "'"));
-  CHECK(list_directory(dir.path) == std::vector<std::string>{"occupied"});
+  CHECK(list_directory(dir.path()) == std::vector<std::string>{"occupied"});
 }
 
 TEST_CASE("OutputTransaction commit writes every staged file and no temp file", "[io][atomic]") {

@@ -15,29 +15,17 @@
 #include <vector>
 
 #include "camopt/core/error.hpp"
+#include "temp_dir.hpp"
 
 namespace fs = std::filesystem;
 using camopt::InputError;
 using namespace camopt::io;
 using Catch::Contains;
 
+using camopt::test::TempDir;
+
 namespace {
 
-// a fresh directory under the system temp dir, removed afterwards
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    std::random_device seed;
-    path = fs::temp_directory_path() /
-           ("camopt_csv_test_" + std::to_string(::getpid()) + "_" + std::to_string(seed()));
-    fs::create_directories(path);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-  std::string file(const std::string& name) const { return (path / name).string(); }
-};
 
 // the message of the InputError thrown by `f`, or "" when none is thrown
 template <class F>
@@ -348,14 +336,14 @@ TEST_CASE("write_csv refuses non-finite values", "[io][csv][write]") {
   REQUIRE_THROWS_WITH(write_csv(path, {"cam_deg", "lift_mm"}, {{0, 1}, {0, nan}}),
                       Contains("column 'lift_mm' row 2"));
   CHECK_FALSE(fs::exists(path));
-  CHECK(fs::is_empty(dir.path));
+  CHECK(fs::is_empty(dir.path()));
 }
 
 TEST_CASE("read_csv names a file that cannot be read", "[io][csv]") {
   const TempDir dir;
   const std::string path = dir.file("missing.csv");
   REQUIRE_THROWS_WITH(read_csv(path), Contains("missing.csv") && Contains("cannot read"));
-  REQUIRE_THROWS_WITH(read_csv(dir.path.string()), Contains("cannot read") && Contains("directory"));
+  REQUIRE_THROWS_WITH(read_csv(dir.path().string()), Contains("cannot read") && Contains("directory"));
 }
 
 TEST_CASE("real data: flat tappet lift table in cam degrees", "[io][csv][real]") {

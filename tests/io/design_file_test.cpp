@@ -12,11 +12,14 @@
 #include <vector>
 
 #include "camopt/core/error.hpp"
+#include "temp_dir.hpp"
 
 namespace fs = std::filesystem;
 using camopt::InputError;
 using Catch::Contains;
 namespace io = camopt::io;
+
+using camopt::test::TempDir;
 
 namespace {
 
@@ -47,24 +50,6 @@ std::string error_of(const std::string& text, const std::string& directory = "."
   return {};
 }
 
-// a fresh directory under the system temp dir, removed afterwards
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    std::random_device seed;
-    path = fs::temp_directory_path() /
-           ("camopt_design_test_" + std::to_string(::getpid()) + "_" + std::to_string(seed()));
-    fs::create_directories(path);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-  std::string write(const std::string& name, const std::string& content) const {
-    std::ofstream(path / name) << content;
-    return (path / name).string();
-  }
-};
 
 // smallest valid design; error cases append one section to it
 const std::string kBase = R"(schema = 1
@@ -251,11 +236,11 @@ file = "lobe.csv"
 node = "valve"
 file = "gas.csv"
 )";
-  const camopt::DesignSpec spec = io::parse_design(text, "case.toml", dir.path.string());
+  const camopt::DesignSpec spec = io::parse_design(text, "case.toml", dir.path().string());
   REQUIRE(spec.profiles.size() == 1);
   CHECK(spec.profiles[0].angle_deg == std::vector<double>{0, 60, 120, 180, 240, 300});
   CHECK(spec.profiles[0].radius_mm[4] == 24.0);
-  CHECK(spec.profiles[0].source_file == (dir.path / "lobe.csv").string());
+  CHECK(spec.profiles[0].source_file == (dir.path() / "lobe.csv").string());
   CHECK(spec.gas_forces[0].crank_angle_deg.back() == 720.0);
 
   // load_design resolves against the file's own directory
@@ -340,8 +325,8 @@ b = { node = "rockr", point_mm = [0, 40] }
 TEST_CASE("design error: missing CSV file", "[io][design]") {
   const TempDir dir;
   const std::string text = kBase + "[[profile]]\nname = \"lobe\"\nform = \"polar\"\nfile = \"no_lobe.csv\"\n";
-  const std::string resolved = (dir.path / "no_lobe.csv").string();
-  CHECK_THAT(error_of(text, dir.path.string()),
+  const std::string resolved = (dir.path() / "no_lobe.csv").string();
+  CHECK_THAT(error_of(text, dir.path().string()),
              Contains(at(text, "\"no_lobe.csv\"") + ": profile[0].file: file \"no_lobe.csv\" not found (resolved to \"" +
                       resolved + "\")"));
 }
@@ -350,13 +335,13 @@ TEST_CASE("design error: bad cell in a referenced CSV file", "[io][design]") {
   const TempDir dir;
   const std::string csv = dir.write("lobe.csv", "angle_deg,radius_mm\n0,20\n60,21\n120,abc\n180,25\n240,24\n300,21\n");
   const std::string text = kBase + "[[profile]]\nname = \"lobe\"\nform = \"polar\"\nfile = \"lobe.csv\"\n";
-  const std::string message = error_of(text, dir.path.string());
+  const std::string message = error_of(text, dir.path().string());
   CHECK_THAT(message, Contains(at(text, "\"lobe.csv\"") + ": profile[0].file: " + csv + ":4:"));
   CHECK_THAT(message, Contains("'abc'"));
 
   // table rules on CSV values name the CSV line
   dir.write("lobe.csv", "angle_deg,radius_mm\n0,20\n60,21\n120,24\n180,25\n240,-3\n300,21\n");
-  CHECK_THAT(error_of(text, dir.path.string()),
+  CHECK_THAT(error_of(text, dir.path().string()),
              Contains("profile[0].file: " + csv + ":6: radius_mm: value -3 must be > 0"));
 }
 
