@@ -1,28 +1,224 @@
-// camopt synthesize: envelope-theory cam synthesis from a target lift (issue #4).
+// camopt synthesize: envelope-theory cam synthesis from a target valve lift (issue #4).
 #include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <nlohmann/json.hpp>
 
+#include "camopt/io/atomic_file.hpp"
+#include "camopt/io/csv.hpp"
+#include "camopt/io/design_file.hpp"
+#include "camopt/io/design_rewrite.hpp"
+#include "camopt/kinematics/sweep.hpp"
+#include "camopt/synthesis/envelope.hpp"
+#include "camopt/synthesis/target_lift.hpp"
 #include "cli_common.hpp"
 
 namespace camopt::cli {
 
 namespace {
+
 struct SynthesizeOptions {
   std::string target_csv, design, out_dir, cam = "rotational";
-  double control_deg = 0.0;
+  std::optional<double> control;
   int points = 720;
+  bool smooth = false;
+  double knot_spacing_deg = 4.0;
+  double wheel_radius_mm = 0.0;
+  double min_radius_mm = 0.0;
+  double closure_tolerance_mm = 0.05;
 };
+
+// the control position of largest lift of the design as it stands (the issue's default)
+double max_lift_control(const kin::Mechanism& mech) {
+  const auto& c0 = mech.controls[0];
+  double best = c0.default_value, best_lift = -1e300;
+  for (int i = 0; i <= 8; ++i) {
+    const double v = c0.min + (c0.max - c0.min) * i / 8.0;
+    std::vector<double> pos;
+    for (const auto& c : mech.controls) pos.push_back(c.default_value);
+    pos[0] = v;
+    kin::SweepSpec s;
+    s.start = 0;
+    s.stop = 360;
+    s.step = 2.0;
+    s.request = {0, false};
+    s.control_positions = {pos};
+    const auto r = kin::sweep(mech, s);
+    if (!r.positions[0].status.ok()) continue;
+    const double lift = kin::summarize(mech, r, 0).max_lift;
+    if (lift > best_lift) best_lift = lift, best = v;
+  }
+  return best;
+}
+
+void run_synthesize(const SynthesizeOptions& o) {
+  if (o.cam == "swing")
+    throw NotBuilt{"synthesize --cam swing is not built yet (issue #4: the swing cam is traced only while it "
+                   "moves, back and forth, and needs its dwell arc and untouched flanks completed)"};
+  const DesignSpec spec = io::load_design(o.design);
+  const kin::Mechanism mech = kin::compile(spec);
+
+  // target lift: cam or crank degrees, explicit in the header
+  const io::CsvTable table = io::read_csv(o.target_csv);
+  const io::AngleTable at = io::read_angle_table(table, {"lift_mm", "valve_lift_mm", "tappet_lift_mm"});
+  std::vector<double> cam_deg = at.angle_deg;
+  if (at.basis == io::AngleBasis::crank)
+    for (auto& a : cam_deg) a /= spec.driver.crank_per_cam;
+  synthesis::TargetLiftOptions fit;
+  fit.smooth = o.smooth;
+  fit.smoothing_knot_spacing_deg = o.knot_spacing_deg;
+  fit.source = o.target_csv;
+  fit.closure_tolerance_mm = o.closure_tolerance_mm;
+  const synthesis::TargetLift target = synthesis::fit_target_lift(cam_deg, at.value, at.lines, fit);
+  if (target.closed_on_base_circle) info("synthesize: " + target.closure_message);
+
+  synthesis::SynthesisOptions opt;
+  opt.cam = o.cam;
+  opt.points = o.points;
+  opt.samples = std::max(2880, 4 * o.points);
+  opt.wheel_radius_mm = o.wheel_radius_mm;
+  for (const auto& c : mech.controls) opt.controls.push_back(c.default_value);
+  if (!mech.controls.empty()) {
+    const auto& c0 = mech.controls[0];
+    if (o.control) {
+      if (*o.control < c0.min || *o.control > c0.max)
+        throw InputError("--control: value " + std::to_string(*o.control) + " is outside control '" + c0.name +
+                         "' range [" + std::to_string(c0.min) + ", " + std::to_string(c0.max) + "]");
+      opt.controls[0] = *o.control;
+    } else {
+      opt.controls[0] = max_lift_control(mech);
+      info("synthesize: control '" + c0.name + "' at " + std::to_string(opt.controls[0]) +
+           " (the position of largest lift of the current design)");
+    }
+  } else if (o.control) {
+    throw InputError("--control: design '" + o.design + "' has no [[control]]");
+  }
+
+  synthesis::SynthesisResult res;
+  Status st = synthesis::synthesize(spec, target.lift, opt, res);
+  if (!st.ok()) throw NumericalError(st);
+  synthesis::RoundTrip rt;
+  st = synthesis::round_trip(synthesis::with_profile(spec, res.profile), target.lift, opt.controls, res.connection, rt);
+  if (!st.ok()) {
+    st.message = "forward kinematics of the synthesized profile: " + st.message;
+    throw NumericalError(st);
+  }
+
+  // ---- outputs ----
+  std::vector<double> excess(res.radius_mm.size());
+  for (std::size_t i = 0; i < excess.size(); ++i) excess[i] = res.radius_mm[i] - res.base_radius_mm;
+  const std::string profile_csv =
+      io::format_csv({"angle_deg", "radius_mm", "excess_radius_mm", "x_mm", "y_mm", "radius_of_curvature_mm"},
+                     {res.angle_deg, res.radius_mm, excess, res.x_mm, res.y_mm, res.radius_of_curvature_mm}, 12);
+  const bool flat = res.follower_shape == "line";
+  double half_width = 0.0;
+  for (const auto& c : spec.connections)
+    if (c.name == res.connection) {
+      const auto& fs = c.surface_a.node == res.follower_node ? c.surface_a : c.surface_b;
+      if (fs.half_width_mm) half_width = *fs.half_width_mm;
+    }
+  nlohmann::json checks;
+  checks["undercut"] = false;
+  checks["min_radius_of_curvature_mm"] = res.min_radius_of_curvature_mm;
+  checks["min_radius_of_curvature_at_profile_deg"] = res.min_radius_of_curvature_at_deg;
+  checks["min_radius_allowed_mm"] = o.min_radius_mm;
+  checks["min_radius_ok"] = res.min_radius_of_curvature_mm >= o.min_radius_mm &&
+                            (!res.has_concave || res.min_concave_radius_mm >= o.min_radius_mm);
+  checks["concave"] = res.has_concave;
+  if (res.has_concave) {
+    checks["min_concave_radius_mm"] = res.min_concave_radius_mm;
+    checks["min_concave_radius_at_profile_deg"] = res.min_concave_radius_at_deg;
+  }
+  checks["grinding_wheel_radius_mm"] = o.wheel_radius_mm;
+  checks["concave_ok"] = !res.concave_narrower_than_wheel;
+  checks["max_pressure_angle_deg"] = rt.max_pressure_angle_deg;
+  checks["max_pressure_angle_at_cam_deg"] = rt.max_pressure_angle_at_deg;
+  if (flat) {
+    checks["face_contact_offset_min_mm"] = res.face_offset_min_mm;
+    checks["face_contact_offset_max_mm"] = res.face_offset_max_mm;
+    const double needed = 2.0 * std::max(std::abs(res.face_offset_min_mm), std::abs(res.face_offset_max_mm));
+    checks["face_width_needed_mm"] = needed;
+    if (half_width > 0) checks["face_width_ok"] = needed <= 2.0 * half_width;
+  }
+  checks["round_trip_max_error_mm"] = rt.max_error_mm;
+  checks["round_trip_max_error_at_cam_deg"] = rt.max_error_at_deg;
+  checks["round_trip_rms_error_mm"] = rt.rms_error_mm;
+
+  nlohmann::json report;
+  report["design"] = spec.name;
+  report["design_file"] = o.design;
+  report["target_file"] = o.target_csv;
+  report["target_angle_basis"] = io::to_string(at.basis);
+  report["cam"] = o.cam;
+  report["connection"] = res.connection;
+  report["cam_node"] = res.cam_node;
+  report["follower_node"] = res.follower_node;
+  report["follower_shape"] = res.follower_shape;
+  if (!mech.controls.empty()) report["control_" + std::string(mech.controls[0].is_angle ? "deg" : "mm")] = opt.controls[0];
+  report["target"] = {{"points", at.angle_deg.size()},
+                      {"closed_on_base_circle", target.closed_on_base_circle},
+                      {"closure_message", target.closure_message},
+                      {"smoothed", o.smooth},
+                      {"residual_rms_mm", target.residual_rms_mm},
+                      {"residual_max_mm", target.residual_max_mm},
+                      {"residual_max_at_cam_deg", target.residual_max_at_deg},
+                      {"max_lift_mm", target.max_lift_mm},
+                      {"max_lift_at_cam_deg", target.max_lift_at_deg}};
+  report["profile"] = {{"name", res.profile.name},
+                       {"points", res.angle_deg.size()},
+                       {"base_circle_radius_mm", res.base_radius_mm},
+                       {"max_radius_mm", res.max_radius_mm},
+                       {"max_excess_radius_mm", res.max_radius_mm - res.base_radius_mm}};
+  report["checks"] = checks;
+  report["notes"] = res.notes;
+
+  io::OutputTransaction out(o.out_dir);
+  out.stage("profile.csv", profile_csv);
+  out.stage("report.json", report.dump(2) + "\n");
+  const std::string profile_path = std::filesystem::absolute(std::filesystem::path(o.out_dir) / "profile.csv").string();
+  out.stage("design.toml", io::design_with_profile_file(o.design, res.profile.name, profile_path));
+  out.commit();
+
+  if (!checks["min_radius_ok"].get<bool>())
+    info("warning: radius of curvature below the allowed " + std::to_string(o.min_radius_mm) + " mm");
+  if (!checks["concave_ok"].get<bool>())
+    info("warning: concave radius " + std::to_string(res.min_concave_radius_mm) + " mm is below the grinding wheel "
+         "radius " + std::to_string(o.wheel_radius_mm) + " mm");
+  info("synthesize: profile '" + res.profile.name + "' on '" + res.cam_node + "' (" + res.connection + "), base circle " +
+       std::to_string(res.base_radius_mm) + " mm, min radius of curvature " +
+       std::to_string(res.min_radius_of_curvature_mm) + " mm; round trip max error " + std::to_string(rt.max_error_mm) +
+       " mm -> " + o.out_dir + "/profile.csv, report.json, design.toml");
+}
+
 }  // namespace
 
 void setup_synthesize(CLI::App& app) {
   auto opts = std::make_shared<SynthesizeOptions>();
-  auto* cmd = app.add_subcommand("synthesize", "compute the cam profile that produces a target valve lift (not built yet)");
-  cmd->add_option("target", opts->target_csv, "target lift CSV: cam_deg|crank_deg, lift_mm")->required();
-  cmd->add_option("--design", opts->design, "design file (TOML)")->required();
-  cmd->add_option("--out", opts->out_dir, "output directory")->required();
-  cmd->add_option("--cam", opts->cam, "which cam to synthesize")->check(CLI::IsMember({"rotational", "swing"}));
-  cmd->add_option("--control", opts->control_deg, "control position [deg or mm, per the design's control unit]");
-  cmd->add_option("--points", opts->points, "profile points per revolution [count]")->check(CLI::PositiveNumber);
-  cmd->callback([opts] { throw NotBuilt{"synthesize is not built yet (issue #4: envelope-theory synthesis)"}; });
+  auto* cmd = app.add_subcommand("synthesize", "compute the cam profile that produces a target valve lift "
+                                               "(theory of envelopes)");
+  cmd->add_option("target", opts->target_csv,
+                  "target lift CSV: cam_deg|crank_deg (explicit basis) and lift_mm [mm]")->required();
+  cmd->add_option("--design", opts->design, "design file (TOML); its profile on the cam is replaced")->required();
+  cmd->add_option("--out", opts->out_dir, "output directory (profile.csv, report.json, design.toml)")->required();
+  cmd->add_option("--cam", opts->cam, "which cam to synthesize: rotational (the driver's) or swing")
+      ->check(CLI::IsMember({"rotational", "swing"}));
+  cmd->add_option("--control", opts->control,
+                  "control position [deg or mm, per the design's control unit] (default: the position of largest lift)");
+  cmd->add_option("--points", opts->points, "polar points of the profile per revolution [count]")
+      ->check(CLI::Range(36, 36000));
+  cmd->add_flag("--smooth", opts->smooth, "smooth a measured, noisy target by least squares (residual reported)");
+  cmd->add_option("--knot-spacing", opts->knot_spacing_deg, "knot spacing of the smoothing spline [cam deg]")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--wheel-radius", opts->wheel_radius_mm,
+                  "grinding wheel radius [mm]: concave radii must be at least this (0: no check)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--closure-tolerance", opts->closure_tolerance_mm,
+                  "largest lift at the ends of a partial table, or step at the seam, closed on the base circle [mm]")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--min-radius", opts->min_radius_mm, "smallest allowed radius of curvature of the cam [mm]")
+      ->check(CLI::NonNegativeNumber);
+  cmd->callback([opts] { run_synthesize(*opts); });
 }
 
 }  // namespace camopt::cli

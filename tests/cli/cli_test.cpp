@@ -215,8 +215,6 @@ TEST_CASE("subcommands not built yet exit 5 and write nothing", "[cli]") {
     std::vector<std::string> args;  // "{out}" is replaced by the output directory
   };
   const std::vector<Case> cases = {
-      {"synthesize", {"synthesize", "{target}", "--design", design, "--out", "{out}", "--cam", "rotational",
-                      "--control", "4", "--points", "720"}},
       {"optimize", {"optimize", design, "--constraints", "{constraints}", "--solver", "ipopt", "--out", "{out}"}},
       {"dynamics rigid", {"dynamics", design, "--rpm", "3000", "--out", "{out}"}},
       {"dynamics flexible", {"dynamics", design, "--model", "flexible", "--rpm", "1000:7000:7", "--out", "{out}"}},
@@ -631,4 +629,55 @@ TEST_CASE("lift --help names the unit of every numeric option", "[cli][lift]") {
     REQUIRE(e != nullptr);
     CHECK(has_bracketed_unit(e->text, unit));
   }
+}
+
+// ---- synthesize --------------------------------------------------------------------------
+
+TEST_CASE("synthesize writes a profile, a report and a design that kinematics runs", "[cli][synthesize]") {
+  TempDir tmp;
+  const fs::path target = tmp / "target.csv", out = tmp / "out", check = tmp / "check";
+  REQUIRE(run_camopt({"lift", "--law", "polynomial-345", "--lift", "8", "--duration", "130", "--ramp-height", "0.2",
+                      "--ramp-length", "15", "--out", target.string()})
+              .exit_code == cli_ok);
+  const std::string design = (fs::path(CAMOPT_SOURCE_DIR) / "designs" / "roller_finger_follower.toml").string();
+  const auto r = run_camopt({"synthesize", target.string(), "--design", design, "--out", out.string()});
+  INFO(r.all());
+  REQUIRE(r.exit_code == cli_ok);
+  for (const char* f : {"profile.csv", "report.json", "design.toml"}) CHECK(fs::exists(out / f));
+  const std::string header = read_file(out / "profile.csv").substr(0, read_file(out / "profile.csv").find('\n'));
+  CHECK(header == "angle_deg,radius_mm,excess_radius_mm,x_mm,y_mm,radius_of_curvature_mm");
+  CHECK_FALSE(contains(read_file(out / "profile.csv"), "nan"));
+  CHECK(contains(read_file(out / "report.json"), "round_trip_max_error_mm"));
+  const auto k = run_camopt({"kinematics", (out / "design.toml").string(), "--out", check.string()});
+  INFO(k.all());
+  CHECK(k.exit_code == cli_ok);
+}
+
+TEST_CASE("synthesize rejects a partial target that ends off the base circle, writing nothing",
+          "[cli][synthesize]") {
+  TempDir tmp;
+  const fs::path target = tmp / "target.csv", out = tmp / "out";
+  write_text(target, "cam_deg,lift_mm\n0,0\n10,1\n20,3\n30,5\n40,6\n50,6.5\n");
+  const std::string design = (fs::path(CAMOPT_SOURCE_DIR) / "designs" / "roller_finger_follower.toml").string();
+  const auto r = run_camopt({"synthesize", target.string(), "--design", design, "--out", out.string()});
+  INFO(r.all());
+  CHECK(r.exit_code == cli_input_error);
+  CHECK(contains(r.err, "target.csv"));
+  CHECK(contains(r.err, "base circle"));
+  CHECK((!fs::exists(out) || fs::is_empty(out)));
+}
+
+TEST_CASE("synthesize reports an undercut with its angle and exit 4, writing nothing", "[cli][synthesize]") {
+  TempDir tmp;
+  const fs::path target = tmp / "target.csv", out = tmp / "out";
+  // 12 mm of lift in 40 cam deg: far too sharp for the 8.5 mm roller on an 18 mm base circle
+  REQUIRE(run_camopt({"lift", "--law", "cycloidal", "--lift", "12", "--duration", "40", "--out", target.string()})
+              .exit_code == cli_ok);
+  const std::string design = (fs::path(CAMOPT_SOURCE_DIR) / "designs" / "roller_finger_follower.toml").string();
+  const auto r = run_camopt({"synthesize", target.string(), "--design", design, "--out", out.string()});
+  INFO(r.all());
+  CHECK(r.exit_code == cli_numerical_failure);
+  CHECK(contains(r.err, "undercut"));
+  CHECK(contains(r.err, " deg"));
+  CHECK((!fs::exists(out) || fs::is_empty(out)));
 }

@@ -1,0 +1,65 @@
+#pragma once
+// envelope-theory synthesis of a cam profile from a target valve lift (SAE 2010-01-1193,
+// "cam lobe solution algorithm"; Chakraborty & Dhande, Kinematics and Geometry of Planar
+// and Spatial Cam Mechanisms, ch. 3).
+//
+// 1. the designed contact (a profile on the cam node against a roller, pad or flat face on
+//    the follower) is cut out of the mechanism; the rest splits into the upstream part
+//    (driver -> cam node) and the downstream part (follower -> valve);
+// 2. inversion: the downstream part is driven by the valve at the target lift L(theta), and
+//    the follower's motion comes out as jets in the valve travel, composed with the jets of
+//    L(theta) (Faa di Bruno) into exact jets in the cam angle;
+// 3. envelope: the follower surface is taken into the profile frame of the cam node; a
+//    roller or pad gives the offset of its centre path (p = c - r nu), a flat face the
+//    envelope of its lines (F = (x - q).n = 0, dF/dtheta = 0: p = q + t (q'.n)/(t.n'));
+// 4. the envelope, sampled with its first two derivatives, is resampled at uniform polar
+//    angles by quintic Hermite interpolation in theta, giving the polar table.
+#include <string>
+#include <vector>
+
+#include "camopt/core/design_spec.hpp"
+#include "camopt/core/error.hpp"
+#include "camopt/core/spline.hpp"
+
+namespace camopt::synthesis {
+
+struct SynthesisOptions {
+  std::string cam = "rotational";  // "rotational": the driver's profile; "swing": a profile on another node
+  std::vector<double> controls;    // every control [deg or mm]; empty = defaults
+  int points = 720;                // polar points of the synthesized profile
+  int samples = 2880;              // envelope samples per revolution of the driver
+  double wheel_radius_mm = 0.0;    // grinding wheel radius; concave radii must be >= it (0: no check)
+};
+
+struct SynthesisResult {
+  ProfileSpec profile;  // the new polar table, same name and placement as the profile it replaces
+  std::string connection, cam_node, follower_node, follower_shape;
+  std::vector<double> angle_deg, radius_mm, x_mm, y_mm, radius_of_curvature_mm;  // per polar point
+  double base_radius_mm = 0, max_radius_mm = 0;
+  double min_radius_of_curvature_mm = 0, min_radius_of_curvature_at_deg = 0;  // convex (> 0) minimum
+  bool has_concave = false;
+  double min_concave_radius_mm = 0, min_concave_radius_at_deg = 0;  // smallest |radius| of concave parts
+  bool concave_narrower_than_wheel = false;
+  double face_offset_min_mm = 0, face_offset_max_mm = 0;  // flat face: contact offset along the face
+  std::vector<std::string> notes;
+};
+
+// throws InputError for a design that cannot be synthesized (no such cam, unsupported
+// follower shape); returns a Status for numerical failures (inversion fails, undercut)
+// with the cam angle where it happened
+Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift_of_cam_rad, const SynthesisOptions& options,
+                  SynthesisResult& result);
+
+// the design with the profile replaced by `profile` and every lash set to zero
+DesignSpec with_profile(const DesignSpec& spec, const ProfileSpec& profile);
+
+struct RoundTrip {
+  double max_error_mm = 0, max_error_at_deg = 0, rms_error_mm = 0;
+  double max_pressure_angle_deg = 0, max_pressure_angle_at_deg = 0;
+};
+
+// forward kinematics of `spec` (the synthesized design) against the target lift
+Status round_trip(const DesignSpec& spec, const PeriodicSpline& lift_of_cam_rad, const std::vector<double>& controls,
+                  const std::string& connection, RoundTrip& out);
+
+}  // namespace camopt::synthesis

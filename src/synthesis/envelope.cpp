@@ -1,0 +1,456 @@
+#include "camopt/synthesis/envelope.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <map>
+#include <numbers>
+#include <numeric>
+#include <sstream>
+
+#include "camopt/core/jet.hpp"
+#include "camopt/kinematics/detail/geometry.hpp"
+#include "camopt/kinematics/mechanism.hpp"
+#include "camopt/kinematics/solver.hpp"
+#include "camopt/kinematics/sweep.hpp"
+
+namespace camopt::synthesis {
+
+namespace {
+
+constexpr double pi = std::numbers::pi;
+using Jet3 = Jet<3>;
+using Jet2 = Jet<2>;
+
+std::string fmt(double v) {
+  std::ostringstream os;
+  os.precision(6);
+  os << v;
+  return os.str();
+}
+
+// d/dt of a jet, one order lower
+Jet2 derivative_of(const Jet3& x) {
+  Jet2 d;
+  for (int k = 0; k < 3; ++k) d.c[k] = (k + 1) * x.c[k + 1];
+  return d;
+}
+
+template <class T>
+struct P2 {
+  T x, y;
+};
+
+// the designed contact and the two halves of the mechanism around it
+struct Cut {
+  int connection = -1;
+  std::string cam_node, follower_node, profile;
+  bool profile_on_a = true;
+  DesignSpec upstream, downstream;
+};
+
+Cut cut_mechanism(const DesignSpec& spec, const std::string& cam_kind) {
+  Cut cut;
+  std::vector<int> candidates;
+  auto node_kind = [&](const std::string& name) -> const NodeSpec* {
+    for (const auto& n : spec.nodes)
+      if (n.name == name) return &n;
+    return nullptr;
+  };
+  for (int i = 0; i < static_cast<int>(spec.connections.size()); ++i) {
+    const auto& c = spec.connections[i];
+    if (c.kind != ConnectionKind::contact) continue;
+    for (int side = 0; side < 2; ++side) {
+      const SurfaceSpec& s = side == 0 ? c.surface_a : c.surface_b;
+      const SurfaceSpec& o = side == 0 ? c.surface_b : c.surface_a;
+      if (s.shape != SurfaceShape::profile || o.shape == SurfaceShape::profile) continue;
+      const NodeSpec* n = node_kind(s.node);
+      if (!n || n->kind != NodeKind::rotational) continue;
+      const bool is_driver = s.node == spec.driver.node;
+      if ((cam_kind == "rotational") != is_driver) continue;
+      candidates.push_back(i * 2 + side);
+    }
+  }
+  if (candidates.empty())
+    throw InputError("synthesize --cam " + cam_kind + ": design '" + spec.name + "' has no contact between a " +
+                     (cam_kind == "rotational" ? std::string("profile on the driver '") + spec.driver.node + "'"
+                                               : std::string("profile on a rotational node other than the driver")) +
+                     " and a roller, pad or flat face");
+  if (candidates.size() > 1) {
+    std::string names;
+    for (int c : candidates) names += (names.empty() ? "'" : ", '") + spec.connections[c / 2].name + "'";
+    throw InputError("synthesize --cam " + cam_kind + ": several contacts qualify (" + names +
+                     "); the design must have exactly one");
+  }
+  cut.connection = candidates[0] / 2;
+  cut.profile_on_a = candidates[0] % 2 == 0;
+  const auto& c = spec.connections[cut.connection];
+  const SurfaceSpec& cam_surface = cut.profile_on_a ? c.surface_a : c.surface_b;
+  const SurfaceSpec& follower_surface = cut.profile_on_a ? c.surface_b : c.surface_a;
+  cut.cam_node = cam_surface.node;
+  cut.follower_node = follower_surface.node;
+  cut.profile = cam_surface.profile;
+  if (follower_surface.shape == SurfaceShape::circle && follower_surface.concave)
+    throw InputError(c.where, "synthesize: the follower of contact '" + c.name +
+                                  "' is a concave circle; synthesis supports rollers, convex pads and flat faces");
+
+  // components of the node graph without the designed contact (ground does not connect)
+  std::map<std::string, std::string> parent;
+  for (const auto& n : spec.nodes) parent[n.name] = n.name;
+  std::function<std::string(const std::string&)> find = [&](const std::string& x) {
+    return parent[x] == x ? x : parent[x] = find(parent[x]);
+  };
+  auto unite = [&](const std::string& a, const std::string& b) {
+    if (a == "ground" || b == "ground") return;
+    parent[find(a)] = find(b);
+  };
+  for (int i = 0; i < static_cast<int>(spec.connections.size()); ++i) {
+    if (i == cut.connection) continue;
+    const auto& k = spec.connections[i];
+    if (k.kind == ConnectionKind::contact) unite(k.surface_a.node, k.surface_b.node);
+    else if (k.kind == ConnectionKind::link || k.kind == ConnectionKind::crank_slider) unite(k.pin_a.node, k.pin_b.node);
+    else unite(k.node_a, k.node_b);
+  }
+  const std::string up_root = find(spec.driver.node), down_root = find(spec.output_node);
+  if (find(cut.cam_node) != up_root || find(cut.follower_node) != down_root || up_root == down_root)
+    throw InputError(c.where, "synthesize: contact '" + c.name +
+                                  "' does not separate the driver from the valve, so the valve lift does not "
+                                  "determine its follower alone");
+  auto half = [&](const std::string& root) {
+    DesignSpec h = spec;
+    h.nodes.clear();
+    h.connections.clear();
+    h.springs.clear();
+    h.gas_forces.clear();
+    for (const auto& n : spec.nodes)
+      if (find(n.name) == root) h.nodes.push_back(n);
+    auto inside = [&](const std::string& n) { return n == "ground" || find(n) == root; };
+    for (int i = 0; i < static_cast<int>(spec.connections.size()); ++i) {
+      if (i == cut.connection) continue;
+      auto k = spec.connections[i];
+      const bool in = k.kind == ConnectionKind::contact ? inside(k.surface_a.node) && inside(k.surface_b.node)
+                      : (k.kind == ConnectionKind::link || k.kind == ConnectionKind::crank_slider)
+                          ? inside(k.pin_a.node) && inside(k.pin_b.node)
+                          : inside(k.node_a) && inside(k.node_b);
+      if (!in) continue;
+      k.lash_mm = 0.0;
+      h.connections.push_back(k);
+    }
+    return h;
+  };
+  cut.upstream = half(up_root);
+  cut.upstream.output_node = cut.cam_node;
+  cut.downstream = half(down_root);
+  cut.downstream.driver.node = spec.output_node;
+  cut.downstream.output_node = cut.follower_node;
+  return cut;
+}
+
+// quintic hermite on [0, 1] from value, first and second derivative (per unit t) at both ends
+struct Quintic {
+  double a[6];
+  Quintic(double p0, double d0, double s0, double p1, double d1, double s1) {
+    // p(t) = a0 + a1 t + ... + a5 t^5 matching p, p', p'' at t = 0 and 1
+    a[0] = p0;
+    a[1] = d0;
+    a[2] = 0.5 * s0;
+    const double r0 = p1 - (a[0] + a[1] + a[2]);
+    const double r1 = d1 - (a[1] + 2 * a[2]);
+    const double r2 = s1 - 2 * a[2];
+    a[3] = 10 * r0 - 4 * r1 + 0.5 * r2;
+    a[4] = -15 * r0 + 7 * r1 - r2;
+    a[5] = 6 * r0 - 3 * r1 + 0.5 * r2;
+  }
+  void eval(double t, double& p, double& d, double& s) const {
+    p = ((((a[5] * t + a[4]) * t + a[3]) * t + a[2]) * t + a[1]) * t + a[0];
+    d = (((5 * a[5] * t + 4 * a[4]) * t + 3 * a[3]) * t + 2 * a[2]) * t + a[1];
+    s = ((20 * a[5] * t + 12 * a[4]) * t + 6 * a[3]) * t + 2 * a[2];
+  }
+};
+
+}  // namespace
+
+DesignSpec with_profile(const DesignSpec& spec, const ProfileSpec& profile) {
+  DesignSpec out = spec;
+  bool replaced = false;
+  for (auto& p : out.profiles)
+    if (p.name == profile.name) {
+      const SourceRef where = p.where;
+      p = profile;
+      p.where = where;
+      replaced = true;
+    }
+  CAMOPT_ASSERT(replaced);
+  for (auto& c : out.connections) c.lash_mm = 0.0;
+  return out;
+}
+
+Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const SynthesisOptions& options,
+                  SynthesisResult& result) {
+  CAMOPT_ASSERT(options.points >= 6 && options.samples >= 2 * options.points);
+  const Cut cut = cut_mechanism(spec, options.cam);
+  const auto& conn = spec.connections[cut.connection];
+  const SurfaceSpec& cam_surface = cut.profile_on_a ? conn.surface_a : conn.surface_b;
+  const SurfaceSpec& follower_surface = cut.profile_on_a ? conn.surface_b : conn.surface_a;
+  result = {};
+  result.connection = conn.name;
+  result.cam_node = cut.cam_node;
+  result.follower_node = cut.follower_node;
+  result.follower_shape = to_string(follower_surface.shape);
+  for (const auto& c : spec.connections)
+    if (c.lash_mm > 0)
+      result.notes.push_back("lash of '" + c.name + "' (" + fmt(c.lash_mm) +
+                             " mm) is ignored: the target lift's ramps are expected to take it up");
+
+  const kin::Mechanism up = kin::compile(cut.upstream);
+  const kin::Mechanism down = kin::compile(cut.downstream);
+  kin::Workspace up_ws(up), down_ws(down);
+  std::vector<double> controls = options.controls;
+  if (controls.empty())
+    for (const auto& c : spec.controls) controls.push_back(c.default_value);
+  up_ws.set_controls(controls);
+  down_ws.set_controls(controls);
+  const int cam = up.node_index(cut.cam_node), follower = down.node_index(cut.follower_node);
+  const bool angle_driver = up.driver_is_angle();
+  if (!angle_driver) throw InputError("synthesize: the driver '" + spec.driver.node + "' must be rotational");
+
+  // profile placement on the cam node (drawing) [mm], [rad]
+  const double ox = cam_surface.origin_mm[0], oy = cam_surface.origin_mm[1];
+  const double co = std::cos(cam_surface.orientation_deg * pi / 180), so = std::sin(cam_surface.orientation_deg * pi / 180);
+  const bool roller = follower_surface.shape == SurfaceShape::circle;
+  const double radius = follower_surface.radius_mm;
+
+  const int n = options.samples;
+  std::vector<P2<Jet3>> path(n), normal(n);  // follower centre / face point and face normal in the profile frame
+  std::vector<Jet3> face_point_jets;
+  std::vector<double> theta(n);
+  for (int i = 0; i < n; ++i) {
+    theta[i] = 2 * pi * i / n;
+    const Jet3 L = lift(Jet3::variable(theta[i]));
+    Status st = kin::solve(down, down_ws, L.value(), {3, false});
+    if (!st.ok()) {
+      st.message = "inverting the valve lift " + fmt(L.value()) + " mm through '" + cut.follower_node +
+                   "': " + st.message + "; if a dwell arc or idle curve lies between this cam and the valve, the "
+                   "valve lift does not determine the follower there";
+      st.where = "cam " + fmt(theta[i] * 180 / pi) + " deg";
+      return st;
+    }
+    std::vector<Jet3> vars(down.variables.size(), Jet3(0.0));
+    const kin::Node& fn = down.nodes[follower];
+    for (int k = 0; k < fn.dof; ++k) {
+      const Jet3& j = down_ws.vars[fn.first_variable + k];
+      const double d[4] = {j.derivative(0), j.derivative(1), j.derivative(2), j.derivative(3)};
+      vars[fn.first_variable + k] = compose(d, L);  // follower(theta) = F(L(theta))
+    }
+    const auto fpose = kin::detail::node_pose(down, follower, vars.data(), down_ws.pivots.data());
+    st = kin::solve(up, up_ws, theta[i], {3, false});
+    if (!st.ok()) {
+      st.where = "cam " + fmt(theta[i] * 180 / pi) + " deg";
+      return st;
+    }
+    const auto cpose = kin::detail::node_pose(up, cam, up_ws.vars.data(), up_ws.pivots.data());
+    // global -> cam drawing -> profile frame
+    auto to_profile = [&](const kin::detail::V2<Jet3>& g) {
+      const Jet3 dx = g.x - cpose.tx, dy = g.y - cpose.ty;
+      const Jet3 lx = cpose.rx + cpose.c * dx + cpose.s * dy - ox;
+      const Jet3 ly = cpose.ry - cpose.s * dx + cpose.c * dy - oy;
+      return P2<Jet3>{co * lx + so * ly, -so * lx + co * ly};
+    };
+    auto rotate_to_profile = [&](const kin::detail::V2<Jet3>& v) {
+      const Jet3 lx = cpose.c * v.x + cpose.s * v.y, ly = -cpose.s * v.x + cpose.c * v.y;
+      return P2<Jet3>{co * lx + so * ly, -so * lx + co * ly};
+    };
+    path[i] = to_profile(fpose.apply(follower_surface.origin_mm[0], follower_surface.origin_mm[1]));
+    if (!roller) {
+      const Vec2 nn = follower_surface.normal;
+      const double len = std::hypot(nn[0], nn[1]);
+      normal[i] = rotate_to_profile(fpose.rotate(nn[0] / len, nn[1] / len));
+    }
+  }
+  // orientation of the traced path: +1 counter-clockwise (shoelace area)
+  double area = 0.0;
+  for (int i = 0; i < n; ++i) {
+    const auto& a = path[i];
+    const auto& b = path[(i + 1) % n];
+    area += a.x.value() * b.y.value() - b.x.value() * a.y.value();
+  }
+  const double orient = area >= 0 ? 1.0 : -1.0;
+
+  // envelope points with their first two derivatives in theta
+  std::vector<P2<Jet2>> env(n);
+  double face_min = 1e300, face_max = -1e300;
+  for (int i = 0; i < n; ++i) {
+    if (roller) {
+      const P2<Jet2> d{derivative_of(path[i].x), derivative_of(path[i].y)};
+      const Jet2 len = sqrt(d.x * d.x + d.y * d.y);
+      if (!(len.value() > 1e-12))
+        return {StatusCode::undercut, "the follower centre stands still relative to the cam (no envelope)",
+                "cam " + fmt(theta[i] * 180 / pi) + " deg"};
+      // outward normal of the centre path (right of a counter-clockwise tangent)
+      const P2<Jet2> nu{orient * d.y / len, -orient * d.x / len};
+      env[i] = {truncate<2>(path[i].x) - radius * nu.x, truncate<2>(path[i].y) - radius * nu.y};
+    } else {
+      const P2<Jet2> q{truncate<2>(path[i].x), truncate<2>(path[i].y)};
+      const P2<Jet2> dq{derivative_of(path[i].x), derivative_of(path[i].y)};
+      const P2<Jet2> nv{truncate<2>(normal[i].x), truncate<2>(normal[i].y)};
+      const P2<Jet2> dn{derivative_of(normal[i].x), derivative_of(normal[i].y)};
+      const P2<Jet2> t{-nv.y, nv.x};
+      const Jet2 turn = t.x * dn.x + t.y * dn.y;  // rotation rate of the face in the cam frame
+      if (!(std::abs(turn.value()) > 1e-12))
+        return {StatusCode::undercut, "the flat face does not turn relative to the cam (no envelope)",
+                "cam " + fmt(theta[i] * 180 / pi) + " deg"};
+      const Jet2 lambda = (dq.x * nv.x + dq.y * nv.y) / turn;  // contact offset along the face [mm]
+      // offset from the face's reference point (the drawing point_mm)
+      face_min = std::min(face_min, lambda.value());
+      face_max = std::max(face_max, lambda.value());
+      env[i] = {q.x + lambda * t.x, q.y + lambda * t.y};
+    }
+  }
+  if (!roller) {
+    result.face_offset_min_mm = face_min;
+    result.face_offset_max_mm = face_max;
+  }
+
+  // the profile must be traced monotonically in polar angle (star-shaped, no undercut)
+  std::vector<double> phi(n + 1), dphi(n);
+  double sign = 0.0;
+  for (int i = 0; i < n; ++i) {
+    const double x = env[i].x.value(), y = env[i].y.value();
+    const double x1 = env[i].x.derivative(1), y1 = env[i].y.derivative(1);
+    dphi[i] = (x * y1 - y * x1) / (x * x + y * y);
+    const double s = dphi[i] > 0 ? 1.0 : -1.0;
+    if (i == 0) sign = s;
+    // roller: the profile runs backwards against its centre path where the centre path's
+    // radius of curvature is below the roller radius (undercut, a cusp)
+    const double d_env = env[i].x.derivative(1) * path[i].x.derivative(1) + env[i].y.derivative(1) * path[i].y.derivative(1);
+    if (s != sign || dphi[i] == 0.0 || (roller && d_env <= 0.0))
+      return {StatusCode::undercut,
+              "the synthesized profile folds back on itself (undercut or cusp): " +
+                  std::string(roller ? "the cam would need a radius of curvature smaller than 0 where the roller's "
+                                       "centre path curves tighter than the roller radius"
+                                     : "the flat face envelope is not star-shaped about the cam pivot"),
+              "cam " + fmt(theta[i] * 180 / pi) + " deg"};
+  }
+  phi[0] = std::atan2(env[0].y.value(), env[0].x.value());
+  for (int i = 1; i <= n; ++i) {
+    const auto& e = env[i % n];
+    double a = std::atan2(e.y.value(), e.x.value());
+    a += 2 * pi * std::round((phi[i - 1] - a) / (2 * pi));
+    phi[i] = a;
+  }
+  if (std::abs(std::abs(phi[n] - phi[0]) - 2 * pi) > 1e-6)
+    return {StatusCode::undercut, "the synthesized profile does not wind once around the cam pivot", "whole revolution"};
+
+  // resample at uniform polar angles by quintic hermite interpolation in theta
+  const double h = 2 * pi / n;
+  const int m = options.points;
+  result.angle_deg.resize(m);
+  result.radius_mm.resize(m);
+  result.x_mm.resize(m);
+  result.y_mm.resize(m);
+  result.radius_of_curvature_mm.resize(m);
+  result.min_radius_of_curvature_mm = 1e300;
+  result.min_concave_radius_mm = 1e300;
+  for (int k = 0; k < m; ++k) {
+    const double target0 = 2 * pi * k / m;
+    // bring the target into the traced range
+    double target = target0 + 2 * pi * std::floor((std::min(phi[0], phi[n]) - target0) / (2 * pi) + 1.0);
+    if (target > std::max(phi[0], phi[n])) target -= 2 * pi;
+    int lo = 0, hi = n;  // phi is monotone: phi[lo] .. phi[hi] brackets the target
+    while (hi - lo > 1) {
+      const int mid = (lo + hi) / 2;
+      ((phi[mid] - target) * sign <= 0 ? lo : hi) = mid;
+    }
+    const auto& a = env[lo];
+    const auto& b = env[hi % n];
+    auto hermite = [&](const Jet2& pa, const Jet2& pb) {
+      return Quintic(pa.value(), pa.derivative(1) * h, pa.derivative(2) * h * h, pb.value(), pb.derivative(1) * h,
+                     pb.derivative(2) * h * h);
+    };
+    const Quintic qx = hermite(a.x, b.x), qy = hermite(a.y, b.y);
+    double t = (target - phi[lo]) / (phi[hi] - phi[lo]);
+    double x = 0, y = 0, x1 = 0, y1 = 0, x2 = 0, y2 = 0;
+    for (int it = 0; it < 30; ++it) {
+      qx.eval(t, x, x1, x2);
+      qy.eval(t, y, y1, y2);
+      double f = std::atan2(y, x) - target;
+      f -= 2 * pi * std::round(f / (2 * pi));
+      const double df = (x * y1 - y * x1) / (x * x + y * y);
+      const double step = f / df;
+      t -= step;
+      if (std::abs(step) < 1e-15) break;
+    }
+    qx.eval(t, x, x1, x2);
+    qy.eval(t, y, y1, y2);
+    const double r = std::hypot(x, y);
+    // curvature, convex positive: the profile runs counter-clockwise when sign > 0
+    const double kappa = sign * (x1 * y2 - y1 * x2) / std::pow(x1 * x1 + y1 * y1, 1.5);
+    const double roc = std::abs(kappa) > 1e-12 ? 1.0 / kappa : 0.0;  // 0: flat
+    const double ang = std::remainder(std::atan2(y, x), 2 * pi);
+    result.angle_deg[k] = target0 * 180 / pi;
+    result.radius_mm[k] = r;
+    result.x_mm[k] = x;
+    result.y_mm[k] = y;
+    result.radius_of_curvature_mm[k] = roc;
+    (void)ang;
+    if (kappa > 0 && roc < result.min_radius_of_curvature_mm) {
+      result.min_radius_of_curvature_mm = roc;
+      result.min_radius_of_curvature_at_deg = target0 * 180 / pi;
+    }
+    if (kappa < -1e-12 && -roc < result.min_concave_radius_mm) {
+      result.has_concave = true;
+      result.min_concave_radius_mm = -roc;
+      result.min_concave_radius_at_deg = target0 * 180 / pi;
+    }
+  }
+  if (!result.has_concave) result.min_concave_radius_mm = 0.0;
+  if (result.min_radius_of_curvature_mm == 1e300) result.min_radius_of_curvature_mm = 0.0;
+  result.concave_narrower_than_wheel =
+      result.has_concave && options.wheel_radius_mm > 0 && result.min_concave_radius_mm < options.wheel_radius_mm;
+  result.base_radius_mm = *std::min_element(result.radius_mm.begin(), result.radius_mm.end());
+  result.max_radius_mm = *std::max_element(result.radius_mm.begin(), result.radius_mm.end());
+  result.profile.name = cut.profile;
+  result.profile.form = ProfileForm::polar;
+  result.profile.angle_deg = result.angle_deg;
+  result.profile.radius_mm = result.radius_mm;
+  return Status::success();
+}
+
+Status round_trip(const DesignSpec& spec, const PeriodicSpline& lift, const std::vector<double>& controls,
+                  const std::string& connection, RoundTrip& out) {
+  const kin::Mechanism mech = kin::compile(spec);
+  kin::SweepSpec s;
+  s.start = 0.0;
+  s.stop = 360.0;
+  s.step = 0.25;
+  s.request = {1, true};
+  std::vector<double> pos = controls;
+  if (pos.empty())
+    for (const auto& c : mech.controls) pos.push_back(c.default_value);
+  s.control_positions = {pos};
+  const kin::SweepResult r = kin::sweep(mech, s);
+  const auto& p = r.positions[0];
+  if (!p.status.ok()) return p.status;
+  const int out_var = mech.nodes[mech.output_node].first_variable;
+  const double rest = mech.nodes[mech.output_node].rest;
+  int ci = -1;
+  for (int i = 0; i < static_cast<int>(mech.connections.size()); ++i)
+    if (mech.connections[i].name == connection) ci = i;
+  out = {};
+  double sum = 0.0;
+  for (std::size_t i = 0; i < r.driver.size(); ++i) {
+    const double target = lift(r.driver[i] * pi / 180);
+    const double got = p.at(i, mech.variables.size(), out_var, 0) - rest;
+    const double e = std::abs(got - target);
+    sum += e * e;
+    if (e > out.max_error_mm) out.max_error_mm = e, out.max_error_at_deg = r.driver[i];
+    if (ci >= 0) {
+      const double pa = p.contacts[i * mech.connections.size() + ci].pressure_angle * 180 / pi;
+      if (pa > out.max_pressure_angle_deg) out.max_pressure_angle_deg = pa, out.max_pressure_angle_at_deg = r.driver[i];
+    }
+  }
+  out.rms_error_mm = std::sqrt(sum / static_cast<double>(r.driver.size()));
+  return Status::success();
+}
+
+}  // namespace camopt::synthesis

@@ -1,0 +1,364 @@
+#include "camopt/synthesis/target_lift.hpp"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "camopt/core/error.hpp"
+
+namespace camopt::synthesis {
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kDegToRad = kPi / 180.0;
+constexpr double kCycleDeg = 360.0;
+constexpr double kRoundingNegative = 1e-9;  // [mm] negatives treated as rounding of 0
+constexpr double kSpanRelTol = 1e-9;        // |span - 360| <= this * 360: exactly one cycle
+constexpr double kWrapGapFactor = 1.5;      // wrap interval / median spacing above which the cycle is not covered
+constexpr double kInteriorGapFactor = 4.0;  // interior interval / median spacing above which it is a gap
+constexpr double kFineGridDeg = 0.5;        // [cam deg] largest step of the smoothing conversion grid
+constexpr int kDegree = 5;
+
+std::string fmt(double v, int digits = 6) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
+  return buf;
+}
+
+std::string where(const std::string& file, int line) {
+  SourceRef ref;
+  ref.file = file;
+  ref.line = line;
+  return ref.str();
+}
+
+double wrap360(double deg) {
+  double w = std::fmod(deg, kCycleDeg);
+  if (w < 0) w += kCycleDeg;
+  return w;
+}
+
+// uniform quintic b-spline values b[r] = N5(u + 5 - r), r = 0..5, at local u in [0, 1):
+// cox-de boor on unit knots, N_k(t) = t/k N_{k-1}(t) + (k+1-t)/k N_{k-1}(t-1)
+void uniform_basis(double u, int degree, double* b) {
+  b[0] = 1.0;
+  for (int k = 1; k <= degree; ++k) {
+    double prev = 0.0;  // b^{k-1}_{r-1}
+    for (int r = 0; r <= k; ++r) {
+      const double cur = r < k ? b[r] : 0.0;  // b^{k-1}_r
+      b[r] = ((u + k - r) * prev + (r + 1 - u) * cur) / k;
+      prev = cur;
+    }
+  }
+}
+
+struct Site {
+  double deg;   // [cam deg] as written (or filled)
+  double lift;  // [mm]
+  int row;      // index into the input, -1 for a filled zero-lift point
+};
+
+}  // namespace
+
+double PeriodicBSpline::derivative(double cam_deg, int k) const {
+  CAMOPT_ASSERT(k >= 0 && k <= kDegree);
+  const int m = static_cast<int>(coef.size());
+  CAMOPT_ASSERT(m >= kDegree + 1 && spacing_deg > 0);
+  // derivative of a uniform b-spline series: differences of the coefficients over the
+  // spacing, one degree lower (de Boor, ch. X)
+  std::vector<double> c = coef;
+  for (int d = 0; d < k; ++d) {
+    const double last = c[static_cast<std::size_t>(m - 1)];
+    for (int i = m - 1; i >= 1; --i) c[static_cast<std::size_t>(i)] = (c[static_cast<std::size_t>(i)] - c[static_cast<std::size_t>(i - 1)]) / spacing_deg;
+    c[0] = (c[0] - last) / spacing_deg;
+  }
+  const int degree = kDegree - k;
+  const double t = wrap360(cam_deg) / spacing_deg;
+  int j = static_cast<int>(std::floor(t));
+  double u = t - j;
+  if (j >= m) {  // wrap360 rounding up to 360
+    j -= m;
+  }
+  double b[kDegree + 1];
+  uniform_basis(u, degree, b);
+  double s = 0.0;
+  for (int r = 0; r <= degree; ++r) s += c[static_cast<std::size_t>(((j - degree + r) % m + m) % m)] * b[r];
+  return s;
+}
+
+PeriodicBSpline fit_periodic_bspline(std::span<const double> cam_deg, std::span<const double> lift_mm,
+                                     double knot_spacing_deg, const std::string& source) {
+  CAMOPT_ASSERT(cam_deg.size() == lift_mm.size());
+  if (!std::isfinite(knot_spacing_deg) || knot_spacing_deg <= 0 || knot_spacing_deg > kCycleDeg / (kDegree + 1)) {
+    throw InputError(where(source, 0) + ": smoothing knot spacing " + fmt(knot_spacing_deg) +
+                     " cam deg: must be > 0 and <= 60 cam deg (at least 6 knots per cycle)");
+  }
+  const int m = std::max(kDegree + 1, static_cast<int>(std::lround(kCycleDeg / knot_spacing_deg)));
+  PeriodicBSpline fit;
+  fit.spacing_deg = kCycleDeg / m;
+
+  // normal equations a^t a c = a^t y; row i of a holds the 6 basis values at site i
+  Eigen::MatrixXd normal = Eigen::MatrixXd::Zero(m, m);
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(m);
+  std::vector<int> per_interval(static_cast<std::size_t>(m), 0);
+  double b[kDegree + 1];
+  for (std::size_t i = 0; i < cam_deg.size(); ++i) {
+    const double t = wrap360(cam_deg[i]) / fit.spacing_deg;
+    int j = static_cast<int>(std::floor(t));
+    const double u = t - j;
+    if (j >= m) j -= m;
+    ++per_interval[static_cast<std::size_t>(j)];
+    uniform_basis(u, kDegree, b);
+    int idx[kDegree + 1];
+    for (int r = 0; r <= kDegree; ++r) idx[r] = ((j - kDegree + r) % m + m) % m;
+    for (int r = 0; r <= kDegree; ++r) {
+      rhs[idx[r]] += b[r] * lift_mm[i];
+      for (int q = 0; q <= kDegree; ++q) normal(idx[r], idx[q]) += b[r] * b[q];
+    }
+  }
+  // one site in every knot interval makes the fit well posed (schoenberg-whitney)
+  for (int j = 0; j < m; ++j) {
+    if (per_interval[static_cast<std::size_t>(j)] == 0) {
+      throw InputError(where(source, 0) + ": smoothing knot spacing " + fmt(fit.spacing_deg) +
+                       " cam deg: no data between " + fmt(j * fit.spacing_deg) + " and " +
+                       fmt((j + 1) * fit.spacing_deg) +
+                       " cam deg; every knot interval needs a data point (use a larger knot spacing)");
+    }
+  }
+  const Eigen::LLT<Eigen::MatrixXd> llt(normal);
+  if (llt.info() != Eigen::Success) {
+    throw NumericalError(Status{StatusCode::singular, "least-squares smoothing: normal equations not positive definite",
+                                source});
+  }
+  const Eigen::VectorXd c = llt.solve(rhs);
+  fit.coef.assign(c.data(), c.data() + m);
+  return fit;
+}
+
+double TargetLift::lift_at(double cam_deg) const { return lift(cam_deg * kDegToRad); }
+
+TargetLift fit_target_lift(std::span<const double> cam_deg, std::span<const double> lift_mm,
+                           const std::vector<int>& lines, const TargetLiftOptions& options) {
+  const std::string& file = options.source;
+  const std::size_t n_in = cam_deg.size();
+  CAMOPT_ASSERT(lift_mm.size() == n_in);
+  CAMOPT_ASSERT(lines.empty() || lines.size() == n_in);
+  const auto line_of = [&](std::size_t i) { return lines.empty() ? 0 : lines[i]; };
+  const auto at_row = [&](std::size_t i) { return where(file, line_of(i)); };
+
+  // options, one rule per line
+  if (!std::isfinite(options.closure_tolerance_mm) || options.closure_tolerance_mm < 0) {
+    throw InputError(where(file, 0) + ": closure tolerance " + fmt(options.closure_tolerance_mm) +
+                     " mm: must be finite and >= 0");
+  }
+  if (n_in < 2) {
+    throw InputError(where(file, 0) + ": a target lift table needs at least 2 rows (has " + std::to_string(n_in) + ")");
+  }
+  for (std::size_t i = 0; i < n_in; ++i) {
+    CAMOPT_ASSERT(std::isfinite(cam_deg[i]) && std::isfinite(lift_mm[i]));
+    if (i > 0) CAMOPT_ASSERT_MSG(cam_deg[i] > cam_deg[i - 1], "angles must be strictly increasing (caller checks)");
+  }
+
+  // lift >= 0; rounding negatives are clamped when interpolating, noise kept when smoothing
+  const double tol = options.closure_tolerance_mm;
+  const double negative_limit = options.smooth ? std::max(kRoundingNegative, tol) : kRoundingNegative;
+  std::vector<Site> data;
+  data.reserve(n_in);
+  for (std::size_t i = 0; i < n_in; ++i) {
+    double y = lift_mm[i];
+    if (y < -negative_limit) {
+      throw InputError(at_row(i) + ": lift " + fmt(y) + " mm at " + fmt(cam_deg[i]) +
+                       " cam deg: lift must be >= 0 (base circle)" +
+                       (options.smooth ? " (smoothing keeps noise down to -" + fmt(negative_limit) + " mm)" : ""));
+    }
+    if (y < 0 && !options.smooth) y = 0.0;
+    data.push_back({cam_deg[i], y, static_cast<int>(i)});
+  }
+
+  // at most one cycle; exactly one cycle repeats the first site at the end
+  const double first = data.front().deg;
+  const double span = data.back().deg - first;
+  std::string message;
+  if (span > kCycleDeg * (1 + kSpanRelTol)) {
+    throw InputError(where(file, 0) + ": the table spans " + fmt(span) + " cam deg (" + fmt(first) + " .. " +
+                     fmt(data.back().deg) +
+                     "), more than one cycle (360 cam deg); give at most one cycle (crank-angle tables: 720 crank deg)");
+  }
+  bool repeated_seam = false;
+  if (span >= kCycleDeg * (1 - kSpanRelTol)) {
+    repeated_seam = true;
+    const Site& last = data.back();
+    const double step = std::abs(last.lift - data.front().lift);
+    if (!options.smooth) {
+      if (step > tol) {
+        throw InputError(at_row(static_cast<std::size_t>(last.row)) + ": the table spans one full cycle (" + fmt(first) +
+                         " .. " + fmt(last.deg) + " cam deg) but its last row (" + fmt(last.deg) + " cam deg, " +
+                         fmt(last.lift) + " mm) does not repeat its first (" + fmt(first) + " cam deg, " +
+                         fmt(data.front().lift) + " mm): a step of " + fmt(step, 3) +
+                         " mm at the seam, more than the closure tolerance " + fmt(tol) +
+                         " mm; make the last lift equal the first, drop the last row, or smooth the table");
+      }
+      message = "table covers the full cycle (" + fmt(first) + " .. " + fmt(last.deg) + " cam deg); the last row repeats the first angle and was dropped";
+      if (step > 0) message += " (its lift differs by " + fmt(step, 3) + " mm; the first row's " + fmt(data.front().lift) + " mm is kept)";
+      data.pop_back();
+    } else {
+      message = "table covers the full cycle (" + fmt(first) + " .. " + fmt(last.deg) +
+                " cam deg); the first and last rows are the same angle and both enter the fit";
+    }
+  }
+  if (data.size() < 2) {
+    throw InputError(where(file, 0) + ": a target lift table needs at least 2 distinct angles");
+  }
+
+  // median spacing of the table (the fill spacing)
+  std::vector<double> gaps;
+  for (std::size_t i = 1; i < data.size(); ++i) gaps.push_back(data[i].deg - data[i - 1].deg);
+  std::nth_element(gaps.begin(), gaps.begin() + static_cast<std::ptrdiff_t>(gaps.size() / 2), gaps.end());
+  const double h = gaps[gaps.size() / 2];
+
+  // zero-lift points at about spacing h strictly inside (a, b)
+  std::vector<Site> sites;
+  sites.reserve(data.size() * 2);
+  const auto fill = [&](double a, double b) {
+    const int k = std::max(1, static_cast<int>(std::ceil((b - a) / h - 1e-9)));
+    for (int j = 1; j < k; ++j) sites.push_back({a + (b - a) * j / k, 0.0, -1});
+  };
+  const auto on_base_circle = [&](const Site& s) { return s.lift <= tol; };
+
+  bool closed = false;
+  std::string interior_msg;
+  for (std::size_t i = 0; i < data.size(); ++i) {
+    sites.push_back(data[i]);
+    if (i + 1 == data.size()) break;
+    const Site& a = data[i];
+    const Site& b = data[i + 1];
+    if (b.deg - a.deg <= kInteriorGapFactor * h) continue;
+    if (!on_base_circle(a) || !on_base_circle(b)) {
+      const Site& off = on_base_circle(a) ? b : a;
+      throw InputError(at_row(static_cast<std::size_t>(off.row)) + ": the table has a gap from " + fmt(a.deg) + " to " +
+                       fmt(b.deg) + " cam deg (" + fmt(b.deg - a.deg) + " deg, more than " + fmt(kInteriorGapFactor) +
+                       " times its median spacing " + fmt(h) + " deg) with lift " + fmt(off.lift) + " mm at " +
+                       fmt(off.deg) + " cam deg: a gap may only span the base circle (lift <= " + fmt(tol) +
+                       " mm at both ends); fill in the rows");
+    }
+    fill(a.deg, b.deg);
+    interior_msg += (interior_msg.empty() ? "" : ", ") + fmt(a.deg) + " .. " + fmt(b.deg);
+  }
+
+  // closure over the wrap-around interval
+  const double last_deg = data.back().deg;
+  const double wrap = first + kCycleDeg - last_deg;
+  if (!repeated_seam && wrap > kWrapGapFactor * h) {
+    const Site& s0 = data.front();
+    const Site& s1 = data.back();
+    for (const Site* end : {&s0, &s1}) {
+      if (on_base_circle(*end)) continue;
+      throw InputError(at_row(static_cast<std::size_t>(end->row)) + ": the table covers " + fmt(last_deg - first) +
+                       " cam deg (" + fmt(first) + " .. " + fmt(last_deg) + ") and " +
+                       (end == &s0 ? "starts" : "ends") + " at " + fmt(end->deg) + " cam deg with lift " +
+                       fmt(end->lift) + " mm: a table that does not cover the cycle must end on the base circle (lift <= " +
+                       fmt(tol) + " mm); give the full cycle or a table that returns to zero lift");
+    }
+    fill(last_deg, first + kCycleDeg);
+    closed = true;
+    message = "table covers " + fmt(last_deg - first) + " deg (" + fmt(first) + " .. " + fmt(last_deg) +
+              " cam deg); closed on the base circle (zero lift) over the remaining " + fmt(wrap) + " deg";
+    message += " (end lifts " + fmt(s0.lift) + " mm at " + fmt(first) + " and " + fmt(s1.lift) + " mm at " +
+               fmt(last_deg) + " cam deg stepped to zero)";
+  } else if (message.empty()) {
+    message = "table covers the full cycle (" + fmt(first) + " .. " + fmt(last_deg) + " cam deg, the last " + fmt(wrap) +
+              " deg close the cycle)";
+  }
+  if (!interior_msg.empty()) {
+    message += "; gaps on the base circle filled with zero lift: " + interior_msg + " cam deg";
+  }
+  if (static_cast<int>(sites.size()) < kDegree + 1) {
+    throw InputError(where(file, 0) + ": a target lift table needs at least 6 points per cycle (has " +
+                     std::to_string(sites.size()) + ")");
+  }
+
+  TargetLift out;
+  out.closed_on_base_circle = closed;
+  out.closure_message = message;
+
+  std::vector<double> x, y;
+  if (!options.smooth) {
+    // exact interpolation, knots at the data sites
+    x.reserve(sites.size());
+    y.reserve(sites.size());
+    for (const Site& s : sites) {
+      x.push_back(s.deg * kDegToRad);
+      y.push_back(s.lift);
+    }
+    out.lift = PeriodicSpline::interpolate(x, y, 2 * kPi);
+  } else {
+    std::vector<double> sd, sy;
+    for (const Site& s : sites) {
+      sd.push_back(s.deg);
+      sy.push_back(s.lift);
+    }
+    const PeriodicBSpline fit = fit_periodic_bspline(sd, sy, options.smoothing_knot_spacing_deg, file);
+    // grid refining the knots: the fitted spline lies in the interpolant's space
+    const int per_knot = static_cast<int>(std::ceil(fit.spacing_deg / kFineGridDeg - 1e-9));
+    const int count = static_cast<int>(fit.coef.size()) * per_knot;
+    const double step = fit.spacing_deg / per_knot;
+    x.resize(static_cast<std::size_t>(count));
+    y.resize(static_cast<std::size_t>(count));
+    for (int i = 0; i < count; ++i) {
+      x[static_cast<std::size_t>(i)] = i * step * kDegToRad;
+      y[static_cast<std::size_t>(i)] = fit(i * step);
+    }
+    out.lift = PeriodicSpline::interpolate(x, y, 2 * kPi);
+
+    // residual against the rows of the table
+    double sum2 = 0.0;
+    for (std::size_t i = 0; i < n_in; ++i) {
+      const double r = out.lift_at(cam_deg[i]) - lift_mm[i];
+      sum2 += r * r;
+      if (std::abs(r) > out.residual_max_mm) {
+        out.residual_max_mm = std::abs(r);
+        out.residual_max_at_deg = cam_deg[i];
+      }
+    }
+    out.residual_rms_mm = std::sqrt(sum2 / static_cast<double>(n_in));
+  }
+
+  // peak lift: best breakpoint or piece midpoint, refined by newton on f' = 0
+  const auto knots = out.lift.knots();
+  double best_x = knots[0], best_f = -1e300;
+  for (std::size_t i = 0; i < knots.size(); ++i) {
+    const double next = i + 1 < knots.size() ? knots[i + 1] : knots[0] + 2 * kPi;
+    for (int q = 0; q < 4; ++q) {
+      const double xq = knots[i] + (next - knots[i]) * q / 4.0;
+      const double f = out.lift(xq);
+      if (f > best_f) {
+        best_f = f;
+        best_x = xq;
+      }
+    }
+  }
+  double d[3];
+  double xn = best_x;
+  for (int it = 0; it < 20; ++it) {
+    out.lift.evaluate(xn, 2, d);
+    if (!(d[2] < 0)) break;
+    const double dx = -d[1] / d[2];
+    if (std::abs(dx) > 0.5 * kDegToRad) break;  // stay near the sampled peak
+    xn += dx;
+    if (std::abs(dx) < 1e-14) break;
+  }
+  if (out.lift(xn) >= best_f) best_x = xn;
+  out.max_lift_mm = out.lift(best_x);
+  double at = best_x / kDegToRad;
+  at = first + wrap360(at - first);
+  out.max_lift_at_deg = at;
+  return out;
+}
+
+}  // namespace camopt::synthesis

@@ -1,0 +1,153 @@
+// envelope synthesis against closed forms: the cam that produces the lift of an eccentric
+// disc is that disc (roller and flat-faced followers), a bundled finger-follower design
+// gives back its own lobe, and an impossible lift is reported as an undercut with its angle.
+#include <catch2/catch.hpp>
+#include <cmath>
+
+#include "camopt/io/design_file.hpp"
+#include "camopt/kinematics/sweep.hpp"
+#include "camopt/synthesis/envelope.hpp"
+#include "kinematics/kinematics_test_support.hpp"
+
+using namespace camopt;
+using namespace camopt::kin_test;
+
+namespace {
+
+constexpr double kProfileTolerance = 1e-8;   // [mm] synthesized radius against the exact disc
+constexpr double kRoundTripTolerance = 1e-8; // [mm] forward lift of the synthesized cam against the target
+
+// polar radius of a disc (radius R, centre at distance e on the 0 deg axis) at polar angle a
+double disc_radius(double R, double e, double a) {
+  return e * std::cos(a) + std::sqrt(R * R - e * e * std::sin(a) * std::sin(a));
+}
+
+// the target: the design's own forward lift at 0.5 deg, interpolated periodically
+PeriodicSpline forward_lift(const DesignSpec& d) {
+  const auto m = kin::compile(d);
+  kin::SweepSpec s;
+  s.start = 0;
+  s.stop = 359.5;
+  s.step = 0.5;
+  s.request = {0, false};
+  const auto r = kin::sweep(m, s);
+  REQUIRE(r.positions[0].status.ok());
+  std::vector<double> x, y;
+  const int v = m.nodes[m.output_node].first_variable;
+  for (std::size_t i = 0; i < r.driver.size(); ++i) {
+    x.push_back(r.driver[i] * deg);
+    y.push_back(r.positions[0].at(i, m.variables.size(), v, 0));
+  }
+  return PeriodicSpline::interpolate(x, y, 2 * pi);
+}
+
+DesignSpec eccentric_design(bool flat, double R, double e, double roller, double offset) {
+  DesignSpec d = design("ecc", "cam", "follower");
+  d.nodes = {rotational("cam", {0, 0}), translational("follower", {offset, 0}, {0, 1})};
+  d.profiles = {eccentric_profile("disc", R, e)};
+  // drawing at cam 0: the disc centre is at (e, 0); the follower touches it
+  const double y0 = flat ? R : std::sqrt((R + roller) * (R + roller) - (offset - e) * (offset - e));
+  d.nodes[1].origin_mm = {offset, y0};
+  d.connections = {contact("cam_follower", profile_surface("cam", "disc", {0, 0}, 0),
+                           flat ? line_surface("follower", {offset, y0}, {0, -1})
+                                : circle_surface("follower", {offset, y0}, roller, true))};
+  return d;
+}
+
+void check_disc(const synthesis::SynthesisResult& res, double R, double e) {
+  double worst = 0.0;
+  for (std::size_t k = 0; k < res.angle_deg.size(); ++k)
+    worst = std::max(worst, std::abs(res.radius_mm[k] - disc_radius(R, e, res.angle_deg[k] * deg)));
+  INFO("worst radius error " << worst << " mm");
+  CHECK(worst < kProfileTolerance);
+  // a disc's radius of curvature is R everywhere
+  CHECK(res.min_radius_of_curvature_mm == Approx(R).epsilon(1e-6));
+  CHECK_FALSE(res.has_concave);
+  CHECK(res.base_radius_mm == Approx(R - e).epsilon(1e-9));
+  CHECK(res.max_radius_mm == Approx(R + e).epsilon(1e-9));
+}
+
+}  // namespace
+
+TEST_CASE("synthesis: the lift of an eccentric disc under an offset roller gives back the disc", "[synthesis][envelope]") {
+  const double R = 20, e = 4, roller = 8, offset = 3;
+  const DesignSpec d = eccentric_design(false, R, e, roller, offset);
+  const PeriodicSpline target = forward_lift(d);
+  synthesis::SynthesisOptions o;
+  synthesis::SynthesisResult res;
+  REQUIRE(synthesis::synthesize(d, target, o, res).ok());
+  CHECK(res.connection == "cam_follower");
+  CHECK(res.follower_shape == "circle");
+  check_disc(res, R, e);
+  synthesis::RoundTrip rt;
+  REQUIRE(synthesis::round_trip(synthesis::with_profile(d, res.profile), target, {}, res.connection, rt).ok());
+  CHECK(rt.max_error_mm < kRoundTripTolerance);
+  // pressure angle of an offset roller on a disc: tan a = |s' - offset| / Y (Norton), peak 14.48 deg here
+  CHECK(rt.max_pressure_angle_deg == Approx(14.4775).margin(1e-3));
+}
+
+TEST_CASE("synthesis: the lift of an eccentric disc under a flat face gives back the disc", "[synthesis][envelope]") {
+  const double R = 18, e = 3;
+  const DesignSpec d = eccentric_design(true, R, e, 0, 0);
+  const PeriodicSpline target = forward_lift(d);
+  synthesis::SynthesisOptions o;
+  synthesis::SynthesisResult res;
+  REQUIRE(synthesis::synthesize(d, target, o, res).ok());
+  CHECK(res.follower_shape == "line");
+  check_disc(res, R, e);
+  // the contact moves along the face by s' = e cos(theta): offsets -e .. e [mm]
+  CHECK(res.face_offset_min_mm == Approx(-e).margin(1e-6));
+  CHECK(res.face_offset_max_mm == Approx(e).margin(1e-6));
+}
+
+TEST_CASE("synthesis: a roller finger follower design gives back its own lobe", "[synthesis][envelope]") {
+  const DesignSpec d = io::load_design(std::string(CAMOPT_SOURCE_DIR) + "/designs/roller_finger_follower.toml");
+  DesignSpec no_lash = d;
+  for (auto& c : no_lash.connections) c.lash_mm = 0.0;
+  const PeriodicSpline target = forward_lift(no_lash);
+  synthesis::SynthesisOptions o;
+  synthesis::SynthesisResult res;
+  REQUIRE(synthesis::synthesize(d, target, o, res).ok());
+  const auto m = kin::compile(d);
+  double worst = 0.0;
+  for (std::size_t k = 0; k < res.angle_deg.size(); ++k)
+    worst = std::max(worst, std::abs(res.radius_mm[k] - m.profiles[0].radius_at(res.angle_deg[k] * deg)));
+  INFO("worst radius error " << worst << " mm");
+  // the target is a 0.5 deg spline of the forward lift, the original lobe a 1 deg table
+  CHECK(worst < 1e-5);
+  synthesis::RoundTrip rt;
+  REQUIRE(synthesis::round_trip(synthesis::with_profile(d, res.profile), target, {}, res.connection, rt).ok());
+  CHECK(rt.max_error_mm < 1e-6);
+}
+
+TEST_CASE("synthesis: a lift too sharp for the roller is reported as an undercut with its angle",
+          "[synthesis][envelope]") {
+  // 10 mm of lift in +-20 deg (cosine bump) under a 15 mm roller on a 10 mm base circle
+  const DesignSpec d = eccentric_design(false, 10, 1, 15, 0);
+  std::vector<double> x, y;
+  for (int i = 0; i < 720; ++i) {
+    const double a = i * 0.5;
+    x.push_back(a * deg);
+    const double u = (a - 180) / 20;
+    y.push_back(std::abs(u) < 1 ? 5 * (1 + std::cos(pi * u)) : 0.0);
+  }
+  const PeriodicSpline target = PeriodicSpline::interpolate(x, y, 2 * pi);
+  synthesis::SynthesisOptions o;
+  synthesis::SynthesisResult res;
+  const Status st = synthesis::synthesize(d, target, o, res);
+  REQUIRE_FALSE(st.ok());
+  CHECK(st.code == StatusCode::undercut);
+  CHECK_THAT(st.where, Catch::Contains("cam ") && Catch::Contains(" deg"));
+}
+
+TEST_CASE("synthesis: a contact that does not separate driver and valve is rejected", "[synthesis][envelope]") {
+  DesignSpec d = eccentric_design(false, 20, 4, 8, 3);
+  REQUIRE_THROWS_WITH(
+      [&] {
+        synthesis::SynthesisOptions o;
+        o.cam = "swing";
+        synthesis::SynthesisResult res;
+        (void)synthesis::synthesize(d, PeriodicSpline(), o, res);
+      }(),
+      Catch::Contains("--cam swing") && Catch::Contains("no contact"));
+}
