@@ -1,0 +1,96 @@
+// synthesis benchmark: run time of envelope synthesis against its error.
+//  - eccentric disc + offset roller: the synthesized profile against the exact disc;
+//  - the bundled roller finger follower, bucket tappet and rocker arm: target = the design's
+//    own forward lift; error = round trip (forward lift of the new cam against the target).
+// usage: bench_synthesis [--repeat N] [--csv FILE]
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "camopt/io/design_file.hpp"
+#include "camopt/kinematics/sweep.hpp"
+#include "camopt/synthesis/envelope.hpp"
+
+using namespace camopt;
+
+namespace {
+constexpr double deg = M_PI / 180.0;
+
+PeriodicSpline forward_lift(const DesignSpec& d) {
+  const auto m = kin::compile(d);
+  kin::SweepSpec s;
+  s.start = 0;
+  s.stop = 359.5;
+  s.step = 0.5;
+  s.request = {0, false};
+  const auto r = kin::sweep(m, s);
+  std::vector<double> x, y;
+  const int v = m.nodes[m.output_node].first_variable;
+  for (std::size_t i = 0; i < r.driver.size(); ++i) {
+    x.push_back(r.driver[i] * deg);
+    y.push_back(r.positions[0].at(i, m.variables.size(), v, 0));
+  }
+  return PeriodicSpline::interpolate(x, y, 2 * M_PI);
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+  int repeat = 5;
+  std::string csv_path;
+  for (int i = 1; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--repeat") && i + 1 < argc) repeat = std::atoi(argv[++i]);
+    else if (!std::strcmp(argv[i], "--csv") && i + 1 < argc) csv_path = argv[++i];
+    else {
+      std::fprintf(stderr, "usage: bench_synthesis [--repeat N] [--csv FILE]\n");
+      return 2;
+    }
+  }
+  std::vector<std::string> rows{"design,points,samples,synthesis_ms,round_trip_ms,profile_error_mm,round_trip_error_mm"};
+  std::printf("%-26s %7s %8s %14s %14s %16s %18s\n", "design", "points", "samples", "synthesis ms", "round trip ms",
+              "profile err mm", "round trip err mm");
+  for (const char* name : {"eccentric_offset_roller", "roller_finger_follower", "bucket_tappet", "rocker_arm"}) {
+    DesignSpec d = io::load_design(std::string(CAMOPT_SOURCE_DIR) + "/designs/" + name + ".toml");
+    for (auto& c : d.connections) c.lash_mm = 0.0;
+    const PeriodicSpline target = forward_lift(d);
+    const auto m = kin::compile(d);
+    for (int points : {360, 720, 1440}) {
+      synthesis::SynthesisOptions o;
+      o.points = points;
+      o.samples = 4 * points;
+      synthesis::SynthesisResult res;
+      double best = 1e300;
+      for (int r = 0; r < repeat; ++r) {
+        const auto t0 = std::chrono::steady_clock::now();
+        if (!synthesis::synthesize(d, target, o, res).ok()) return 1;
+        best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+      }
+      // profile error against the design's own cam (exact for the eccentric disc)
+      double perr = 0.0;
+      int profile = -1;
+      for (std::size_t i = 0; i < m.profiles.size(); ++i)
+        if (m.profiles[i].name() == res.profile.name) profile = static_cast<int>(i);
+      for (std::size_t k = 0; k < res.angle_deg.size(); ++k)
+        perr = std::max(perr, std::abs(res.radius_mm[k] - m.profiles[profile].radius_at(res.angle_deg[k] * deg)));
+      synthesis::RoundTrip rt;
+      const auto t0 = std::chrono::steady_clock::now();
+      if (!synthesis::round_trip(synthesis::with_profile(d, res.profile), target, {}, res.connection, rt).ok()) return 1;
+      const double trt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      std::printf("%-26s %7d %8d %14.2f %14.2f %16.2e %18.2e\n", name, points, o.samples, best * 1e3, trt * 1e3, perr,
+                  rt.max_error_mm);
+      char line[256];
+      std::snprintf(line, sizeof line, "%s,%d,%d,%.4g,%.4g,%.4g,%.4g", name, points, o.samples, best * 1e3, trt * 1e3,
+                    perr, rt.max_error_mm);
+      rows.push_back(line);
+    }
+  }
+  if (!csv_path.empty()) {
+    std::ofstream f(csv_path);
+    for (const auto& r : rows) f << r << "\n";
+  }
+  return 0;
+}
