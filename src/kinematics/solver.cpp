@@ -63,10 +63,9 @@ Workspace::Block make_block(const Mechanism& m, const SolveStep& step, bool tang
 }
 
 // residuals of a block at scalar type T; vars must hold every variable
-template <class T>
-void block_residual(const Mechanism& m, const Workspace::Block& b, const T* vars, const Eigen::Vector2d* pivots,
-                    detail::PoseCache<T>& cache, long point, T* scratch, T* out) {
-  const detail::CachedPoses<T> poses{m, vars, pivots, cache, point, b.solving};
+template <class T, class Poses>
+void block_residual(const Mechanism& m, const Workspace::Block& b, const T* vars, const Poses& poses, T* scratch,
+                    T* out) {
   int i = 0;
   for (int ci : b.connections) {
     const Connection& c = m.connections[ci];
@@ -74,6 +73,11 @@ void block_residual(const Mechanism& m, const Workspace::Block& b, const T* vars
     for (const auto& [eci, k] : b.equations)
       if (eci == ci) out[i++] = scratch[k];
   }
+}
+template <class T>
+void block_residual(const Mechanism& m, const Workspace::Block& b, const T* vars, const Eigen::Vector2d* pivots,
+                    detail::PoseCache<T>& cache, long point, T* scratch, T* out) {
+  block_residual(m, b, vars, detail::CachedPoses<T>{m, vars, pivots, cache, point, b.solving}, scratch, out);
 }
 
 class Kernel {
@@ -85,6 +89,8 @@ class Kernel {
  private:
   double evaluate(Workspace::Block& b, const Workspace::Vector& x, Workspace::Vector& f);
   void jacobian(Workspace::Block& b, const Workspace::Vector& x);
+  template <int M>
+  void jacobian_columns(Workspace::Block& b, const Workspace::Vector& x, int first);
   void finish_block(const Workspace::Block& b) {
     for (int v : b.unknowns)
       if (m_.variables[v].node >= 0) ws_.invalidate_pose(m_.variables[v].node);
@@ -120,27 +126,43 @@ double Kernel::evaluate(Workspace::Block& b, const Workspace::Vector& x, Workspa
   return f.lpNorm<Eigen::Infinity>();
 }
 
-// exact jacobian by forward mode. Known variables carry their true first-order rates, so
-// the sweep with every unknown rate zero gives r_1 (kept in b.row), and each seeded sweep
-// gives J e_j + r_1: n + 1 Jet<1> sweeps give both the jacobian and the first-order residual.
+// exact jacobian by forward mode on Dual<M>: direction 0 carries the known variables'
+// true first-order rates with every unknown rate zero, giving r_1 (kept in b.row);
+// direction 1 + j seeds unknown first + j, giving column first + j of J. One sweep gives
+// r_1 and up to M - 1 columns.
+template <int M>
+void Kernel::jacobian_columns(Workspace::Block& b, const Workspace::Vector& x, int first) {
+  using D = detail::Dual<M>;
+  const int n = static_cast<int>(b.unknowns.size());
+  const int cols = std::min(M - 1, n - first);
+  auto& vars = ws_.vars_dual<M>();
+  for (std::size_t v = 0; v < ws_.values.size(); ++v) {
+    vars[v] = D(ws_.values[v]);
+    vars[v].d[0] = ws_.vars[v].c[1];
+  }
+  for (int i = 0; i < n; ++i) vars[b.unknowns[i]] = D(x[i]);
+  for (int j = 0; j < cols; ++j) vars[b.unknowns[first + j]].d[1 + j] = 1.0;
+  D out[Workspace::max_block], scratch[4];
+  block_residual(m_, b, vars.data(), detail::DirectPoses<D>{m_, vars.data(), ws_.pivots.data()}, scratch, out);
+  for (int i = 0; i < n; ++i) {
+    b.row[i] = out[i].d[0];
+    for (int j = 0; j < cols; ++j) b.jacobian(i, first + j) = out[i].d[1 + j];
+  }
+}
+
 void Kernel::jacobian(Workspace::Block& b, const Workspace::Vector& x) {
   const int n = static_cast<int>(b.unknowns.size());
   CAMOPT_ASSERT(n <= Workspace::max_block);
-  for (std::size_t v = 0; v < ws_.values.size(); ++v) {
-    ws_.vars1[v].c[0] = ws_.values[v];
-    ws_.vars1[v].c[1] = ws_.vars[v].c[1];
-  }
-  for (int i = 0; i < n; ++i) ws_.vars1[b.unknowns[i]] = Jet<1>(x[i]);
-  Jet<1> out[Workspace::max_block];
-  block_residual(m_, b, ws_.vars1.data(), ws_.pivots.data(), ws_.poses1, ws_.point_id, ws_.residual_buffer1.data(),
-                 out);
-  for (int i = 0; i < n; ++i) b.row[i] = out[i].c[1];
-  for (int j = 0; j < n; ++j) {
-    ws_.vars1[b.unknowns[j]].c[1] = 1.0;
-    block_residual(m_, b, ws_.vars1.data(), ws_.pivots.data(), ws_.poses1, ws_.point_id, ws_.residual_buffer1.data(),
-                   out);
-    for (int i = 0; i < n; ++i) b.jacobian(i, j) = out[i].c[1] - b.row[i];
-    ws_.vars1[b.unknowns[j]].c[1] = 0.0;
+  switch (n) {
+    case 1:
+      return jacobian_columns<2>(b, x, 0);
+    case 2:
+      return jacobian_columns<3>(b, x, 0);
+    case 3:
+      return jacobian_columns<4>(b, x, 0);
+    default:
+      for (int first = 0; first < n; first += Workspace::max_dual - 1)
+        jacobian_columns<Workspace::max_dual>(b, x, first);
   }
 }
 
@@ -661,8 +683,12 @@ Status Kernel::run(double driver) {
       return {StatusCode::no_convergence, "variable '" + m_.variables[v].name + "' is not finite",
               driver_text(m_, driver)};
   }
-  if (rq_.contacts)
+  if (rq_.contacts) {
+    // contact quantities need values and first-order rates only (curvature is taken
+    // from values of d1 and d2): first-order jets suffice
+    for (int v = 0; v < nv; ++v) ws_.vars1[v] = truncate<1>(ws_.vars[v]);
     for (std::size_t si = 0; si < m_.plan.size(); ++si) contact_outputs(static_cast<int>(si));
+  }
   // history for the next predictor
   ws_.prev2_values.swap(ws_.prev_values);
   ws_.prev_values = ws_.values;
@@ -676,13 +702,13 @@ Status Kernel::run(double driver) {
 }
 
 // velocity [per driver] of the material point at drawing position `local` of a body with this pose
-V2<double> material_velocity(const detail::Pose<Jet3>& pose, const Eigen::Vector2d& local) {
+V2<double> material_velocity(const detail::Pose<Jet<1>>& pose, const Eigen::Vector2d& local) {
   const auto p = pose.apply(local.x(), local.y());
   return {p.x.c[1], p.y.c[1]};
 }
 
 // drawing coordinates of a global point on a body with this pose (inverse at the values)
-Eigen::Vector2d to_local(const detail::Pose<Jet3>& pose, double gx, double gy) {
+Eigen::Vector2d to_local(const detail::Pose<Jet<1>>& pose, double gx, double gy) {
   const double c = pose.c.value(), s = pose.s.value();
   const double dx = gx - pose.tx.value(), dy = gy - pose.ty.value();
   return {pose.rx + c * dx + s * dy, pose.ry - s * dx + c * dy};
@@ -696,32 +722,35 @@ void Kernel::contact_outputs(int step_index) {
     ContactState& out = ws_.contacts[ci];
     out.open = ws_.open[step_index];
     if (!out.open) out.gap = 0.0;
-    const auto pa = node_pose(m_, c.node_a, ws_.vars.data(), ws_.pivots.data());
-    const auto pb = node_pose(m_, c.node_b, ws_.vars.data(), ws_.pivots.data());
-    const auto A = surface_point(m_, c.surface_a, pa, ws_.vars.data());
-    const auto B = surface_point(m_, c.surface_b, pb, ws_.vars.data());
+    using J1 = Jet<1>;
+    const J1* vars = ws_.vars1.data();
+    const auto pa = node_pose(m_, c.node_a, vars, ws_.pivots.data());
+    const auto pb = node_pose(m_, c.node_b, vars, ws_.pivots.data());
+    const auto A = surface_point(m_, c.surface_a, pa, vars);
+    const auto B = surface_point(m_, c.surface_b, pb, vars);
     // unit normal from a into b and the contact point (on a's surface)
-    V2<Jet3> n, p;
-    auto curvature = [](const detail::SurfacePoint<Jet3>& s) {
+    V2<J1> n, p;
+    auto curvature = [](const detail::SurfacePoint<J1>& s) {
       const double dx = s.d1.x.value(), dy = s.d1.y.value();
-      return (dx * s.d2.y.value() - dy * s.d2.x.value()) / std::pow(dx * dx + dy * dy, 1.5);
+      const double q = dx * dx + dy * dy;
+      return (dx * s.d2.y.value() - dy * s.d2.x.value()) / (q * std::sqrt(q));
     };
     const Surface& sa = c.surface_a;
     const Surface& sb = c.surface_b;
     using std::sqrt;
     if (sa.kind != SurfaceKind::point) {
-      const Jet3 len = sqrt(detail::dot(A.d1, A.d1));
+      const J1 len = sqrt(detail::dot(A.d1, A.d1));
       n = {A.d1.y / len, -A.d1.x / len};
       p = A.p;
     } else if (sb.kind != SurfaceKind::point) {
-      const Jet3 len = sqrt(detail::dot(B.d1, B.d1));
+      const J1 len = sqrt(detail::dot(B.d1, B.d1));
       n = {-B.d1.y / len, B.d1.x / len};  // b's outward normal points into a
       p = {B.p.x + n.x * 0.0, B.p.y + n.y * 0.0};
       // the point on a's surface (the circle) lies along the normal from a's centre
       p = {A.p.x + n.x * sa.offset, A.p.y + n.y * sa.offset};
     } else {
-      const V2<Jet3> d{B.p.x - A.p.x, B.p.y - A.p.y};
-      const Jet3 len = sqrt(detail::dot(d, d));
+      const V2<J1> d{B.p.x - A.p.x, B.p.y - A.p.y};
+      const J1 len = sqrt(detail::dot(d, d));
       const double sign = (sa.offset < 0 || sb.offset < 0) ? (sa.offset < 0 ? -1.0 : 1.0) : 1.0;
       n = {sign * d.x / len, sign * d.y / len};
       p = {A.p.x + d.x / len * std::abs(sa.offset), A.p.y + d.y / len * std::abs(sa.offset)};
@@ -819,10 +848,10 @@ Workspace::Workspace(const Mechanism& mech) {
   prev_jets.assign(nv, Jet3(0.0));
   vars1.assign(nv, Jet<1>(0.0));
   vars2.assign(nv, Jet<2>(0.0));
+  std::apply([nv](auto&... v) { (v.assign(nv, {}), ...); }, dual_vars);
   contacts.assign(mech.connections.size(), ContactState{});
   open.assign(mech.plan.size(), false);
   residual_buffer.assign(4, 0.0);
-  residual_buffer1.assign(4, Jet<1>(0.0));
   residual_buffer2.assign(4, Jet<2>(0.0));
   residual_buffer3.assign(4, Jet3(0.0));
   for (const auto& step : mech.plan) {
@@ -834,7 +863,6 @@ Workspace::Workspace(const Mechanism& mech) {
   for (std::size_t i = 0; i < mech.controls.size(); ++i) controls_[i] = mech.controls[i].default_value;
   pivots.resize(mech.nodes.size());
   poses0.resize(mech.nodes.size());
-  poses1.resize(mech.nodes.size());
   poses2.resize(mech.nodes.size());
   poses3.resize(mech.nodes.size());
   set_controls(controls_);

@@ -2,12 +2,16 @@
 // a cam profile compiled from a ProfileSpec: a closed, counter-clockwise curve p(u) in
 // the profile frame [mm], C4 continuous (periodic quintic splines), evaluable on jets so
 // the profile's own curvature feeds follower acceleration and jerk exactly.
+#include <atomic>
+#include <cstdint>
+#include <limits>
 #include <string>
 
 #include "camopt/core/design_spec.hpp"
 #include "camopt/core/jet.hpp"
 #include "camopt/core/spline.hpp"
 #include "camopt/core/trig_cache.hpp"
+#include "camopt/kinematics/detail/dual.hpp"
 
 namespace camopt::kin {
 
@@ -39,9 +43,21 @@ class CamProfile {
   CurvePoint<T> point(const T& u, bool second = true) const;
 
  private:
-  template <int N>
-  static void spline_jets(const PeriodicSpline& s, const Jet<N>& u, Jet<N>& f, Jet<N>& f1, Jet<N>& f2, bool second);
-  static void spline_jets(const PeriodicSpline& s, double u, double& f, double& f1, double& f2, bool second);
+  // f, f', f'' of spline `which` (0: r or x, 1: y) at u, on jets or duals
+  template <class T>
+  void spline_jets(int which, const T& u, T& f, T& f1, T& f2, bool second) const;
+  void spline_jets(int which, double u, double& f, double& f1, double& f2, bool second) const;
+  // out[k] = f^(k)(u), k = 0..need, through a per-thread memo: one kinematic point
+  // evaluates the same spline at the same parameter in several derivative sweeps
+  // (jacobian, second and third order, contact outputs), so a miss fetches every order.
+  // Results are bit-identical to PeriodicSpline::evaluate. (Value sweeps bypass it: their
+  // parameters change on every iteration.)
+  void spline_derivatives(int which, double u, int need, double* out) const;
+  const PeriodicSpline& spline(int which) const { return which == 0 ? (polar_ ? r_ : x_) : y_; }
+  static std::uint64_t next_memo_id() noexcept {
+    static std::atomic<std::uint64_t> counter{0};
+    return counter.fetch_add(1, std::memory_order_relaxed) + 1;
+  }
 
   std::string name_;
   bool polar_ = true;
@@ -50,24 +66,47 @@ class CamProfile {
   PeriodicSpline r_;       // polar: r(u)
   PeriodicSpline x_, y_;   // xy: x(u), y(u)
   double base_radius_ = 0.0, max_radius_ = 0.0;
+  // identifies this profile's splines in the memo; copies share it with the contents
+  std::uint64_t memo_id_ = next_memo_id();
 };
 
-inline void CamProfile::spline_jets(const PeriodicSpline& s, double u, double& f, double& f1, double& f2,
-                                    bool second) {
+inline void CamProfile::spline_derivatives(int which, double u, int need, double* out) const {
+  struct Entry {
+    std::uint64_t key;
+    double u;
+    double d[PeriodicSpline::degree + 1];
+  };
+  thread_local Entry entries[4] = {};
+  thread_local unsigned next = 0;
+  const std::uint64_t key = memo_id_ * 2 + static_cast<std::uint64_t>(which);  // ids start at 1: key 0 is empty
+  for (const Entry& e : entries)
+    if (e.key == key && e.u == u) {
+      for (int k = 0; k <= need; ++k) out[k] = e.d[k];
+      return;
+    }
+  Entry& e = entries[next];
+  next = (next + 1) & 3u;
+  spline(which).evaluate(u, PeriodicSpline::degree, e.d);
+  e.key = key;
+  e.u = u;
+  for (int k = 0; k <= need; ++k) out[k] = e.d[k];
+}
+
+inline void CamProfile::spline_jets(int which, double u, double& f, double& f1, double& f2, bool second) const {
   double d[3];
-  s.evaluate(u, second ? 2 : 1, d);
+  spline(which).evaluate(u, second ? 2 : 1, d);
   f = d[0];
   f1 = d[1];
   if (second) f2 = d[2];
 }
 
-template <int N>
-void CamProfile::spline_jets(const PeriodicSpline& s, const Jet<N>& u, Jet<N>& f, Jet<N>& f1, Jet<N>& f2,
-                             bool second) {
-  // f, f', f'' as jets need derivatives up to N + 2 (quintic: f^(5) piecewise constant)
+template <class T>
+void CamProfile::spline_jets(int which, const T& u, T& f, T& f1, T& f2, bool second) const {
+  // f, f', f'' of order N need derivatives up to N + 2 (quintic: f^(5) piecewise constant)
+  constexpr int N = detail::taylor_order<T>;
   double d[N + 3 > 6 ? N + 3 : 6] = {};
   const int need = N + (second ? 2 : 1);
-  s.evaluate(u.value(), need < 5 ? need : 5, d);
+  spline_derivatives(which, u.value(), need < 5 ? need : 5, d);
   f = compose(d, u);
   f1 = compose(d + 1, u);
   if (second) f2 = compose(d + 2, u);
@@ -89,7 +128,7 @@ CurvePoint<T> CamProfile::point(const T& u, bool second) const {
   }
   if (polar_) {
     T r, r1, r2;
-    spline_jets(r_, u, r, r1, r2, second);
+    spline_jets(0, u, r, r1, r2, second);
     // p = r (cos u, sin u)
     p.x = r * c;
     p.y = r * s;
@@ -101,8 +140,8 @@ CurvePoint<T> CamProfile::point(const T& u, bool second) const {
     }
     return p;
   }
-  spline_jets(x_, u, p.x, p.dx, p.ddx, second);
-  spline_jets(y_, u, p.y, p.dy, p.ddy, second);
+  spline_jets(0, u, p.x, p.dx, p.ddx, second);
+  spline_jets(1, u, p.y, p.dy, p.ddy, second);
   return p;
 }
 

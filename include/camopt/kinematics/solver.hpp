@@ -5,6 +5,7 @@
 // closed forms run on jets, implicit blocks use implicit differentiation J x_k = -r_k.
 #include <Eigen/Core>
 #include <span>
+#include <tuple>
 #include <vector>
 
 #include "camopt/core/error.hpp"
@@ -77,17 +78,25 @@ class Workspace {
   std::vector<Block> tangency_blocks;  // per plan step (one-sided contacts: params only)
   std::vector<double> values, prev_values, prev2_values;
   std::vector<Jet3> prev_jets;
-  std::vector<Jet<1>> vars1;
+  std::vector<Jet<1>> vars1;  // contact outputs
   std::vector<Jet<2>> vars2;
+  // the jacobian sweep: Dual<n + 1> for a block of n <= max_dual - 1 unknowns, larger
+  // blocks in chunks of max_dual - 1 columns
+  static constexpr int max_dual = 5;
+  std::tuple<std::vector<detail::Dual<2>>, std::vector<detail::Dual<3>>, std::vector<detail::Dual<4>>,
+             std::vector<detail::Dual<5>>>
+      dual_vars;
+  template <int M>
+  std::vector<detail::Dual<M>>& vars_dual() {
+    return std::get<M - 2>(dual_vars);
+  }
   std::vector<Eigen::Vector2d> pivots;
   detail::PoseCache<double> poses0;
-  detail::PoseCache<Jet<1>> poses1;
   detail::PoseCache<Jet<2>> poses2;
   detail::PoseCache<Jet3> poses3;
   long point_id = 0;
   void invalidate_pose(int node) {
     poses0.invalidate(node);
-    poses1.invalidate(node);
     poses2.invalidate(node);
     poses3.invalidate(node);
   }
@@ -96,7 +105,6 @@ class Workspace {
   int history = 0;  // number of previous points available for prediction
   int prev_order = 0;
   std::vector<double> residual_buffer;
-  std::vector<Jet<1>> residual_buffer1;
   std::vector<Jet<2>> residual_buffer2;
   std::vector<Jet3> residual_buffer3;
 

@@ -1,11 +1,12 @@
 #pragma once
 // templated geometry of the kinematics kernel, written once for double (values),
-// Jet<1> (jacobian columns) and Jet<3> (velocity, acceleration, jerk).
+// Dual<M> (jacobian columns and r_1 in one sweep) and Jet<N> (the derivative sweeps).
 #include <cmath>
 #include <vector>
 
 #include "camopt/core/jet.hpp"
 #include "camopt/core/trig_cache.hpp"
+#include "camopt/kinematics/detail/dual.hpp"
 #include "camopt/kinematics/mechanism.hpp"
 
 namespace camopt::kin::detail {
@@ -165,6 +166,11 @@ template <int N>
 Jet<N> gear_integral(const Connection& c, const Jet<N>& q) {
   const double x0 = c.ratio_table.knots()[0];
   return c.ratio_table.antiderivative(q) - c.ratio_table.integral(x0, 0.0);
+}
+template <int M>
+Dual<M> gear_integral(const Connection& c, const Dual<M>& q) {
+  const Jet<1> f = gear_integral(c, Jet<1>::variable(q.value()));  // F(q0), F'(q0)
+  return chain(q, f.c[0], f.c[1]);
 }
 
 // residuals of connection c into out[0 .. equation_count); the last one of a contact is
