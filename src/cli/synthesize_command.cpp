@@ -53,9 +53,6 @@ double max_lift_control(const kin::Mechanism& mech) {
 }
 
 void run_synthesize(const SynthesizeOptions& o) {
-  if (o.cam == "swing")
-    throw NotBuilt{"synthesize --cam swing is not built yet (issue #4: the swing cam is traced only while it "
-                   "moves, back and forth, and needs its dwell arc and untouched flanks completed)"};
   const DesignSpec spec = io::load_design(o.design);
   const kin::Mechanism mech = kin::compile(spec);
 

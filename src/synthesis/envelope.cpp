@@ -170,6 +170,218 @@ struct Quintic {
 
 }  // namespace
 
+namespace {
+
+// profile quantities from a polar table r(phi): point, curvature radius (convex > 0, 0 flat)
+void finish_from_polar(SynthesisResult& result, double wheel_radius) {
+  const int m = static_cast<int>(result.angle_deg.size());
+  std::vector<double> u(m);
+  for (int k = 0; k < m; ++k) u[k] = result.angle_deg[k] * pi / 180;
+  const PeriodicSpline r = PeriodicSpline::interpolate(u, result.radius_mm, 2 * pi);
+  result.x_mm.resize(m);
+  result.y_mm.resize(m);
+  result.radius_of_curvature_mm.resize(m);
+  result.min_radius_of_curvature_mm = 1e300;
+  result.min_concave_radius_mm = 1e300;
+  result.has_concave = false;
+  for (int k = 0; k < m; ++k) {
+    double d[3];
+    r.evaluate(u[k], 2, d);
+    result.x_mm[k] = d[0] * std::cos(u[k]);
+    result.y_mm[k] = d[0] * std::sin(u[k]);
+    // polar curvature (r^2 + 2 r'^2 - r r'') / (r^2 + r'^2)^1.5, + convex
+    const double kappa = (d[0] * d[0] + 2 * d[1] * d[1] - d[0] * d[2]) / std::pow(d[0] * d[0] + d[1] * d[1], 1.5);
+    const double roc = std::abs(kappa) > 1e-12 ? 1.0 / kappa : 0.0;
+    result.radius_of_curvature_mm[k] = roc;
+    if (kappa > 0 && roc < result.min_radius_of_curvature_mm)
+      result.min_radius_of_curvature_mm = roc, result.min_radius_of_curvature_at_deg = result.angle_deg[k];
+    if (kappa < -1e-12 && -roc < result.min_concave_radius_mm)
+      result.has_concave = true, result.min_concave_radius_mm = -roc, result.min_concave_radius_at_deg = result.angle_deg[k];
+  }
+  if (!result.has_concave) result.min_concave_radius_mm = 0.0;
+  if (result.min_radius_of_curvature_mm == 1e300) result.min_radius_of_curvature_mm = 0.0;
+  result.concave_narrower_than_wheel = result.has_concave && wheel_radius > 0 && result.min_concave_radius_mm < wheel_radius;
+  result.base_radius_mm = *std::min_element(result.radius_mm.begin(), result.radius_mm.end());
+  result.max_radius_mm = *std::max_element(result.radius_mm.begin(), result.radius_mm.end());
+}
+
+// a swing cam is traced only while it moves, forth while the valve opens and back while it
+// closes, over the same stretch of profile. The opening stroke gives the profile; the
+// closing stroke must retrace it (else the target lift is not a function of the swing
+// angle). Beyond the rest contact the profile continues as the dwell arc about the swing
+// pivot (where other control positions rest); the untouched rest of the turn is bridged by
+// a quintic in polar angle matching radius, slope and curvature at both ends.
+Status swing_profile(const DesignSpec& spec, const kin::Mechanism& up, const Cut& cut, const SurfaceSpec& cam_surface,
+                     double radius, bool roller, const std::vector<P2<Jet3>>& path,
+                     const std::vector<P2<Jet3>>& normal, const std::vector<double>& theta,
+                     const std::vector<double>& cam_rate, const std::vector<double>& valve_rate,
+                     const SynthesisOptions& options, SynthesisResult& result) {
+  (void)spec;
+  if (!roller)
+    throw InputError("synthesize --cam swing: the swing cam's follower must be a roller or pad (circle), not a flat face");
+  (void)normal;
+  const int n = static_cast<int>(theta.size());
+  double max_rate = 0.0;
+  for (double r : cam_rate) max_rate = std::max(max_rate, std::abs(r));
+  if (!(max_rate > 0))
+    return {StatusCode::undercut, "the swing cam does not move over the revolution", "whole revolution"};
+  // opening stroke: the sense of swing motion while the valve opens fastest
+  const int fastest = static_cast<int>(std::max_element(valve_rate.begin(), valve_rate.end()) - valve_rate.begin());
+  const double open_sign = cam_rate[fastest] > 0 ? 1.0 : -1.0;
+  // moving: faster than 1e-3 of the peak swing rate (table cams ripple at ~1e-5 on their ramps)
+  auto opening = [&](int i) { return cam_rate[i] * open_sign > 1e-3 * max_rate; };
+  // the opening stroke: the longest contiguous run of opening samples (cyclic); any other
+  // run must be a negligible ripple
+  std::vector<std::pair<int, int>> runs;  // (start, length)
+  for (int i = 0; i < n; ++i)
+    if (opening(i) && !opening((i + n - 1) % n)) {
+      int len = 0;
+      while (len < n && opening((i + len) % n)) ++len;
+      runs.push_back({i, len});
+    }
+  if (runs.empty()) return {StatusCode::undercut, "no opening stroke of the swing cam found", "whole revolution"};
+  std::sort(runs.begin(), runs.end(), [](auto a, auto b) { return a.second > b.second; });
+  if (runs.size() > 1 && runs[1].second > n / 50)
+    return {StatusCode::undercut, "the swing cam opens more than once per revolution",
+            "cam " + fmt(theta[runs[1].first] * 180 / pi) + " deg"};
+  std::vector<int> run;
+  for (int j = 0; j < runs[0].second; ++j) run.push_back((runs[0].first + j) % n);
+  // envelope of the roller along the run: p = c - r nu, nu the centre path normal pointing
+  // away from the profile origin (the roller is outside the cam)
+  auto envelope = [&](int i) {
+    const P2<Jet2> d{derivative_of(path[i].x), derivative_of(path[i].y)};
+    const Jet2 len = sqrt(d.x * d.x + d.y * d.y);
+    P2<Jet2> nu{d.y / len, -d.x / len};
+    if (nu.x.value() * path[i].x.value() + nu.y.value() * path[i].y.value() < 0) nu = {-1.0 * nu.x, -1.0 * nu.y};
+    return P2<Jet2>{truncate<2>(path[i].x) - radius * nu.x, truncate<2>(path[i].y) - radius * nu.y};
+  };
+  std::vector<P2<Jet2>> env;
+  std::vector<double> phi;
+  for (int i : run) {
+    env.push_back(envelope(i));
+    double a = std::atan2(env.back().y.value(), env.back().x.value());
+    if (!phi.empty()) a += 2 * pi * std::round((phi.back() - a) / (2 * pi));
+    phi.push_back(a);
+  }
+  const double dir = phi.back() > phi.front() ? 1.0 : -1.0;
+  for (std::size_t j = 1; j < phi.size(); ++j)
+    if ((phi[j] - phi[j - 1]) * dir <= 0)
+      return {StatusCode::undercut, "the synthesized swing profile folds back on itself (undercut or cusp)",
+              "cam " + fmt(theta[run[j]] * 180 / pi) + " deg"};
+  // the closing stroke must retrace the opening one
+  double worst = 0.0, worst_at = 0.0;
+  for (int i = 0; i < n; ++i) {
+    if (!(cam_rate[i] * open_sign < -1e-3 * max_rate)) continue;
+    const P2<Jet2> q = envelope(i);
+    double best = 1e300;
+    for (std::size_t j = 0; j + 1 < env.size(); ++j) {
+      const double ax = env[j].x.value(), ay = env[j].y.value();
+      const double bx = env[j + 1].x.value() - ax, by = env[j + 1].y.value() - ay;
+      const double t = std::clamp(((q.x.value() - ax) * bx + (q.y.value() - ay) * by) / (bx * bx + by * by), 0.0, 1.0);
+      best = std::min(best, std::hypot(q.x.value() - ax - t * bx, q.y.value() - ay - t * by));
+    }
+    if (best > worst) worst = best, worst_at = theta[i];
+  }
+  if (worst > 5e-3)  // [mm] grinding accuracy
+    return {StatusCode::undercut,
+            "the closing stroke of the swing cam does not retrace the opening stroke (off by " + fmt(worst) +
+                " mm): the target lift is not a function of the swing angle",
+            "cam " + fmt(worst_at * 180 / pi) + " deg"};
+  result.notes.push_back("swing cam traced over " + fmt(std::abs(phi.back() - phi.front()) * 180 / pi) +
+                         " deg of its profile; closing stroke retraces it within " + fmt(worst) + " mm");
+
+  // radius on the traced stretch at polar angle a (quintic hermite in theta between samples)
+  const double h = 2 * pi / n;
+  auto traced_radius = [&](double a) {
+    int lo = 0, hi = static_cast<int>(phi.size()) - 1;
+    while (hi - lo > 1) {
+      const int mid = (lo + hi) / 2;
+      ((phi[mid] - a) * dir <= 0 ? lo : hi) = mid;
+    }
+    auto hermite = [&](const Jet2& pa, const Jet2& pb) {
+      return Quintic(pa.value(), pa.derivative(1) * h, pa.derivative(2) * h * h, pb.value(), pb.derivative(1) * h,
+                     pb.derivative(2) * h * h);
+    };
+    const Quintic qx = hermite(env[lo].x, env[hi].x), qy = hermite(env[lo].y, env[hi].y);
+    double t = (a - phi[lo]) / (phi[hi] - phi[lo]), x = 0, y = 0, x1 = 0, y1 = 0, x2 = 0, y2 = 0;
+    for (int it = 0; it < 30; ++it) {
+      qx.eval(t, x, x1, x2);
+      qy.eval(t, y, y1, y2);
+      double f = std::atan2(y, x) - a;
+      f -= 2 * pi * std::round(f / (2 * pi));
+      const double step = f / ((x * y1 - y * x1) / (x * x + y * y));
+      t -= step;
+      if (std::abs(step) < 1e-15) break;
+    }
+    qx.eval(t, x, x1, x2);
+    qy.eval(t, y, y1, y2);
+    return std::hypot(x, y);
+  };
+  // dwell arc about the swing pivot, in the profile frame
+  const kin::Node& swing = up.nodes[up.node_index(cut.cam_node)];
+  const double ox = cam_surface.origin_mm[0], oy = cam_surface.origin_mm[1];
+  const double co = std::cos(cam_surface.orientation_deg * pi / 180), so = std::sin(cam_surface.orientation_deg * pi / 180);
+  const double px = co * (swing.pivot.x() - ox) + so * (swing.pivot.y() - oy);
+  const double py = -so * (swing.pivot.x() - ox) + co * (swing.pivot.y() - oy);
+  const double rest_x = env.front().x.value(), rest_y = env.front().y.value();
+  const double dwell = std::hypot(rest_x - px, rest_y - py);
+  auto dwell_radius = [&](double a) {
+    // ray from the origin at angle a meets the circle |x - P| = dwell
+    const double ux = std::cos(a), uy = std::sin(a);
+    const double b = px * ux + py * uy;
+    const double disc = b * b - (px * px + py * py - dwell * dwell);
+    return b + std::sqrt(std::max(0.0, disc));
+  };
+  // bridge between the nose end (phi_end) and the dwell arc at the middle of the untouched range
+  const double phi_start = phi.front(), phi_end = phi.back();
+  const double untouched = 2 * pi - std::abs(phi_end - phi_start);
+  const double join = phi_end + dir * untouched / 2;  // where the dwell arc takes over
+  const double e = 1e-4;                               // [rad] step for the end slopes
+  auto derivs = [&](auto&& f, double a, double s, double out[3]) {
+    // one-sided second-order differences into the known side (s = -1: backwards)
+    const double f0 = f(a), f1 = f(a + s * e), f2 = f(a + 2 * s * e);
+    out[0] = f0;
+    out[1] = s * (-3 * f0 + 4 * f1 - f2) / (2 * e);
+    out[2] = (f0 - 2 * f1 + f2) / (e * e);
+  };
+  double end_d[3], join_d[3];
+  derivs(traced_radius, phi_end, -dir, end_d);
+  derivs(dwell_radius, join, dir, join_d);
+  const double span = join - phi_end;  // signed
+  const Quintic bridge(end_d[0], end_d[1] * span, end_d[2] * span * span, join_d[0], join_d[1] * span,
+                       join_d[2] * span * span);
+  const int m = options.points;
+  result.angle_deg.resize(m);
+  result.radius_mm.resize(m);
+  for (int k = 0; k < m; ++k) {
+    const double a0 = 2 * pi * k / m;
+    // signed distance along the traced direction from the rest point, in [0, 2 pi)
+    double along = (a0 - phi_start) * dir;
+    along -= 2 * pi * std::floor(along / (2 * pi));
+    const double a = phi_start + dir * along;
+    double r = 0.0;
+    if (along <= std::abs(phi_end - phi_start)) {
+      r = traced_radius(a);
+    } else if (along <= std::abs(phi_end - phi_start) + untouched / 2) {
+      double f, d1, d2;
+      bridge.eval((a - phi_end) / span, f, d1, d2);
+      r = f;
+    } else {
+      r = dwell_radius(a);
+    }
+    result.angle_deg[k] = a0 * 180 / pi;
+    result.radius_mm[k] = r;
+  }
+  finish_from_polar(result, options.wheel_radius_mm);
+  result.profile.name = cut.profile;
+  result.profile.form = ProfileForm::polar;
+  result.profile.angle_deg = result.angle_deg;
+  result.profile.radius_mm = result.radius_mm;
+  return Status::success();
+}
+
+}  // namespace
+
 DesignSpec with_profile(const DesignSpec& spec, const ProfileSpec& profile) {
   DesignSpec out = spec;
   bool replaced = false;
@@ -223,7 +435,7 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
   const int n = options.samples;
   std::vector<P2<Jet3>> path(n), normal(n);  // follower centre / face point and face normal in the profile frame
   std::vector<Jet3> face_point_jets;
-  std::vector<double> theta(n);
+  std::vector<double> theta(n), cam_rate(n), valve_rate(n);
   for (int i = 0; i < n; ++i) {
     theta[i] = 2 * pi * i / n;
     const Jet3 L = lift(Jet3::variable(theta[i]));
@@ -249,6 +461,8 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
       return st;
     }
     const auto cpose = kin::detail::node_pose(up, cam, up_ws.vars.data(), up_ws.pivots.data());
+    cam_rate[i] = up_ws.vars[up.nodes[cam].first_variable].derivative(1);  // [rad per rad of driver]
+    valve_rate[i] = L.derivative(1);
     // global -> cam drawing -> profile frame
     auto to_profile = [&](const kin::detail::V2<Jet3>& g) {
       const Jet3 dx = g.x - cpose.tx, dy = g.y - cpose.ty;
@@ -267,6 +481,10 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
       normal[i] = rotate_to_profile(fpose.rotate(nn[0] / len, nn[1] / len));
     }
   }
+  if (options.cam == "swing")
+    return swing_profile(spec, up, cut, cam_surface, radius, roller, path, normal, theta, cam_rate, valve_rate, options,
+                         result);
+
   // orientation of the traced path: +1 counter-clockwise (shoelace area)
   double area = 0.0;
   for (int i = 0; i < n; ++i) {

@@ -18,7 +18,7 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 constexpr double kDegToRad = kPi / 180.0;
 constexpr double kCycleDeg = 360.0;
-constexpr double kRoundingNegative = 1e-9;  // [mm] negatives treated as rounding of 0
+constexpr double kRoundingNegative = 1e-3;  // [mm] negatives treated as rounding of 0 (1 um: exported or measured tables)
 constexpr double kSpanRelTol = 1e-9;        // |span - 360| <= this * 360: exactly one cycle
 constexpr double kWrapGapFactor = 1.5;      // wrap interval / median spacing above which the cycle is not covered
 constexpr double kInteriorGapFactor = 4.0;  // interior interval / median spacing above which it is a gap

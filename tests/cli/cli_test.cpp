@@ -681,3 +681,33 @@ TEST_CASE("synthesize reports an undercut with its angle and exit 4, writing not
   CHECK(contains(r.err, " deg"));
   CHECK((!fs::exists(out) || fs::is_empty(out)));
 }
+
+TEST_CASE("synthesize --cam swing gives the CVVL swing cam for its own lift", "[cli][synthesize]") {
+  TempDir tmp;
+  // the bundled CVVL without lash, its profile files referenced absolutely
+  std::string text = read_file(source_dir() / "designs" / "cvvl_swing_cam.toml");
+  for (std::string::size_type at; (at = text.find("lash_mm = 0.1")) != std::string::npos;)
+    text.replace(at, 13, "lash_mm = 0.0");
+  const std::string profiles = "file = \"" + (source_dir() / "designs" / "profiles").string() + "/";
+  for (std::string::size_type at = 0; (at = text.find("file = \"profiles/", at)) != std::string::npos;)
+    text.replace(at, 17, profiles), at += profiles.size();
+  const fs::path design = tmp / "cvvl.toml", lift = tmp / "lift", target = tmp / "target.csv", out = tmp / "out";
+  write_text(design, text);
+  REQUIRE(run_camopt({"kinematics", design.string(), "--step", "0.5", "--outputs", "lift", "--out", lift.string()})
+              .exit_code == cli_ok);
+  // kinematics.csv -> cam_deg,lift_mm over one cycle (drop the repeated 360 deg row)
+  const auto lines = split_lines(read_file(lift / "kinematics.csv"));
+  std::string csv = "cam_deg,lift_mm\n";
+  for (std::size_t i = 1; i + 1 < lines.size(); ++i) {
+    const auto first = lines[i].find(','), second = lines[i].find(',', first + 1);
+    csv += lines[i].substr(first + 1) + "\n";
+    (void)second;
+  }
+  write_text(target, csv);
+  const auto r = run_camopt({"synthesize", target.string(), "--design", design.string(), "--cam", "swing", "--control",
+                             "0", "--out", out.string()});
+  INFO(r.all());
+  REQUIRE(r.exit_code == cli_ok);
+  CHECK(contains(read_file(out / "report.json"), "\"cam\": \"swing\""));
+  CHECK(contains(read_file(out / "report.json"), "\"follower_node\": \"finger\""));
+}

@@ -223,7 +223,7 @@ TEST_CASE("target lift: input errors name the file, the row and the rule", "[syn
     const std::string e = error_of(deg, lift, lines, opt);
     CHECK_THAT(e, Contains("open.csv:42: lift -0.2 mm at 40 cam deg: lift must be >= 0 (base circle)"));
     lift[40] = 0.5;
-    lift[0] = -1e-12;
+    lift[0] = -5e-4;  // 0.5 um below zero: exported rounding, clamped
     lift[100] = 0.0;
     for (int i = 60; i <= 100; ++i) lift[static_cast<std::size_t>(i)] = 0.0;
     const TargetLift t = fit_target_lift(deg, lift, lines, opt);

@@ -10,7 +10,7 @@
 //   repeats its first site at the end: with interpolation the last row is dropped (its
 //   lift must equal the first row's within closure_tolerance_mm, else InputError naming
 //   the step at the seam); with smoothing both rows are kept as measurements.
-// - lift must be >= 0 (base circle). interpolation: values in [-1e-9, 0) are rounding
+// - lift must be >= 0 (base circle). interpolation: values in [-1e-3, 0) mm are rounding
 //   and are clamped to 0, anything lower is an InputError naming the line. smoothing:
 //   measured tables scatter around zero on the base circle, so values down to
 //   -max(1e-9, closure_tolerance_mm) are kept as measured; lower ones are rejected.
