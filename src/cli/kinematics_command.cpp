@@ -209,7 +209,8 @@ void setup_kinematics(CLI::App& app) {
         header[h] = header[h].substr(5);
     if (sel.nodes)
       for (std::size_t v = 0; v < nv; ++v) {
-        if (mech.variables[v].node < 0) continue;
+        // the driver is the cam_deg column already
+        if (mech.variables[v].node < 0 || mech.variables[v].node == mech.driver_node) continue;
         std::string name = mech.variables[v].name;
         std::replace(name.begin(), name.end(), '.', '_');
         const auto kind = mech.nodes[mech.variables[v].node].kind;

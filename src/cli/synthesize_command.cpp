@@ -27,7 +27,34 @@ struct SynthesizeOptions {
   double wheel_radius_mm = 0.0;
   double min_radius_mm = 0.0;
   double closure_tolerance_mm = 0.05;
+  std::string target_node;  // empty: the valve
 };
+
+// a target motion of another node than the valve (e.g. the swing cam's angle): exact
+// periodic interpolation of one full cycle, in the node's internal unit (rad or mm)
+PeriodicSpline fit_node_target(const io::CsvTable& table, const DesignSpec& spec, const std::string& node,
+                               io::AngleBasis& basis) {
+  const NodeSpec* n = nullptr;
+  for (const auto& candidate : spec.nodes)
+    if (candidate.name == node) n = &candidate;
+  if (!n) throw InputError("--target-node: no node '" + node + "' in design '" + spec.name + "'");
+  const bool angle = n->kind == NodeKind::rotational;
+  const io::AngleTable at = io::read_angle_table(
+      table, angle ? std::vector<std::string>{node + "_angle_deg", node + "_deg"}
+                   : std::vector<std::string>{node + "_disp_mm", node + "_mm"});
+  basis = at.basis;
+  const double per_cam = at.basis == io::AngleBasis::crank ? spec.driver.crank_per_cam : 1.0;
+  std::vector<double> x, y;
+  for (std::size_t i = 0; i < at.angle_deg.size(); ++i) {
+    const double cam = at.angle_deg[i] / per_cam;
+    if (!x.empty() && cam * M_PI / 180 - x.front() >= 2 * M_PI - 1e-9) break;  // a repeated closing row
+    x.push_back(cam * M_PI / 180);
+    y.push_back(angle ? at.value[i] * M_PI / 180 : at.value[i]);
+  }
+  io::require_full_cycle(at, 360.0 * per_cam);
+  if (x.size() < 6) throw InputError(table.file + ": a target motion needs at least 6 rows over one cycle");
+  return PeriodicSpline::interpolate(x, y, 2 * M_PI);
+}
 
 // the control position of largest lift of the design as it stands (the default)
 double max_lift_control(const kin::Mechanism& mech) {
@@ -56,25 +83,38 @@ void run_synthesize(const SynthesizeOptions& o) {
   const DesignSpec spec = io::load_design(o.design);
   const kin::Mechanism mech = kin::compile(spec);
 
-  // target lift: cam or crank degrees, explicit in the header
+  // target: the valve lift (cam or crank degrees, explicit in the header), or the motion
+  // of another node with --target-node
   const io::CsvTable table = io::read_csv(o.target_csv);
-  const io::AngleTable at = io::read_angle_table(table, {"lift_mm", "valve_lift_mm", "tappet_lift_mm"});
-  std::vector<double> cam_deg = at.angle_deg;
-  if (at.basis == io::AngleBasis::crank)
-    for (auto& a : cam_deg) a /= spec.driver.crank_per_cam;
-  synthesis::TargetLiftOptions fit;
-  fit.smooth = o.smooth;
-  fit.smoothing_knot_spacing_deg = o.knot_spacing_deg;
-  fit.source = o.target_csv;
-  fit.closure_tolerance_mm = o.closure_tolerance_mm;
-  const synthesis::TargetLift target = synthesis::fit_target_lift(cam_deg, at.value, at.lines, fit);
-  if (target.closed_on_base_circle) info("synthesize: " + target.closure_message);
+  const bool valve_target = o.target_node.empty() || o.target_node == spec.output_node;
+  io::AngleBasis basis = io::AngleBasis::cam;
+  synthesis::TargetLift target;
+  PeriodicSpline node_target;
+  std::size_t target_points = table.rows();
+  if (valve_target) {
+    const io::AngleTable at = io::read_angle_table(table, {"lift_mm", "valve_lift_mm", "tappet_lift_mm"});
+    basis = at.basis;
+    std::vector<double> cam_deg = at.angle_deg;
+    if (at.basis == io::AngleBasis::crank)
+      for (auto& a : cam_deg) a /= spec.driver.crank_per_cam;
+    synthesis::TargetLiftOptions fit;
+    fit.smooth = o.smooth;
+    fit.smoothing_knot_spacing_deg = o.knot_spacing_deg;
+    fit.source = o.target_csv;
+    fit.closure_tolerance_mm = o.closure_tolerance_mm;
+    target = synthesis::fit_target_lift(cam_deg, at.value, at.lines, fit);
+    if (target.closed_on_base_circle) info("synthesize: " + target.closure_message);
+  } else {
+    node_target = fit_node_target(table, spec, o.target_node, basis);
+  }
+  const PeriodicSpline& motion = valve_target ? target.lift : node_target;
 
   synthesis::SynthesisOptions opt;
   opt.cam = o.cam;
   opt.points = o.points;
   opt.samples = std::max(2880, 4 * o.points);
   opt.wheel_radius_mm = o.wheel_radius_mm;
+  if (!valve_target) opt.target_node = o.target_node;
   for (const auto& c : mech.controls) opt.controls.push_back(c.default_value);
   if (!mech.controls.empty()) {
     const auto& c0 = mech.controls[0];
@@ -93,10 +133,11 @@ void run_synthesize(const SynthesizeOptions& o) {
   }
 
   synthesis::SynthesisResult res;
-  Status st = synthesis::synthesize(spec, target.lift, opt, res);
+  Status st = synthesis::synthesize(spec, motion, opt, res);
   if (!st.ok()) throw NumericalError(st);
   synthesis::RoundTrip rt;
-  st = synthesis::round_trip(synthesis::with_profile(spec, res.profile), target.lift, opt.controls, res.connection, rt);
+  st = synthesis::round_trip(synthesis::with_profile(spec, res.profile), motion, opt.controls, res.connection, rt,
+                             opt.target_node);
   if (!st.ok()) {
     st.message = "forward kinematics of the synthesized profile: " + st.message;
     throw NumericalError(st);
@@ -138,22 +179,29 @@ void run_synthesize(const SynthesizeOptions& o) {
     checks["face_width_needed_mm"] = needed;
     if (half_width > 0) checks["face_width_ok"] = needed <= 2.0 * half_width;
   }
-  checks["round_trip_max_error_mm"] = rt.max_error_mm;
+  // round trip in the target's unit: mm for the valve, deg for a rotational target node
+  bool angle_target = false;
+  for (const auto& n : spec.nodes)
+    if (!valve_target && n.name == o.target_node) angle_target = n.kind == NodeKind::rotational;
+  const std::string rt_unit = angle_target ? "deg" : "mm";
+  const double rt_scale = angle_target ? 180.0 / M_PI : 1.0;
+  checks["round_trip_max_error_" + rt_unit] = rt.max_error_mm * rt_scale;
   checks["round_trip_max_error_at_cam_deg"] = rt.max_error_at_deg;
-  checks["round_trip_rms_error_mm"] = rt.rms_error_mm;
+  checks["round_trip_rms_error_" + rt_unit] = rt.rms_error_mm * rt_scale;
 
   nlohmann::json report;
   report["design"] = spec.name;
   report["design_file"] = o.design;
   report["target_file"] = o.target_csv;
-  report["target_angle_basis"] = io::to_string(at.basis);
+  report["target_angle_basis"] = io::to_string(basis);
+  report["target_node"] = valve_target ? spec.output_node : o.target_node;
   report["cam"] = o.cam;
   report["connection"] = res.connection;
   report["cam_node"] = res.cam_node;
   report["follower_node"] = res.follower_node;
   report["follower_shape"] = res.follower_shape;
   if (!mech.controls.empty()) report["control_" + std::string(mech.controls[0].is_angle ? "deg" : "mm")] = opt.controls[0];
-  report["target"] = {{"points", at.angle_deg.size()},
+  report["target"] = {{"points", target_points},
                       {"closed_on_base_circle", target.closed_on_base_circle},
                       {"closure_message", target.closure_message},
                       {"smoothed", o.smooth},
@@ -184,8 +232,8 @@ void run_synthesize(const SynthesizeOptions& o) {
          "radius " + std::to_string(o.wheel_radius_mm) + " mm");
   info("synthesize: profile '" + res.profile.name + "' on '" + res.cam_node + "' (" + res.connection + "), base circle " +
        std::to_string(res.base_radius_mm) + " mm, min radius of curvature " +
-       std::to_string(res.min_radius_of_curvature_mm) + " mm; round trip max error " + std::to_string(rt.max_error_mm) +
-       " mm -> " + o.out_dir + "/profile.csv, report.json, design.toml");
+       std::to_string(res.min_radius_of_curvature_mm) + " mm; round trip max error " +
+       std::to_string(rt.max_error_mm * rt_scale) + " " + rt_unit + " -> " + o.out_dir + "/profile.csv, report.json, design.toml");
 }
 
 }  // namespace
@@ -210,6 +258,9 @@ void setup_synthesize(CLI::App& app) {
   cmd->add_option("--wheel-radius", opts->wheel_radius_mm,
                   "grinding wheel radius [mm]: concave radii must be at least this (0: no check)")
       ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--target-node", opts->target_node,
+                  "node whose motion the target gives (default: the valve); e.g. the swing cam, with a column "
+                  "<node>_angle_deg [deg] (or <node>_disp_mm [mm]) against cam_deg|crank_deg");
   cmd->add_option("--closure-tolerance", opts->closure_tolerance_mm,
                   "largest lift at the ends of a partial table, or step at the seam, closed on the base circle [mm]")
       ->check(CLI::NonNegativeNumber);

@@ -49,7 +49,7 @@ struct Cut {
   DesignSpec upstream, downstream;
 };
 
-Cut cut_mechanism(const DesignSpec& spec, const std::string& cam_kind) {
+Cut cut_mechanism(const DesignSpec& spec, const std::string& cam_kind, const std::string& target_node) {
   Cut cut;
   std::vector<int> candidates;
   auto node_kind = [&](const std::string& name) -> const NodeSpec* {
@@ -111,11 +111,13 @@ Cut cut_mechanism(const DesignSpec& spec, const std::string& cam_kind) {
     else if (k.kind == ConnectionKind::link || k.kind == ConnectionKind::crank_slider) unite(k.pin_a.node, k.pin_b.node);
     else unite(k.node_a, k.node_b);
   }
-  const std::string up_root = find(spec.driver.node), down_root = find(spec.output_node);
+  if (!parent.count(target_node))
+    throw InputError("synthesize --target-node: no node '" + target_node + "' in design '" + spec.name + "'");
+  const std::string up_root = find(spec.driver.node), down_root = find(target_node);
   if (find(cut.cam_node) != up_root || find(cut.follower_node) != down_root || up_root == down_root)
     throw InputError(c.where, "synthesize: contact '" + c.name +
-                                  "' does not separate the driver from the valve, so the valve lift does not "
-                                  "determine its follower alone");
+                                  "' does not separate the driver from '" + target_node + "', so the target motion "
+                                  "does not determine its follower alone");
   auto half = [&](const std::string& root) {
     DesignSpec h = spec;
     h.nodes.clear();
@@ -141,7 +143,7 @@ Cut cut_mechanism(const DesignSpec& spec, const std::string& cam_kind) {
   cut.upstream = half(up_root);
   cut.upstream.output_node = cut.cam_node;
   cut.downstream = half(down_root);
-  cut.downstream.driver.node = spec.output_node;
+  cut.downstream.driver.node = target_node;
   cut.downstream.output_node = cut.follower_node;
   return cut;
 }
@@ -400,7 +402,8 @@ DesignSpec with_profile(const DesignSpec& spec, const ProfileSpec& profile) {
 Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const SynthesisOptions& options,
                   SynthesisResult& result) {
   CAMOPT_ASSERT(options.points >= 6 && options.samples >= 2 * options.points);
-  const Cut cut = cut_mechanism(spec, options.cam);
+  const std::string target_node = options.target_node.empty() ? spec.output_node : options.target_node;
+  const Cut cut = cut_mechanism(spec, options.cam, target_node);
   const auto& conn = spec.connections[cut.connection];
   const SurfaceSpec& cam_surface = cut.profile_on_a ? conn.surface_a : conn.surface_b;
   const SurfaceSpec& follower_surface = cut.profile_on_a ? conn.surface_b : conn.surface_a;
@@ -635,7 +638,7 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
 }
 
 Status round_trip(const DesignSpec& spec, const PeriodicSpline& lift, const std::vector<double>& controls,
-                  const std::string& connection, RoundTrip& out) {
+                  const std::string& connection, RoundTrip& out, const std::string& target_node) {
   const kin::Mechanism mech = kin::compile(spec);
   kin::SweepSpec s;
   s.start = 0.0;
@@ -649,8 +652,12 @@ Status round_trip(const DesignSpec& spec, const PeriodicSpline& lift, const std:
   const kin::SweepResult r = kin::sweep(mech, s);
   const auto& p = r.positions[0];
   if (!p.status.ok()) return p.status;
-  const int out_var = mech.nodes[mech.output_node].first_variable;
-  const double rest = mech.nodes[mech.output_node].rest;
+  const int target_index = target_node.empty() ? mech.output_node : mech.node_index(target_node);
+  CAMOPT_ASSERT(target_index >= 0);
+  const int out_var = mech.nodes[target_index].first_variable;
+  // internal units (rad or mm) against the target; valve lift from its rest position
+  const double rest = target_node.empty() ? mech.nodes[target_index].rest : 0.0;
+  const double to_internal = mech.variables[out_var].is_angle ? pi / 180 : 1.0;
   int ci = -1;
   for (int i = 0; i < static_cast<int>(mech.connections.size()); ++i)
     if (mech.connections[i].name == connection) ci = i;
@@ -658,7 +665,7 @@ Status round_trip(const DesignSpec& spec, const PeriodicSpline& lift, const std:
   double sum = 0.0;
   for (std::size_t i = 0; i < r.driver.size(); ++i) {
     const double target = lift(r.driver[i] * pi / 180);
-    const double got = p.at(i, mech.variables.size(), out_var, 0) - rest;
+    const double got = p.at(i, mech.variables.size(), out_var, 0) * to_internal - rest;
     const double e = std::abs(got - target);
     sum += e * e;
     if (e > out.max_error_mm) out.max_error_mm = e, out.max_error_at_deg = r.driver[i];

@@ -711,3 +711,20 @@ TEST_CASE("synthesize --cam swing gives the CVVL swing cam for its own lift", "[
   CHECK(contains(read_file(out / "report.json"), "\"cam\": \"swing\""));
   CHECK(contains(read_file(out / "report.json"), "\"follower_node\": \"finger\""));
 }
+
+TEST_CASE("synthesize --target-node swing designs the CVVL rotational cam from the swing-cam motion",
+          "[cli][synthesize]") {
+  TempDir tmp;
+  const std::string design = (source_dir() / "designs" / "cvvl_swing_cam.toml").string();
+  const fs::path motion = tmp / "motion", out = tmp / "out";
+  // the swing-cam angle column (swing_angle_deg) of a kinematics run is the target as it stands
+  REQUIRE(run_camopt({"kinematics", design, "--outputs", "nodes", "--out", motion.string()}).exit_code == cli_ok);
+  const auto r = run_camopt({"synthesize", (motion / "kinematics.csv").string(), "--design", design, "--target-node",
+                             "swing", "--out", out.string()});
+  INFO(r.all());
+  REQUIRE(r.exit_code == cli_ok);
+  const std::string report = read_file(out / "report.json");
+  CHECK(contains(report, "\"target_node\": \"swing\""));
+  CHECK(contains(report, "\"connection\": \"cam_roller\""));
+  CHECK(contains(report, "round_trip_max_error_deg"));
+}

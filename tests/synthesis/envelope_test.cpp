@@ -194,3 +194,46 @@ TEST_CASE("synthesis: the CVVL swing cam synthesized at maximum lift reproduces 
     CHECK(worst < 1e-3);
   }
 }
+
+TEST_CASE("synthesis: the CVVL rotational cam from the swing-cam motion gives back the input lobe",
+          "[synthesis][envelope][swing]") {
+  DesignSpec d = io::load_design(std::string(CAMOPT_SOURCE_DIR) + "/designs/cvvl_swing_cam.toml");
+  for (auto& c : d.connections) c.lash_mm = 0.0;
+  // target: the swing-cam angle [rad] against the cam angle, from the design itself
+  const auto m = kin::compile(d);
+  kin::SweepSpec s;
+  s.start = 0;
+  s.stop = 359.5;
+  s.step = 0.5;
+  s.request = {0, false};
+  const auto r = kin::sweep(m, s);
+  REQUIRE(r.positions[0].status.ok());
+  std::vector<double> x, y;
+  const int swing = m.nodes[m.node_index("swing")].first_variable;
+  for (std::size_t i = 0; i < r.driver.size(); ++i) {
+    x.push_back(r.driver[i] * deg);
+    y.push_back(r.positions[0].at(i, m.variables.size(), swing, 0) * deg);
+  }
+  const PeriodicSpline target = PeriodicSpline::interpolate(x, y, 2 * pi);
+  synthesis::SynthesisOptions o;
+  o.cam = "rotational";
+  o.target_node = "swing";
+  synthesis::SynthesisResult res;
+  const Status st = synthesis::synthesize(d, target, o, res);
+  INFO(st.str());
+  REQUIRE(st.ok());
+  CHECK(res.connection == "cam_roller");
+  CHECK(res.follower_node == "swing");
+  double worst = 0.0;
+  int lobe = -1;
+  for (std::size_t i = 0; i < m.profiles.size(); ++i)
+    if (m.profiles[i].name() == "input_lobe") lobe = static_cast<int>(i);
+  REQUIRE(lobe >= 0);
+  for (std::size_t k = 0; k < res.angle_deg.size(); ++k)
+    worst = std::max(worst, std::abs(res.radius_mm[k] - m.profiles[lobe].radius_at(res.angle_deg[k] * deg)));
+  INFO("worst radius error " << worst << " mm");
+  CHECK(worst < 1e-4);
+  synthesis::RoundTrip rt;
+  REQUIRE(synthesis::round_trip(synthesis::with_profile(d, res.profile), target, {}, res.connection, rt, "swing").ok());
+  CHECK(rt.max_error_mm < 1e-6);  // [rad] of swing angle
+}

@@ -29,6 +29,7 @@ struct SynthesisOptions {
   int points = 720;                // polar points of the synthesized profile
   int samples = 2880;              // envelope samples per revolution of the driver
   double wheel_radius_mm = 0.0;    // grinding wheel radius; concave radii must be >= it (0: no check)
+  std::string target_node;         // node whose motion is the target (empty: the valve, design.output_node)
 };
 
 struct SynthesisResult {
@@ -47,6 +48,8 @@ struct SynthesisResult {
 // throws InputError for a design that cannot be synthesized (no such cam, unsupported
 // follower shape); returns a Status for numerical failures (inversion fails, undercut)
 // with the cam angle where it happened
+// lift_of_cam_rad: the target node's displacement against the driver angle [rad], in the
+// node's internal unit (mm for a translational node, rad for a rotational one)
 Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift_of_cam_rad, const SynthesisOptions& options,
                   SynthesisResult& result);
 
@@ -58,8 +61,9 @@ struct RoundTrip {
   double max_pressure_angle_deg = 0, max_pressure_angle_at_deg = 0;
 };
 
-// forward kinematics of `spec` (the synthesized design) against the target lift
+// forward kinematics of `spec` (the synthesized design) against the target motion of
+// target_node (empty: the valve lift from its rest position); errors in mm or rad
 Status round_trip(const DesignSpec& spec, const PeriodicSpline& lift_of_cam_rad, const std::vector<double>& controls,
-                  const std::string& connection, RoundTrip& out);
+                  const std::string& connection, RoundTrip& out, const std::string& target_node = "");
 
 }  // namespace camopt::synthesis
