@@ -4,11 +4,13 @@
 # missing or changed.
 set -euo pipefail
 
-# the main job run by --run-default (paths relative to the repo root)
-DEFAULT_DESIGN="designs/cvvl_swing_cam.toml"
-DEFAULT_COMMAND="kinematics"
-DEFAULT_ARGS=(--control 0:16:17 --step 0.5 --outputs all)  # control 0..16 deg in 17 positions, 0.5 deg cam steps
-DEFAULT_OUT="out/cvvl"
+# the main job run by --run-default (paths relative to the repo root): synthesize the cam of
+# the bundled roller finger follower for a bundled target lift, then run the kinematics of
+# the synthesized design with every output at 6000 rpm
+DEFAULT_DESIGN="designs/roller_finger_follower.toml"
+DEFAULT_TARGET="designs/targets/rff_intake_lift.csv"
+DEFAULT_OUT="out/synthesis"
+DEFAULT_CHECK_ARGS=(--step 0.5 --outputs all --rpm 6000)
 
 # Debian 12 packages needed to build and test
 PACKAGES=(build-essential cmake ninja-build pkg-config libeigen3-dev libnlopt-cxx-dev coinor-libipopt-dev
@@ -22,7 +24,7 @@ usage: scripts/setup.sh [--build-dir DIR] [--type Release|Debug] [--sanitize] [-
   --type TYPE      CMAKE_BUILD_TYPE: Release (default) or Debug
   --sanitize       build with AddressSanitizer + UndefinedBehaviorSanitizer
   --test           run the test suite (ctest) and exit with its status
-  --run-default    run '$DEFAULT_COMMAND' on $DEFAULT_DESIGN, results in $DEFAULT_OUT/
+  --run-default    synthesize the cam of $DEFAULT_DESIGN for $DEFAULT_TARGET, results in $DEFAULT_OUT/
 EOF
 }
 
@@ -157,8 +159,11 @@ fi
 if ((run_default)); then
   cd "$REPO"
   [[ -f "$DEFAULT_DESIGN" ]] || die "default design $REPO/$DEFAULT_DESIGN not found"
-  echo "== running: camopt $DEFAULT_COMMAND $DEFAULT_DESIGN ${DEFAULT_ARGS[*]} --out $DEFAULT_OUT"
-  "$build_dir/camopt" "$DEFAULT_COMMAND" "$DEFAULT_DESIGN" "${DEFAULT_ARGS[@]}" --out "$DEFAULT_OUT"
+  [[ -f "$DEFAULT_TARGET" ]] || die "default target $REPO/$DEFAULT_TARGET not found"
+  echo "== running: camopt synthesize $DEFAULT_TARGET --design $DEFAULT_DESIGN --out $DEFAULT_OUT"
+  "$build_dir/camopt" synthesize "$DEFAULT_TARGET" --design "$DEFAULT_DESIGN" --out "$DEFAULT_OUT"
+  echo "== running: camopt kinematics $DEFAULT_OUT/design.toml ${DEFAULT_CHECK_ARGS[*]} --out $DEFAULT_OUT/kinematics"
+  "$build_dir/camopt" kinematics "$DEFAULT_OUT/design.toml" "${DEFAULT_CHECK_ARGS[@]}" --out "$DEFAULT_OUT/kinematics"
   echo "== results in $REPO/$DEFAULT_OUT/:"
   ls -l "$DEFAULT_OUT"
 fi

@@ -9,6 +9,7 @@
 #include "camopt/io/csv.hpp"
 #include "camopt/io/design_file.hpp"
 #include "camopt/io/design_rewrite.hpp"
+#include "camopt/io/dxf.hpp"
 #include "camopt/kinematics/sweep.hpp"
 #include "camopt/synthesis/envelope.hpp"
 #include "camopt/synthesis/target_lift.hpp"
@@ -28,6 +29,8 @@ struct SynthesizeOptions {
   double min_radius_mm = 0.0;
   double closure_tolerance_mm = 0.05;
   std::string target_node;  // empty: the valve
+  std::optional<double> master_radius_mm;  // grinding table master roller
+  double grinding_step_deg = 0.25;
 };
 
 // a target motion of another node than the valve (e.g. the swing cam's angle): exact
@@ -87,6 +90,10 @@ void run_synthesize(const SynthesizeOptions& o) {
   // of another node with --target-node
   const io::CsvTable table = io::read_csv(o.target_csv);
   const bool valve_target = o.target_node.empty() || o.target_node == spec.output_node;
+  if (valve_target && mech.nodes[mech.output_node].kind != NodeKind::translational)
+    throw InputError("design.output_node '" + spec.output_node + "' is " +
+                     to_string(mech.nodes[mech.output_node].kind) +
+                     ", not a translating valve: give its motion with --target-node " + spec.output_node);
   io::AngleBasis basis = io::AngleBasis::cam;
   synthesis::TargetLift target;
   PeriodicSpline node_target;
@@ -218,7 +225,28 @@ void run_synthesize(const SynthesizeOptions& o) {
   report["checks"] = checks;
   report["notes"] = res.notes;
 
+  // exports: DXF polyline of the profile, grinding table for a master roller
+  double master = o.master_radius_mm ? *o.master_radius_mm : 0.0;
+  if (!o.master_radius_mm)
+    for (const auto& c : spec.connections)
+      if (c.name == res.connection) {
+        const auto& fs = c.surface_a.node == res.follower_node ? c.surface_a : c.surface_b;
+        if (fs.shape == SurfaceShape::circle) master = fs.radius_mm;  // the follower's own roller
+      }
+  std::vector<double> grind_deg, grind_lift;
+  st = synthesis::grinding_table(res.profile, master, o.grinding_step_deg, grind_deg, grind_lift);
+  if (!st.ok()) {
+    st.message = "grinding table with a " + std::to_string(master) + " mm master: " + st.message;
+    throw NumericalError(st);
+  }
+  report["exports"] = {{"dxf", "profile.dxf"},
+                       {"grinding_table", "grinding.csv"},
+                       {"grinding_master_radius_mm", master},
+                       {"grinding_master", master > 0 ? "roller" : "flat"}};
+
   io::OutputTransaction out(o.out_dir);
+  out.stage("profile.dxf", io::dxf_closed_polyline(res.x_mm, res.y_mm, "CAM_" + res.profile.name));
+  out.stage("grinding.csv", io::format_csv({"cam_deg", "master_lift_mm"}, {grind_deg, grind_lift}, 12));
   out.stage("profile.csv", profile_csv);
   out.stage("report.json", report.dump(2) + "\n");
   const std::string profile_path = std::filesystem::absolute(std::filesystem::path(o.out_dir) / "profile.csv").string();
@@ -233,7 +261,8 @@ void run_synthesize(const SynthesizeOptions& o) {
   info("synthesize: profile '" + res.profile.name + "' on '" + res.cam_node + "' (" + res.connection + "), base circle " +
        std::to_string(res.base_radius_mm) + " mm, min radius of curvature " +
        std::to_string(res.min_radius_of_curvature_mm) + " mm; round trip max error " +
-       std::to_string(rt.max_error_mm * rt_scale) + " " + rt_unit + " -> " + o.out_dir + "/profile.csv, report.json, design.toml");
+       std::to_string(rt.max_error_mm * rt_scale) + " " + rt_unit + " -> " + o.out_dir +
+       "/profile.csv, report.json, design.toml, profile.dxf, grinding.csv");
 }
 
 }  // namespace
@@ -261,6 +290,12 @@ void setup_synthesize(CLI::App& app) {
   cmd->add_option("--target-node", opts->target_node,
                   "node whose motion the target gives (default: the valve); e.g. the swing cam, with a column "
                   "<node>_angle_deg [deg] (or <node>_disp_mm [mm]) against cam_deg|crank_deg");
+  cmd->add_option("--master-radius", opts->master_radius_mm,
+                  "radius of the master roller or grinding wheel of the grinding table [mm] (0: flat; default: the "
+                  "follower's roller radius, or flat for a flat follower)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--grinding-step", opts->grinding_step_deg, "cam angle step of the grinding table [cam deg]")
+      ->check(CLI::Range(0.01, 10.0));
   cmd->add_option("--closure-tolerance", opts->closure_tolerance_mm,
                   "largest lift at the ends of a partial table, or step at the seam, closed on the base circle [mm]")
       ->check(CLI::NonNegativeNumber);

@@ -4,9 +4,11 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 
+#include "camopt/io/csv.hpp"
 #include "camopt/io/design_file.hpp"
 #include "camopt/kinematics/sweep.hpp"
 #include "camopt/synthesis/envelope.hpp"
+#include "camopt/synthesis/target_lift.hpp"
 #include "kinematics/kinematics_test_support.hpp"
 
 using namespace camopt;
@@ -34,9 +36,10 @@ PeriodicSpline forward_lift(const DesignSpec& d) {
   REQUIRE(r.positions[0].status.ok());
   std::vector<double> x, y;
   const int v = m.nodes[m.output_node].first_variable;
+  const double unit = m.variables[v].is_angle ? deg : 1.0;  // sweep output deg -> internal rad
   for (std::size_t i = 0; i < r.driver.size(); ++i) {
     x.push_back(r.driver[i] * deg);
-    y.push_back(r.positions[0].at(i, m.variables.size(), v, 0));
+    y.push_back(r.positions[0].at(i, m.variables.size(), v, 0) * unit);
   }
   return PeriodicSpline::interpolate(x, y, 2 * pi);
 }
@@ -236,4 +239,72 @@ TEST_CASE("synthesis: the CVVL rotational cam from the swing-cam motion gives ba
   synthesis::RoundTrip rt;
   REQUIRE(synthesis::round_trip(synthesis::with_profile(d, res.profile), target, {}, res.connection, rt, "swing").ok());
   CHECK(rt.max_error_mm < 1e-6);  // [rad] of swing angle
+}
+
+TEST_CASE("synthesis: grinding table of an eccentric disc with a master roller matches the closed form",
+          "[synthesis][export]") {
+  const double R = 20, e = 4, master = 12;
+  const ProfileSpec disc = eccentric_profile("disc", R, e);
+  std::vector<double> a, lift;
+  REQUIRE(synthesis::grinding_table(disc, master, 0.5, a, lift).ok());
+  REQUIRE(a.size() == 720);
+  double worst = 0.0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    // master centre on +x at d: |(d, 0) - e (cos t, sin t)| = R + master
+    const double t = a[i] * deg;
+    const double d = e * std::cos(t) + std::sqrt((R + master) * (R + master) - e * e * std::sin(t) * std::sin(t));
+    worst = std::max(worst, std::abs(lift[i] - (d - (R + master - e))));
+  }
+  CHECK(worst < 1e-9);
+  // a flat master: d = R + e cos t (support function of the disc)
+  REQUIRE(synthesis::grinding_table(disc, 0.0, 0.5, a, lift).ok());
+  worst = 0.0;
+  for (std::size_t i = 0; i < a.size(); ++i) worst = std::max(worst, std::abs(lift[i] - (e * std::cos(a[i] * deg) + e)));
+  CHECK(worst < 1e-9);
+}
+
+TEST_CASE("synthesis: an eccentric disc under an oscillating roller gives back the disc", "[synthesis][envelope]") {
+  const double R = 18, e = 3, roller = 9;
+  DesignSpec d = design("osc", "cam", "arm");
+  // arm pivot P, arm length 40: the roller centre on the circle R + r about the disc centre (e, 0)
+  const Vec2 pivot{-30.0, 20.0};
+  const double arm = 40.0, L = R + roller;
+  // drawing: roller centre c with |c - (e,0)| = L and |c - P| = arm (upper intersection)
+  const double dx = e - pivot[0], dy = 0 - pivot[1], dist = std::hypot(dx, dy);
+  const double along = (arm * arm - L * L + dist * dist) / (2 * dist), h = std::sqrt(arm * arm - along * along);
+  const Vec2 c{pivot[0] + along * dx / dist - h * dy / dist, pivot[1] + along * dy / dist + h * dx / dist};
+  d.nodes = {rotational("cam", {0, 0}), rotational("arm", pivot)};
+  d.profiles = {eccentric_profile("disc", R, e)};
+  d.connections = {contact("cam_roller", profile_surface("cam", "disc", {0, 0}, 0), circle_surface("arm", c, roller, true))};
+  const PeriodicSpline target = forward_lift(d);  // arm angle [rad]
+  synthesis::SynthesisOptions o;
+  synthesis::SynthesisResult res;
+  const Status st = synthesis::synthesize(d, target, o, res);
+  INFO(st.str());
+  REQUIRE(st.ok());
+  check_disc(res, R, e);
+}
+
+TEST_CASE("synthesis: real measured intake lifts (ICESym) on the finger follower", "[synthesis][envelope][real]") {
+  const DesignSpec d = io::load_design(std::string(CAMOPT_SOURCE_DIR) + "/designs/roller_finger_follower.toml");
+  for (const char* name : {"Lv_I-mbB", "Lv_I-bounous"}) {
+    const auto table = io::read_csv(std::string(CAMOPT_SHARED_DATA_DIR) + "/icesym_boscarol/" + name + ".csv");
+    const io::AngleTable at = io::read_angle_table(table, {"valve_lift_mm"});
+    REQUIRE(at.basis == io::AngleBasis::crank);
+    std::vector<double> cam(at.angle_deg);
+    for (auto& a : cam) a /= 2.0;  // 4-stroke: 2 crank deg per cam deg
+    synthesis::TargetLiftOptions fit;
+    fit.smooth = true;  // measured: 10 um resolution and steps onto the seat
+    fit.source = name;
+    const synthesis::TargetLift target = synthesis::fit_target_lift(cam, at.value, at.lines, fit);
+    synthesis::SynthesisOptions o;
+    synthesis::SynthesisResult res;
+    const Status st = synthesis::synthesize(d, target.lift, o, res);
+    INFO(name << ": " << st.str());
+    REQUIRE(st.ok());
+    synthesis::RoundTrip rt;
+    REQUIRE(synthesis::round_trip(synthesis::with_profile(d, res.profile), target.lift, {}, res.connection, rt).ok());
+    CHECK(rt.max_error_mm < 1e-6);
+    CHECK(res.min_radius_of_curvature_mm > 0.0);
+  }
 }

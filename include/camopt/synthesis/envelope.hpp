@@ -66,4 +66,10 @@ struct RoundTrip {
 Status round_trip(const DesignSpec& spec, const PeriodicSpline& lift_of_cam_rad, const std::vector<double>& controls,
                   const std::string& connection, RoundTrip& out, const std::string& target_node = "");
 
+// grinding table: lift of a master roller of radius master_radius_mm (0: a flat master)
+// translating along the profile frame's +x axis through the cam centre, as the cam turns
+// counter-clockwise [cam deg, 0 .. 360 - step] -> [mm above the base circle]
+Status grinding_table(const ProfileSpec& profile, double master_radius_mm, double step_deg, std::vector<double>& cam_deg,
+                      std::vector<double>& lift_mm);
+
 }  // namespace camopt::synthesis
