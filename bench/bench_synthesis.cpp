@@ -23,19 +23,9 @@ constexpr double deg = M_PI / 180.0;
 
 PeriodicSpline forward_lift(const DesignSpec& d) {
   const auto m = kin::compile(d);
-  kin::SweepSpec s;
-  s.start = 0;
-  s.stop = 359.5;
-  s.step = 0.5;
-  s.request = {0, false};
-  const auto r = kin::sweep(m, s);
-  std::vector<double> x, y;
-  const int v = m.nodes[m.output_node].first_variable;
-  for (std::size_t i = 0; i < r.driver.size(); ++i) {
-    x.push_back(r.driver[i] * deg);
-    y.push_back(r.positions[0].at(i, m.variables.size(), v, 0));
-  }
-  return PeriodicSpline::interpolate(x, y, 2 * M_PI);
+  PeriodicSpline lift;
+  if (!kin::periodic_motion(m, m.output_node, {}, 0.5, lift).ok()) std::exit(1);
+  return lift;
 }
 }  // namespace
 

@@ -143,4 +143,26 @@ PositionSummary summarize(const Mechanism& m, const SweepResult& r, std::size_t 
   return s;
 }
 
+Status periodic_motion(const Mechanism& m, int node, const std::vector<double>& controls, double step_deg,
+                       PeriodicSpline& motion) {
+  CAMOPT_ASSERT(m.driver_is_angle() && node > 0 && step_deg > 0);
+  SweepSpec s;
+  s.start = 0.0;
+  s.stop = 360.0 - step_deg;
+  s.step = step_deg;
+  s.request = {0, false};
+  if (!controls.empty()) s.control_positions = {controls};
+  const SweepResult r = sweep(m, s);
+  if (!r.positions[0].status.ok()) return r.positions[0].status;
+  const int v = m.nodes[node].first_variable;
+  const double unit = m.variables[v].is_angle ? deg : 1.0;  // output deg -> internal rad
+  std::vector<double> x(r.driver.size()), y(r.driver.size());
+  for (std::size_t i = 0; i < r.driver.size(); ++i) {
+    x[i] = r.driver[i] * deg;
+    y[i] = r.positions[0].at(i, m.variables.size(), v, 0) * unit;
+  }
+  motion = PeriodicSpline::interpolate(x, y, 2 * std::numbers::pi);
+  return Status::success();
+}
+
 }  // namespace camopt::kin

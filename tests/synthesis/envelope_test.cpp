@@ -24,24 +24,12 @@ double disc_radius(double R, double e, double a) {
   return e * std::cos(a) + std::sqrt(R * R - e * e * std::sin(a) * std::sin(a));
 }
 
-// the target: the design's own forward lift at 0.5 deg, interpolated periodically
+// the target: the design's own forward lift (output node) at 0.5 deg, interpolated periodically
 PeriodicSpline forward_lift(const DesignSpec& d) {
   const auto m = kin::compile(d);
-  kin::SweepSpec s;
-  s.start = 0;
-  s.stop = 359.5;
-  s.step = 0.5;
-  s.request = {0, false};
-  const auto r = kin::sweep(m, s);
-  REQUIRE(r.positions[0].status.ok());
-  std::vector<double> x, y;
-  const int v = m.nodes[m.output_node].first_variable;
-  const double unit = m.variables[v].is_angle ? deg : 1.0;  // sweep output deg -> internal rad
-  for (std::size_t i = 0; i < r.driver.size(); ++i) {
-    x.push_back(r.driver[i] * deg);
-    y.push_back(r.positions[0].at(i, m.variables.size(), v, 0) * unit);
-  }
-  return PeriodicSpline::interpolate(x, y, 2 * pi);
+  PeriodicSpline lift;
+  REQUIRE(kin::periodic_motion(m, m.output_node, {}, 0.5, lift).ok());
+  return lift;
 }
 
 DesignSpec eccentric_design(bool flat, double R, double e, double roller, double offset) {
@@ -176,18 +164,11 @@ TEST_CASE("synthesis: the CVVL swing cam synthesized at maximum lift reproduces 
   const DesignSpec synthesized = synthesis::with_profile(d, res.profile);
   for (double control : {4.0, 8.0, 12.0, 16.0}) {
     auto lift_at = [&](const DesignSpec& spec) {
-      const auto m = kin::compile(spec);
-      kin::SweepSpec s;
-      s.start = 0;
-      s.stop = 359.5;
-      s.step = 0.5;
-      s.request = {0, false};
-      s.control_positions = {{control}};
-      const auto r = kin::sweep(m, s);
-      REQUIRE(r.positions[0].status.ok());
+      const auto mech = kin::compile(spec);
+      PeriodicSpline lift;
+      REQUIRE(kin::periodic_motion(mech, mech.output_node, {control}, 0.5, lift).ok());
       std::vector<double> v;
-      for (std::size_t i = 0; i < r.driver.size(); ++i)
-        v.push_back(r.positions[0].at(i, m.variables.size(), m.nodes[m.output_node].first_variable, 0));
+      for (int i = 0; i < 720; ++i) v.push_back(lift(i * 0.5 * deg));
       return v;
     };
     const auto a = lift_at(d), b = lift_at(synthesized);
@@ -204,20 +185,8 @@ TEST_CASE("synthesis: the CVVL rotational cam from the swing-cam motion gives ba
   for (auto& c : d.connections) c.lash_mm = 0.0;
   // target: the swing-cam angle [rad] against the cam angle, from the design itself
   const auto m = kin::compile(d);
-  kin::SweepSpec s;
-  s.start = 0;
-  s.stop = 359.5;
-  s.step = 0.5;
-  s.request = {0, false};
-  const auto r = kin::sweep(m, s);
-  REQUIRE(r.positions[0].status.ok());
-  std::vector<double> x, y;
-  const int swing = m.nodes[m.node_index("swing")].first_variable;
-  for (std::size_t i = 0; i < r.driver.size(); ++i) {
-    x.push_back(r.driver[i] * deg);
-    y.push_back(r.positions[0].at(i, m.variables.size(), swing, 0) * deg);
-  }
-  const PeriodicSpline target = PeriodicSpline::interpolate(x, y, 2 * pi);
+  PeriodicSpline target;
+  REQUIRE(kin::periodic_motion(m, m.node_index("swing"), {}, 0.5, target).ok());
   synthesis::SynthesisOptions o;
   o.cam = "rotational";
   o.target_node = "swing";

@@ -5,6 +5,7 @@
 #include <functional>
 #include <vector>
 
+#include "camopt/core/spline.hpp"
 #include "camopt/kinematics/solver.hpp"
 
 namespace camopt::kin {
@@ -57,5 +58,11 @@ struct PositionSummary {
 };
 
 PositionSummary summarize(const Mechanism& mech, const SweepResult& result, std::size_t position);
+
+// the displacement of one node over one revolution of a rotational driver, interpolated
+// periodically: [driver rad] -> [rad or mm] (the node's internal unit); lash as designed.
+// Sampled at step_deg; the status names the failing angle.
+Status periodic_motion(const Mechanism& mech, int node, const std::vector<double>& controls, double step_deg,
+                       PeriodicSpline& motion);
 
 }  // namespace camopt::kin
