@@ -170,6 +170,37 @@ struct Quintic {
   }
 };
 
+// the envelope point at polar angle `target` [rad] between two samples a (at polar angle
+// phi_a) and b (phi_b), theta spacing h: quintic hermite in theta from p, p', p'' at both
+// ends, then newton on atan2(y, x) = target. Derivatives are per unit of the local
+// parameter t in [0, 1].
+struct PolarHit {
+  double x, y, x1, y1, x2, y2;
+};
+
+PolarHit envelope_at_polar_angle(const P2<Jet2>& a, const P2<Jet2>& b, double phi_a, double phi_b, double h,
+                                 double target) {
+  auto hermite = [&](const Jet2& pa, const Jet2& pb) {
+    return Quintic(pa.value(), pa.derivative(1) * h, pa.derivative(2) * h * h, pb.value(), pb.derivative(1) * h,
+                   pb.derivative(2) * h * h);
+  };
+  const Quintic qx = hermite(a.x, b.x), qy = hermite(a.y, b.y);
+  PolarHit p{};
+  double t = (target - phi_a) / (phi_b - phi_a);
+  for (int it = 0; it < 30; ++it) {
+    qx.eval(t, p.x, p.x1, p.x2);
+    qy.eval(t, p.y, p.y1, p.y2);
+    double f = std::atan2(p.y, p.x) - target;
+    f -= 2 * pi * std::round(f / (2 * pi));
+    const double step = f / ((p.x * p.y1 - p.y * p.x1) / (p.x * p.x + p.y * p.y));
+    t -= step;
+    if (std::abs(step) < 1e-15) break;
+  }
+  qx.eval(t, p.x, p.x1, p.x2);
+  qy.eval(t, p.y, p.y1, p.y2);
+  return p;
+}
+
 }  // namespace
 
 namespace {
@@ -300,24 +331,8 @@ Status swing_profile(const DesignSpec& spec, const kin::Mechanism& up, const Cut
       const int mid = (lo + hi) / 2;
       ((phi[mid] - a) * dir <= 0 ? lo : hi) = mid;
     }
-    auto hermite = [&](const Jet2& pa, const Jet2& pb) {
-      return Quintic(pa.value(), pa.derivative(1) * h, pa.derivative(2) * h * h, pb.value(), pb.derivative(1) * h,
-                     pb.derivative(2) * h * h);
-    };
-    const Quintic qx = hermite(env[lo].x, env[hi].x), qy = hermite(env[lo].y, env[hi].y);
-    double t = (a - phi[lo]) / (phi[hi] - phi[lo]), x = 0, y = 0, x1 = 0, y1 = 0, x2 = 0, y2 = 0;
-    for (int it = 0; it < 30; ++it) {
-      qx.eval(t, x, x1, x2);
-      qy.eval(t, y, y1, y2);
-      double f = std::atan2(y, x) - a;
-      f -= 2 * pi * std::round(f / (2 * pi));
-      const double step = f / ((x * y1 - y * x1) / (x * x + y * y));
-      t -= step;
-      if (std::abs(step) < 1e-15) break;
-    }
-    qx.eval(t, x, x1, x2);
-    qy.eval(t, y, y1, y2);
-    return std::hypot(x, y);
+    const PolarHit p = envelope_at_polar_angle(env[lo], env[hi], phi[lo], phi[hi], h, a);
+    return std::hypot(p.x, p.y);
   };
   // dwell arc about the swing pivot, in the profile frame
   const kin::Node& swing = up.nodes[up.node_index(cut.cam_node)];
@@ -582,38 +597,17 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
       const int mid = (lo + hi) / 2;
       ((phi[mid] - target) * sign <= 0 ? lo : hi) = mid;
     }
-    const auto& a = env[lo];
-    const auto& b = env[hi % n];
-    auto hermite = [&](const Jet2& pa, const Jet2& pb) {
-      return Quintic(pa.value(), pa.derivative(1) * h, pa.derivative(2) * h * h, pb.value(), pb.derivative(1) * h,
-                     pb.derivative(2) * h * h);
-    };
-    const Quintic qx = hermite(a.x, b.x), qy = hermite(a.y, b.y);
-    double t = (target - phi[lo]) / (phi[hi] - phi[lo]);
-    double x = 0, y = 0, x1 = 0, y1 = 0, x2 = 0, y2 = 0;
-    for (int it = 0; it < 30; ++it) {
-      qx.eval(t, x, x1, x2);
-      qy.eval(t, y, y1, y2);
-      double f = std::atan2(y, x) - target;
-      f -= 2 * pi * std::round(f / (2 * pi));
-      const double df = (x * y1 - y * x1) / (x * x + y * y);
-      const double step = f / df;
-      t -= step;
-      if (std::abs(step) < 1e-15) break;
-    }
-    qx.eval(t, x, x1, x2);
-    qy.eval(t, y, y1, y2);
+    const PolarHit p = envelope_at_polar_angle(env[lo], env[hi % n], phi[lo], phi[hi], h, target);
+    const double x = p.x, y = p.y, x1 = p.x1, y1 = p.y1, x2 = p.x2, y2 = p.y2;
     const double r = std::hypot(x, y);
     // curvature, convex positive: the profile runs counter-clockwise when sign > 0
     const double kappa = sign * (x1 * y2 - y1 * x2) / std::pow(x1 * x1 + y1 * y1, 1.5);
     const double roc = std::abs(kappa) > 1e-12 ? 1.0 / kappa : 0.0;  // 0: flat
-    const double ang = std::remainder(std::atan2(y, x), 2 * pi);
     result.angle_deg[k] = target0 * 180 / pi;
     result.radius_mm[k] = r;
     result.x_mm[k] = x;
     result.y_mm[k] = y;
     result.radius_of_curvature_mm[k] = roc;
-    (void)ang;
     if (kappa > 0 && roc < result.min_radius_of_curvature_mm) {
       result.min_radius_of_curvature_mm = roc;
       result.min_radius_of_curvature_at_deg = target0 * 180 / pi;
