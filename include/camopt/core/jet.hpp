@@ -244,9 +244,10 @@ constexpr Jet<N> pow(const Jet<N>& x, int n) noexcept {
 }
 
 // v = sqrt(u): v_k = (u_k - sum_{j=1}^{k-1} v_j v_{k-j}) / (2 v_0)
+// the same recurrence given the root's value (hypot passes std::hypot, safe from overflow)
 template <int N>
-inline Jet<N> sqrt(const Jet<N>& u) noexcept {
-  Jet<N> r(std::sqrt(u.c[0]));
+inline Jet<N> sqrt_from(const Jet<N>& u, double root) noexcept {
+  Jet<N> r(root);
   const double inv = 0.5 / r.c[0];
   for (int k = 1; k <= N; ++k) {
     double s = u.c[k];
@@ -254,6 +255,10 @@ inline Jet<N> sqrt(const Jet<N>& u) noexcept {
     r.c[k] = s * inv;
   }
   return r;
+}
+template <int N>
+inline Jet<N> sqrt(const Jet<N>& u) noexcept {
+  return sqrt_from(u, std::sqrt(u.c[0]));
 }
 
 // v = exp(u): v_k = (1/k) sum_{j=1}^{k} j u_j v_{k-j}
@@ -371,15 +376,7 @@ inline Jet<N> atan2(const Jet<N>& y, const Jet<N>& x) noexcept {
 // hypot(x, y) = sqrt(x^2 + y^2), value by std::hypot (no overflow in c[0])
 template <int N>
 inline Jet<N> hypot(const Jet<N>& x, const Jet<N>& y) noexcept {
-  const Jet<N> u = square(x) + square(y);
-  Jet<N> r(std::hypot(x.c[0], y.c[0]));
-  const double inv = 0.5 / r.c[0];
-  for (int k = 1; k <= N; ++k) {
-    double s = u.c[k];
-    for (int j = 1; j < k; ++j) s -= r.c[j] * r.c[k - j];
-    r.c[k] = s * inv;
-  }
-  return r;
+  return sqrt_from(square(x) + square(y), std::hypot(x.c[0], y.c[0]));
 }
 
 // f(x(t)) from f, f', ..., f^(N) at x0 = x.value():

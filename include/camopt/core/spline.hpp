@@ -51,8 +51,27 @@ class PiecewiseQuintic {
 
 }  // namespace detail
 
+namespace detail {
+// f(x) and f(x(t)) as a jet, written once for both splines from their evaluate()
+template <class Derived>
+struct SplineCalls {
+  double operator()(double x) const noexcept {
+    double f;
+    static_cast<const Derived&>(*this).evaluate(x, 0, &f);
+    return f;
+  }
+  template <int N>
+  Jet<N> operator()(const Jet<N>& x) const noexcept {
+    std::array<double, N + 1> d{};
+    constexpr int top = N < PiecewiseQuintic::degree ? N : PiecewiseQuintic::degree;
+    static_cast<const Derived&>(*this).evaluate(x.value(), top, d.data());
+    return compose(d.data(), x);
+  }
+};
+}  // namespace detail
+
 // periodic quintic interpolant: f(x + period) = f(x), c4 everywhere including the seam
-class PeriodicSpline : public detail::PiecewiseQuintic {
+class PeriodicSpline : public detail::PiecewiseQuintic, public detail::SplineCalls<PeriodicSpline> {
  public:
   PeriodicSpline() = default;
 
@@ -66,18 +85,6 @@ class PeriodicSpline : public detail::PiecewiseQuintic {
 
   // out[k] = f^(k)(x) for k = 0..max_order (max_order <= 5); x is any real number
   void evaluate(double x, int max_order, double* out) const noexcept;
-  double operator()(double x) const noexcept {
-    double f;
-    evaluate(x, 0, &f);
-    return f;
-  }
-  // f(x(t)) as a jet
-  template <int N>
-  Jet<N> operator()(const Jet<N>& x) const noexcept {
-    std::array<double, N + 1> d{};
-    evaluate(x.value(), N < degree ? N : degree, d.data());
-    return compose(d.data(), x);
-  }
 
  private:
   double period_ = 0.0;
@@ -88,7 +95,7 @@ class PeriodicSpline : public detail::PiecewiseQuintic {
 // quadratics exactly). well-posed for any n >= 3 points, so no lower-degree fallback is
 // needed. outside [x0, xn] it continues linearly with the end value and slope (f'' jumps
 // to 0 there).
-class Spline : public detail::PiecewiseQuintic {
+class Spline : public detail::PiecewiseQuintic, public detail::SplineCalls<Spline> {
  public:
   Spline() = default;
 
@@ -97,17 +104,6 @@ class Spline : public detail::PiecewiseQuintic {
 
   // out[k] = f^(k)(x) for k = 0..max_order (max_order <= 5)
   void evaluate(double x, int max_order, double* out) const noexcept;
-  double operator()(double x) const noexcept {
-    double f;
-    evaluate(x, 0, &f);
-    return f;
-  }
-  template <int N>
-  Jet<N> operator()(const Jet<N>& x) const noexcept {
-    std::array<double, N + 1> d{};
-    evaluate(x.value(), N < degree ? N : degree, d.data());
-    return compose(d.data(), x);
-  }
 
   // exact int_a^b f (including the linear extrapolation)
   double integral(double a, double b) const noexcept;
