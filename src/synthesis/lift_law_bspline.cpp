@@ -19,21 +19,20 @@ std::string num(double v) {
   return s.str();
 }
 
-// uniform clamped knots on [0, 1] for n coefficients of degree p
-std::vector<double> clamped_uniform_knots(int n, int p) {
+}  // namespace
+
+std::vector<double> clamped_uniform_knots(int n, int p, double a, double b) {
   std::vector<double> t(static_cast<std::size_t>(n + p + 1));
   const int spans = n - p;
   for (int i = 0; i < n + p + 1; ++i) {
     const int j = std::clamp(i - p, 0, spans);
-    t[static_cast<std::size_t>(i)] = static_cast<double>(j) / spans;
+    t[static_cast<std::size_t>(i)] = j == spans ? b : a + (b - a) * static_cast<double>(j) / spans;
   }
   return t;
 }
 
-// the integral of a degree-p spline (knots t, coefficients c) from t_0, as a degree p+1
-// spline on [t_0, t, t_end]: d_0 = 0, d_{i+1} = d_i + c_i (t_{i+p+1} - t_i) / (p+1)
-void integrate(const std::vector<double>& t, const std::vector<double>& c, int p, std::vector<double>& t_out,
-               std::vector<double>& d_out) {
+void bspline_integral(const std::vector<double>& t, const std::vector<double>& c, int p, std::vector<double>& t_out,
+                      std::vector<double>& d_out) {
   t_out.clear();
   t_out.push_back(t.front());
   t_out.insert(t_out.end(), t.begin(), t.end());
@@ -43,7 +42,13 @@ void integrate(const std::vector<double>& t, const std::vector<double>& c, int p
     d_out[i + 1] = d_out[i] + c[i] * (t[i + static_cast<std::size_t>(p) + 1] - t[i]) / (p + 1);
 }
 
-}  // namespace
+void bspline_derivative(const std::vector<double>& t, const std::vector<double>& c, int p, std::vector<double>& t_out,
+                        std::vector<double>& g_out) {
+  t_out.assign(t.begin() + 1, t.end() - 1);
+  g_out.assign(c.size() - 1, 0.0);
+  for (std::size_t i = 0; i + 1 < c.size(); ++i)
+    g_out[i] = p * (c[i + 1] - c[i]) / (t[i + static_cast<std::size_t>(p) + 1] - t[i + 1]);
+}
 
 double bspline_value(std::span<const double> t, std::span<const double> c, int p, double x) noexcept {
   const int n = static_cast<int>(c.size());
@@ -102,8 +107,8 @@ BSplineAcceleration::BSplineAcceleration(double height_mm, double duration_deg,
 
   // rise of the closed shape: y(1) = sum_i c_i m_i with m_i the second integral of N_i at 1
   c_.assign(closed.data(), closed.data() + n);
-  integrate(t_, c_, p_, tv_, d_);
-  integrate(tv_, d_, p_ + 1, ty_, e_);
+  bspline_integral(t_, c_, p_, tv_, d_);
+  bspline_integral(tv_, d_, p_ + 1, ty_, e_);
   const double rise = e_.back();
   double magnitude = 0.0;  // the rise if every value pushed the same way
   for (int i = 0; i < n; ++i) magnitude += std::abs(closed(i)) * a(2, i);
@@ -116,13 +121,9 @@ BSplineAcceleration::BSplineAcceleration(double height_mm, double duration_deg,
   // scale to the unit rise and build the exact integrals and the derivative
   scale_ = 1.0 / rise;
   for (double& v : c_) v *= scale_;
-  integrate(t_, c_, p_, tv_, d_);
-  integrate(tv_, d_, p_ + 1, ty_, e_);
-  // jerk: degree p-1 on t_[1 .. end-1], g_i = p (c_{i+1} - c_i) / (t_{i+p+1} - t_{i+1})
-  tj_.assign(t_.begin() + 1, t_.end() - 1);
-  g_.assign(static_cast<std::size_t>(n - 1), 0.0);
-  for (std::size_t i = 0; i + 1 < c_.size(); ++i)
-    g_[i] = p_ * (c_[i + 1] - c_[i]) / (t_[i + static_cast<std::size_t>(p_) + 1] - t_[i + 1]);
+  bspline_integral(t_, c_, p_, tv_, d_);
+  bspline_integral(tv_, d_, p_ + 1, ty_, e_);
+  bspline_derivative(t_, c_, p_, tj_, g_);
 }
 
 std::vector<double> BSplineAcceleration::breakpoints() const {

@@ -201,31 +201,40 @@ void validate(const LiftEventSpec& spec) {
 
 // ---- Flank -----------------------------------------------------------------------------
 
-Flank::Flank(std::shared_ptr<const RiseLaw> law, double ramp_height_mm, double ramp_length_deg, double ramp_blend)
-    : law_(std::move(law)), ramp_height_(ramp_height_mm), ramp_length_(ramp_length_deg) {
-  CAMOPT_ASSERT(law_ != nullptr);
-  if (ramp_length_ > 0.0) {
-    blend_length_ = ramp_blend * ramp_length_;
+Ramp::Ramp(double height_mm, double length_deg, double blend) : height_(height_mm), length_(length_deg) {
+  if (length_ > 0.0) {
+    blend_length_ = blend * length_;
     // Hr = vr (b Lr / 2 + (1 - b) Lr)
-    ramp_velocity_ = ramp_height_ / (ramp_length_ * (1.0 - 0.5 * ramp_blend));
+    velocity_ = height_ / (length_ * (1.0 - 0.5 * blend));
   }
 }
 
-Motion Flank::evaluate(double phi) const noexcept {
-  const double v = ramp_velocity_;
+Motion Ramp::evaluate(double phi) const noexcept {
+  const double v = velocity_;
+  if (length_ <= 0.0) return {};
   if (phi < blend_length_) {
     // cycloidal velocity blend 0 -> vr over [0, Lb]: v = vr (u - sin(2 pi u) / (2 pi))
     const double lb = blend_length_, w = 2.0 * kPi;
-    const double u = phi / lb;
+    const double u = std::max(phi, 0.0) / lb;
     const double s = std::sin(w * u), c = std::cos(w * u);
     return {v * lb * (0.5 * u * u + (c - 1.0) / (w * w)), v * (u - s / w), v / lb * (1.0 - c),
             v / (lb * lb) * w * s};
   }
-  if (phi < ramp_length_) return {v * (0.5 * blend_length_ + (phi - blend_length_)), v, 0.0, 0.0};
+  return {v * (0.5 * blend_length_ + (phi - blend_length_)), v, 0.0, 0.0};
+}
+
+Flank::Flank(std::shared_ptr<const RiseLaw> law, double ramp_height_mm, double ramp_length_deg, double ramp_blend)
+    : law_(std::move(law)), ramp_(ramp_height_mm, ramp_length_deg, ramp_blend) {
+  CAMOPT_ASSERT(law_ != nullptr);
+}
+
+Motion Flank::evaluate(double phi) const noexcept {
+  const double v = ramp_.velocity();
+  if (phi < ramp_.length_deg()) return ramp_.evaluate(phi);
   // main flank: Hr + law + vr beta_m R(x)
-  const double xi = phi - ramp_length_;
+  const double xi = phi - ramp_.length_deg();
   Motion m = law_->evaluate(xi);
-  m.lift += ramp_height_;
+  m.lift += ramp_.height_mm();
   if (v > 0.0) {
     const double bm = law_->duration_deg();
     const double x = std::clamp(xi / bm, 0.0, 1.0);

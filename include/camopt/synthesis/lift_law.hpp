@@ -249,4 +249,18 @@ class BSplineAcceleration final : public RiseLaw {
 // algorithm; x outside [t_p, t_n] evaluates the end span). p <= 7.
 double bspline_value(std::span<const double> t, std::span<const double> c, int p, double x) noexcept;
 
+// uniform clamped knots on [a, b] for n coefficients of degree p (p+1 repeated end knots)
+std::vector<double> clamped_uniform_knots(int n, int p, double a = 0.0, double b = 1.0);
+
+// the integral from t_0 of a degree-p spline (knots t, coefficients c): a degree p+1
+// spline on knots [t_0, t, t_end] with d_0 = 0, d_{i+1} = d_i + c_i (t_{i+p+1} - t_i)/(p+1)
+// [deboor ch. X]
+void bspline_integral(const std::vector<double>& t, const std::vector<double>& c, int p, std::vector<double>& t_out,
+                      std::vector<double>& d_out);
+
+// the derivative of a degree-p spline (p >= 1): degree p-1 on t without its end knots,
+// g_i = p (c_{i+1} - c_i) / (t_{i+p+1} - t_{i+1}) [deboor ch. X]
+void bspline_derivative(const std::vector<double>& t, const std::vector<double>& c, int p, std::vector<double>& t_out,
+                        std::vector<double>& g_out);
+
 }  // namespace camopt::synthesis

@@ -68,6 +68,27 @@ struct EventJoins {
   double closing_end = 0.0;       // closing ramp -> base circle
 };
 
+// a constant-velocity opening ramp of height Hr [mm] over Lr [cam deg], reaching its
+// velocity vr = Hr / (Lr (1 - b/2)) through a cycloidal velocity blend over the first
+// b Lr, so lift, velocity, acceleration and jerk are continuous at the base circle.
+// length 0: no ramp (zero motion).
+class Ramp {
+ public:
+  Ramp() = default;
+  Ramp(double height_mm, double length_deg, double blend);
+  // lift [mm] and derivatives per cam deg at phi [cam deg] from the start of the ramp;
+  // past the ramp's end the constant-velocity line continues
+  Motion evaluate(double phi_deg) const noexcept;
+
+  double height_mm() const noexcept { return height_; }
+  double length_deg() const noexcept { return length_; }
+  double blend_length_deg() const noexcept { return blend_length_; }
+  double velocity() const noexcept { return velocity_; }  // [mm/deg]
+
+ private:
+  double height_ = 0.0, length_ = 0.0, blend_length_ = 0.0, velocity_ = 0.0;
+};
+
 // one flank compiled: ramp + main law + velocity-matching term
 class Flank {
  public:
@@ -77,15 +98,15 @@ class Flank {
   Motion evaluate(double phi_deg) const noexcept;
 
   const RiseLaw& law() const noexcept { return *law_; }
-  double duration_deg() const noexcept { return ramp_length_ + law_->duration_deg(); }
-  double ramp_height_mm() const noexcept { return ramp_height_; }
-  double ramp_length_deg() const noexcept { return ramp_length_; }
-  double blend_length_deg() const noexcept { return blend_length_; }
-  double ramp_velocity() const noexcept { return ramp_velocity_; }  // [mm/deg]
+  double duration_deg() const noexcept { return ramp_.length_deg() + law_->duration_deg(); }
+  double ramp_height_mm() const noexcept { return ramp_.height_mm(); }
+  double ramp_length_deg() const noexcept { return ramp_.length_deg(); }
+  double blend_length_deg() const noexcept { return ramp_.blend_length_deg(); }
+  double ramp_velocity() const noexcept { return ramp_.velocity(); }  // [mm/deg]
 
  private:
   std::shared_ptr<const RiseLaw> law_;  // the main flank: height H - Hr over beta - Lr
-  double ramp_height_ = 0.0, ramp_length_ = 0.0, blend_length_ = 0.0, ramp_velocity_ = 0.0;
+  Ramp ramp_;
 };
 
 class LiftEvent {
