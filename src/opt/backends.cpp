@@ -1,2 +1,0 @@
-// placeholder replaced below
-namespace camopt::opt { int backends_placeholder() { return 0; } }
