@@ -98,6 +98,7 @@ CamContactModel::CamContactModel(const DesignSpec& spec, std::vector<double> con
     radius_ = follower.radius_mm;
   } else {
     shape_ = FollowerShape::flat;
+    half_width_ = follower.half_width_mm.value_or(0.0);
     const double len = std::hypot(follower.normal[0], follower.normal[1]);
     // the face's outward normal points towards the cam: the contact normal is its opposite
     impl_->face_normal = {-follower.normal[0] / len, -follower.normal[1] / len};

@@ -89,6 +89,8 @@ class CamContactModel {
   const std::string& material_cam() const noexcept { return material_cam_; }
   const std::string& material_follower() const noexcept { return material_follower_; }
   double width_mm() const noexcept { return width_; }
+  // flat face: usable half-width of the face (0: not given)
+  double face_half_width_mm() const noexcept { return half_width_; }
 
  private:
   struct Impl;
@@ -96,7 +98,7 @@ class CamContactModel {
   FollowerShape shape_ = FollowerShape::roller;
   double radius_ = 0.0;
   std::string connection_, follower_node_, cam_node_, material_cam_, material_follower_;
-  double width_ = 0.0;
+  double width_ = 0.0, half_width_ = 0.0;
   std::vector<double> controls_;
 };
 

@@ -1,0 +1,121 @@
+#pragma once
+// the cam optimisation problem compiled against a design: variables, bounds, objective,
+// constraints and their exact gradients, in the form every solver backend takes
+//   minimise f(u)  subject to  A u = b (closure),  g(u) <= 0,  lower <= u <= upper.
+// u are the acceleration b-spline coefficients (lift_model.hpp) divided by the coefficient
+// bound (so |u| <= 1), plus the epigraph variable t of a peak objective (f = t, q_i <= t).
+// every inequality is normalised by its limit so g = 0 is the boundary and g = 1 a miss by
+// 100 %. the valve-motion constraints are linear in u; the contact constraints come from
+// CamContactModel (cam_contact.hpp) at every grid angle with exact gradients, chained
+// through the lift rows: dg/du = dg/dL row_0 + dg/dL' row_1 + dg/dL'' row_2.
+#include <Eigen/Core>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "camopt/core/design_spec.hpp"
+#include "camopt/core/spline.hpp"
+#include "camopt/opt/cam_contact.hpp"
+#include "camopt/opt/lift_model.hpp"
+#include "camopt/opt/optimization_spec.hpp"
+
+namespace camopt::opt {
+
+enum class ConstraintKind {
+  acc_max,
+  acc_min,
+  jerk_max,
+  lift_max,
+  peak_lift_min,
+  duration_min,
+  duration_max,
+  radius_min,
+  concave_radius,
+  pressure_angle,
+  roller_speed,
+  sliding_speed,
+  hertz_stress,
+  face_width,
+  peak_bound,  // q_i - t <= 0 of a peak objective
+};
+const char* to_string(ConstraintKind kind);
+
+struct ConstraintRow {
+  ConstraintKind kind;
+  double cam_deg = 0.0;  // where it is evaluated [cam deg]; scalar constraints: where it is attained
+  int grid = -1;         // grid index (-1: a scalar constraint)
+};
+
+struct Evaluation {
+  double objective = 0.0;
+  Eigen::VectorXd gradient;    // df/du
+  Eigen::VectorXd g;           // normalised inequalities (<= 0 feasible)
+  Eigen::MatrixXd jacobian;    // dg/du (rows x variables)
+  Eigen::VectorXd physical;    // each inequality's quantity in its unit (see unit_of)
+  Eigen::VectorXd equality;    // A u - b (closure) [normalised]
+  bool have_gradients = false;
+};
+
+class CamProblem {
+ public:
+  // target_lift: valve lift [mm] against driver angle [rad] (ObjectiveSpec::target_weight
+  // > 0 needs one), may be null. InputError for data the set needs and the design lacks.
+  CamProblem(const DesignSpec& design, const OptimizationSpec& spec, const PeriodicSpline* target_lift);
+  ~CamProblem();
+  CamProblem(const CamProblem&) = delete;
+  CamProblem& operator=(const CamProblem&) = delete;
+
+  int variables() const noexcept { return n_; }
+  int spline_variables() const noexcept { return lift_.variables(); }
+  bool has_peak_variable() const noexcept { return n_ > lift_.variables(); }
+  const std::vector<ConstraintRow>& rows() const noexcept { return rows_; }
+  const std::vector<double>& lower() const noexcept { return lower_; }
+  const std::vector<double>& upper() const noexcept { return upper_; }
+  const std::vector<double>& start() const noexcept { return start_; }
+  // closure A u = b
+  const Eigen::MatrixXd& equality_matrix() const noexcept { return eq_a_; }
+  const Eigen::VectorXd& equality_rhs() const noexcept { return eq_b_; }
+  // structural nonzeros of the inequality jacobian, row-major (row, column)
+  const std::vector<std::pair<int, int>>& jacobian_pattern() const noexcept { return pattern_; }
+  const std::vector<double>& grid_deg() const noexcept { return grid_; }
+
+  // f, g and (gradients = true) their derivatives at u; a failing contact inversion or
+  // envelope returns its status (the caller rejects the step)
+  Status evaluate(std::span<const double> u, Evaluation& out, bool gradients);
+
+  // coefficients [mm/deg^2] of the lift model for u
+  std::vector<double> coefficients(std::span<const double> u) const;
+  const AccelerationSplineLift& lift_model() const noexcept { return lift_; }
+  const CamContactModel& contact() const noexcept { return *contact_; }
+  const OptimizationSpec& spec() const noexcept { return spec_; }
+  // unit and limit of a row's physical value, and whether the limit is an upper bound
+  const char* unit_of(ConstraintKind kind) const;
+  double limit_of(ConstraintKind kind) const;
+  bool is_upper_limit(ConstraintKind kind) const;
+  double cam_speed_rad_per_s() const noexcept { return omega_; }
+
+ private:
+  struct GridPoint;
+  void build_rows();
+  OptimizationSpec spec_;
+  AccelerationSplineLift lift_;
+  std::unique_ptr<CamContactModel> contact_;
+  std::unique_ptr<ContactWorkspace> contact_ws_;
+  std::vector<double> grid_;                // event grid [cam deg]
+  std::vector<GridPoint> points_;
+  std::vector<ConstraintRow> rows_;
+  std::vector<std::pair<int, int>> pattern_;
+  std::vector<double> lower_, upper_, start_;
+  Eigen::MatrixXd eq_a_;
+  Eigen::VectorXd eq_b_;
+  std::vector<double> target_;              // target lift at the grid [mm]
+  int n_ = 0;
+  double coef_scale_ = 1.0;                 // [mm/deg^2] per unit of u
+  double omega_ = 0.0;                      // cam speed [rad/s]
+  double e_star_MPa_ = 0.0, width_mm_ = 0.0;
+  double area0_ = 1.0, lift_scale_ = 1.0, peak_scale_ = 1.0;
+  bool need_contact_ = false;
+};
+
+}  // namespace camopt::opt

@@ -1,0 +1,48 @@
+#pragma once
+// run a CamProblem through a solver backend:
+//   ipopt   interior point (Ipopt 3.11 TNLP): exact first derivatives, sparse jacobian,
+//           limited-memory quasi-newton hessian
+//   slsqp   NLopt sequential quadratic programming (Kraft 1988), exact gradients
+//   mma     NLopt method of moving asymptotes (Svanberg 2002); the closure equalities go
+//           through NLopt's augmented lagrangian (AUGLAG_EQ) around MMA
+//   cobyla  NLopt derivative-free linear approximations (Powell 1994)
+//   global  multi-start: SLSQP from the initial design and from points of a Halton
+//           sequence spread over the variable box about it; the best feasible result wins
+// no exception crosses a solver callback: a failing evaluation rejects the step (Ipopt)
+// or stops the run (NLopt) and is reported.
+#include <string>
+#include <vector>
+
+#include "camopt/core/error.hpp"
+#include "camopt/opt/problem.hpp"
+
+namespace camopt::opt {
+
+enum class SolverKind { ipopt, slsqp, mma, cobyla, global };
+const char* to_string(SolverKind s);
+// InputError "--solver: unknown solver 'x' (allowed: ...)"
+SolverKind parse_solver(const std::string& name);
+
+struct SolverOptions {
+  SolverKind solver = SolverKind::ipopt;
+  int max_iterations = 3000;       // ipopt iterations / nlopt evaluations
+  double tolerance = 1e-9;         // relative optimality tolerance
+  double constraint_tolerance = 1e-8;  // on the normalised constraints (fraction of each limit)
+  int starts = 6;                  // global: number of starts, the initial design included
+  double time_limit_s = 300.0;
+};
+
+struct SolveResult {
+  Status status;                   // ok, no_convergence or infeasible (with the worst constraint)
+  std::vector<double> u;           // final variables
+  Evaluation final;                // f, g at u
+  int iterations = 0;              // ipopt iterations, nlopt: evaluations
+  int evaluations = 0;             // objective evaluations
+  double seconds = 0.0;
+  double max_violation = 0.0;      // largest normalised constraint violation (0: feasible)
+  std::string solver_message;      // the backend's own status
+};
+
+SolveResult optimize(CamProblem& problem, const SolverOptions& options);
+
+}  // namespace camopt::opt

@@ -1,0 +1,584 @@
+#include "camopt/opt/problem.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <sstream>
+
+#include "camopt/synthesis/lift_law_event.hpp"
+
+namespace camopt::opt {
+
+namespace {
+
+constexpr double kDegPerRad = 180.0 / std::numbers::pi;
+
+std::string num(double v) {
+  std::ostringstream s;
+  s.precision(8);
+  s << v;
+  return s.str();
+}
+
+const MaterialSpec* find_material(const DesignSpec& d, const std::string& name) {
+  for (const auto& m : d.materials)
+    if (m.name == name) return &m;
+  return nullptr;
+}
+
+bool needs_contact(const OptimizationSpec& s) {
+  const auto& l = s.limits;
+  const bool peak_contact = s.objective.peak_weight > 0.0 &&
+                            (s.objective.peak == Quantity::pressure_angle || s.objective.peak == Quantity::hertz_stress ||
+                             s.objective.peak == Quantity::roller_speed || s.objective.peak == Quantity::sliding_speed ||
+                             s.objective.peak == Quantity::curvature);
+  return peak_contact || l.min_radius_of_curvature_mm || l.grinding_wheel_radius_mm || l.max_pressure_angle_deg ||
+         l.max_roller_speed_rpm || l.max_sliding_speed_m_per_s || l.max_hertz_stress_MPa;
+}
+
+}  // namespace
+
+const char* to_string(ConstraintKind kind) {
+  switch (kind) {
+    case ConstraintKind::acc_max: return "acc_max";
+    case ConstraintKind::acc_min: return "acc_min";
+    case ConstraintKind::jerk_max: return "jerk_max";
+    case ConstraintKind::lift_max: return "lift_max";
+    case ConstraintKind::peak_lift_min: return "peak_lift_min";
+    case ConstraintKind::duration_min: return "duration_min";
+    case ConstraintKind::duration_max: return "duration_max";
+    case ConstraintKind::radius_min: return "radius_of_curvature_min";
+    case ConstraintKind::concave_radius: return "concave_radius_min";
+    case ConstraintKind::pressure_angle: return "pressure_angle_max";
+    case ConstraintKind::roller_speed: return "roller_speed_max";
+    case ConstraintKind::sliding_speed: return "sliding_speed_max";
+    case ConstraintKind::hertz_stress: return "hertz_stress_max";
+    case ConstraintKind::face_width: return "face_width";
+    case ConstraintKind::peak_bound: return "peak_bound";
+  }
+  return "?";
+}
+
+struct CamProblem::GridPoint {
+  double deg = 0.0;
+  std::array<double, 4> constant{};
+  Eigen::Matrix<double, 4, Eigen::Dynamic> rows;  // d^k L / dtheta^k per unit of u [mm/deg^k]
+  bool variable = false;                          // inside the main part (rows not all zero)
+};
+
+CamProblem::~CamProblem() = default;
+
+CamProblem::CamProblem(const DesignSpec& design, const OptimizationSpec& spec, const PeriodicSpline* target_lift)
+    : spec_(spec), lift_(AccelerationSplineLift::compile(spec.event)) {
+  validate(spec_, design.driver.crank_per_cam);
+  const auto& lim = spec_.limits;
+  omega_ = spec_.rpm / design.driver.crank_per_cam * 2.0 * std::numbers::pi / 60.0;
+
+  // ramps against the seating / opening velocity limits: fixed by the event, so a miss is a
+  // contradiction between [event] and [limits]
+  const double to_m_per_s = omega_ * kDegPerRad * 1e-3;  // [mm/deg] -> [m/s]
+  if (lim.max_seating_velocity_m_per_s && lift_.closing_ramp().velocity() * to_m_per_s > *lim.max_seating_velocity_m_per_s)
+    throw InputError("event.closing_ramp gives a seating velocity of " +
+                     num(lift_.closing_ramp().velocity() * to_m_per_s) + " m/s at " + num(spec_.rpm) +
+                     " rpm, above limits.max_seating_velocity_m_per_s = " + num(*lim.max_seating_velocity_m_per_s) +
+                     ": lengthen the closing ramp or lower its height");
+  if (lim.max_opening_ramp_velocity_m_per_s &&
+      lift_.opening_ramp().velocity() * to_m_per_s > *lim.max_opening_ramp_velocity_m_per_s)
+    throw InputError("event.opening_ramp gives a ramp velocity of " + num(lift_.opening_ramp().velocity() * to_m_per_s) +
+                     " m/s at " + num(spec_.rpm) + " rpm, above limits.max_opening_ramp_velocity_m_per_s = " +
+                     num(*lim.max_opening_ramp_velocity_m_per_s));
+
+  need_contact_ = needs_contact(spec_);
+  if (need_contact_) {
+    contact_ = std::make_unique<CamContactModel>(design, spec_.controls);
+    contact_ws_ = std::make_unique<ContactWorkspace>(contact_->make_workspace());
+    if (lim.max_roller_speed_rpm && contact_->follower_shape() != FollowerShape::roller)
+      throw InputError("limits.max_roller_speed_rpm: the follower of contact '" + contact_->connection() +
+                       "' is not a roller");
+    if (lim.max_hertz_stress_MPa || (spec_.objective.peak_weight > 0 && spec_.objective.peak == Quantity::hertz_stress)) {
+      if (!spec_.load)
+        throw InputError("limits.max_hertz_stress_MPa needs a [load] table (spring preload and rate, moving mass)");
+      const LoadSpec& ld = *spec_.load;
+      width_mm_ = ld.width_mm.value_or(contact_->width_mm());
+      if (!(width_mm_ > 0))
+        throw InputError("load.width_mm: the contact width is not given here nor as width_mm of connection '" +
+                         contact_->connection() + "' in the design");
+      auto material = [&](const std::optional<double>& e, const std::optional<double>& nu, const std::string& name,
+                          const std::string& side) {
+        if (e && nu) return std::pair{*e, *nu};
+        const MaterialSpec* m = find_material(design, name);
+        if (!m)
+          throw InputError("load.youngs_modulus_" + side + "_GPa / load.poisson_" + side +
+                           ": not given, and connection '" + contact_->connection() + "' names no [[material]] for the " +
+                           side + (name.empty() ? std::string() : " ('" + name + "' is not defined)"));
+        return std::pair{e.value_or(m->youngs_modulus_GPa), nu.value_or(m->poisson_ratio)};
+      };
+      const auto [e1, n1] = material(ld.youngs_modulus_cam_GPa, ld.poisson_cam, contact_->material_cam(), "cam");
+      const auto [e2, n2] =
+          material(ld.youngs_modulus_follower_GPa, ld.poisson_follower, contact_->material_follower(), "follower");
+      // 1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2 (Johnson, Contact Mechanics, 1985, eq. 4.22) [MPa]
+      e_star_MPa_ = 1.0 / ((1.0 - n1 * n1) / (e1 * 1e3) + (1.0 - n2 * n2) / (e2 * 1e3));
+    }
+  } else if (spec_.objective.peak_weight > 0 && spec_.objective.peak == Quantity::hertz_stress) {
+    throw InputError("objective.peak = hertz_stress needs a [load] table");
+  }
+
+  // grid over the event, ramps included
+  const double dur = spec_.event.duration_deg;
+  const int steps = std::max(8, static_cast<int>(std::ceil(dur / spec_.grid_step_deg - 1e-9)));
+  const int nv = lift_.variables();
+  points_.resize(static_cast<std::size_t>(steps) + 1);
+  grid_.resize(points_.size());
+  for (int i = 0; i <= steps; ++i) {
+    GridPoint& gp = points_[static_cast<std::size_t>(i)];
+    gp.deg = spec_.event.start_deg + dur * i / steps;
+    grid_[static_cast<std::size_t>(i)] = gp.deg;
+    gp.rows.resize(4, nv);
+    lift_.rows(gp.deg, gp.constant, gp.rows);
+    gp.variable = gp.rows.cwiseAbs().maxCoeff() > 0.0;
+  }
+
+  // initial lift: the target, else a 4-5-6-7 event of the initial lift with the ramps
+  std::function<double(double)> initial;
+  synthesis::LiftEvent event;
+  if (target_lift) {
+    for (const auto& gp : points_) target_.push_back((*target_lift)(gp.deg / kDegPerRad));
+    initial = [target_lift](double deg) { return (*target_lift)(deg / kDegPerRad); };
+  } else {
+    synthesis::LiftEventSpec es;
+    es.max_lift_mm = spec_.initial_max_lift_mm;
+    es.peak_deg = std::fmod(spec_.event.start_deg + 0.5 * dur + 360.0, 360.0);
+    es.ramp_blend = spec_.event.ramp_blend;
+    es.opening = {synthesis::LawKind::polynomial_4567, 0.5 * dur, spec_.event.opening_ramp.height_mm,
+                  spec_.event.opening_ramp.length_deg, {}, 3};
+    es.closing = {synthesis::LawKind::polynomial_4567, 0.5 * dur, spec_.event.closing_ramp.height_mm,
+                  spec_.event.closing_ramp.length_deg, {}, 3};
+    event = synthesis::LiftEvent::compile(es);
+    initial = [&event](double deg) { return event.evaluate(deg).lift; };
+  }
+  const std::vector<double> c0 = lift_.fit(initial, 0.25);
+  double cmax = 0.0;
+  for (double c : c0) cmax = std::max(cmax, std::abs(c));
+  coef_scale_ = spec_.coefficient_bound > 0 ? spec_.coefficient_bound
+                : lim.acc_max_mm_per_deg2 || lim.acc_min_mm_per_deg2
+                    ? 3.0 * std::max(lim.acc_max_mm_per_deg2.value_or(0.0), -lim.acc_min_mm_per_deg2.value_or(0.0))
+                    : 3.0 * cmax;
+  if (!(coef_scale_ > 0)) coef_scale_ = 1e-2;
+  for (auto& gp : points_) gp.rows *= coef_scale_;
+
+  const bool peak = spec_.objective.peak_weight > 0.0;
+  n_ = nv + (peak ? 1 : 0);
+  lower_.assign(static_cast<std::size_t>(n_), -1.0);
+  upper_.assign(static_cast<std::size_t>(n_), 1.0);
+  start_.resize(static_cast<std::size_t>(n_));
+  for (int j = 0; j < nv; ++j) start_[static_cast<std::size_t>(j)] = std::clamp(c0[static_cast<std::size_t>(j)] / coef_scale_, -1.0, 1.0);
+  eq_a_ = lift_.closure_matrix() * coef_scale_;
+  eq_a_.conservativeResize(2, n_);
+  if (peak) eq_a_.col(n_ - 1).setZero();
+  eq_b_ = lift_.closure_rhs();
+  // normalise the closure rows (velocity [mm/deg], lift [mm]) to O(1)
+  for (int r = 0; r < 2; ++r) {
+    const double s = std::max(eq_a_.row(r).cwiseAbs().maxCoeff(), 1e-300);
+    eq_a_.row(r) /= s;
+    eq_b_(r) /= s;
+  }
+  lift_scale_ = std::max(spec_.initial_max_lift_mm, 1.0);
+  if (target_lift) lift_scale_ = std::max(*std::max_element(target_.begin(), target_.end()), 1e-3);
+
+  build_rows();
+
+  // scales of the area and peak objectives from the initial design
+  if (peak) {
+    start_[static_cast<std::size_t>(n_ - 1)] = 0.0;
+    peak_scale_ = 1.0;
+    Evaluation e;
+    if (Status st = evaluate(start_, e, false); !st.ok())
+      throw NumericalError({st.code, "the initial design: " + st.message, st.where});
+    double worst = 0.0;
+    for (std::size_t r = 0; r < rows_.size(); ++r)
+      if (rows_[r].kind == ConstraintKind::peak_bound) worst = std::max(worst, e.g(static_cast<Eigen::Index>(r)));
+    peak_scale_ = worst > 0 ? worst : 1.0;
+    start_[static_cast<std::size_t>(n_ - 1)] = 1.0;
+    lower_[static_cast<std::size_t>(n_ - 1)] = -10.0;
+    upper_[static_cast<std::size_t>(n_ - 1)] = 10.0;
+  }
+  {
+    double a = 0.0;
+    const std::vector<double> c = coefficients(start_);
+    for (std::size_t i = 0; i + 1 < points_.size(); ++i)
+      a += 0.5 * (lift_.evaluate(c, points_[i].deg).lift + lift_.evaluate(c, points_[i + 1].deg).lift) *
+           (points_[i + 1].deg - points_[i].deg);
+    area0_ = a > 0 ? a : 1.0;
+  }
+}
+
+void CamProblem::build_rows() {
+  const auto& lim = spec_.limits;
+  const bool peak = spec_.objective.peak_weight > 0.0;
+  const int nv = lift_.variables();
+  rows_.clear();
+  pattern_.clear();
+  auto add = [&](ConstraintKind kind, int grid, std::initializer_list<int> derivs, bool peak_col) {
+    const int r = static_cast<int>(rows_.size());
+    rows_.push_back({kind, grid >= 0 ? points_[static_cast<std::size_t>(grid)].deg : 0.0, grid});
+    for (int j = 0; j < nv; ++j) {
+      bool nz = grid < 0;  // scalar constraints: dense
+      if (grid >= 0)
+        for (int k : derivs) nz = nz || points_[static_cast<std::size_t>(grid)].rows(k, j) != 0.0;
+      if (nz) pattern_.emplace_back(r, j);
+    }
+    if (peak_col) pattern_.emplace_back(r, n_ - 1);
+  };
+  const bool roller_like = contact_ && contact_->follower_shape() != FollowerShape::flat;
+  for (int i = 0; i < static_cast<int>(points_.size()); ++i) {
+    if (lim.acc_max_mm_per_deg2) add(ConstraintKind::acc_max, i, {2}, false);
+    if (lim.acc_min_mm_per_deg2) add(ConstraintKind::acc_min, i, {2}, false);
+    if (lim.jerk_max_mm_per_deg3) {
+      add(ConstraintKind::jerk_max, i, {3}, false);
+      add(ConstraintKind::jerk_max, i, {3}, false);
+    }
+    if (lim.max_lift_mm) add(ConstraintKind::lift_max, i, {0}, false);
+    if (lim.min_radius_of_curvature_mm) add(ConstraintKind::radius_min, i, {0, 1, 2}, false);
+    if (lim.grinding_wheel_radius_mm && roller_like && *lim.grinding_wheel_radius_mm > contact_->follower_radius_mm())
+      add(ConstraintKind::concave_radius, i, {0, 1, 2}, false);
+    if (lim.max_pressure_angle_deg) add(ConstraintKind::pressure_angle, i, {0, 1, 2}, false);
+    if (lim.max_roller_speed_rpm) add(ConstraintKind::roller_speed, i, {0, 1, 2}, false);
+    if (lim.max_sliding_speed_m_per_s) add(ConstraintKind::sliding_speed, i, {0, 1, 2}, false);
+    if (lim.max_hertz_stress_MPa) add(ConstraintKind::hertz_stress, i, {0, 1, 2}, false);
+    if (contact_ && contact_->follower_shape() == FollowerShape::flat && contact_->face_half_width_mm() > 0)
+      add(ConstraintKind::face_width, i, {0, 1, 2}, false);
+    if (peak) {
+      const Quantity q = spec_.objective.peak;
+      const std::initializer_list<int> d = q == Quantity::acceleration || q == Quantity::deceleration
+                                               ? std::initializer_list<int>{2}
+                                           : q == Quantity::jerk ? std::initializer_list<int>{3}
+                                                                 : std::initializer_list<int>{0, 1, 2};
+      add(ConstraintKind::peak_bound, i, d, true);
+      if (q == Quantity::jerk) add(ConstraintKind::peak_bound, i, d, true);
+    }
+  }
+  if (lim.min_max_lift_mm) add(ConstraintKind::peak_lift_min, -1, {}, false);
+  if (lim.duration_check_height_mm && lim.min_duration_deg) add(ConstraintKind::duration_min, -1, {}, false);
+  if (lim.duration_check_height_mm && lim.max_duration_deg) add(ConstraintKind::duration_max, -1, {}, false);
+}
+
+std::vector<double> CamProblem::coefficients(std::span<const double> u) const {
+  std::vector<double> c(static_cast<std::size_t>(lift_.variables()));
+  for (std::size_t j = 0; j < c.size(); ++j) c[j] = u[j] * coef_scale_;
+  return c;
+}
+
+const char* CamProblem::unit_of(ConstraintKind kind) const {
+  switch (kind) {
+    case ConstraintKind::acc_max:
+    case ConstraintKind::acc_min: return "mm/deg^2";
+    case ConstraintKind::jerk_max: return "mm/deg^3";
+    case ConstraintKind::lift_max:
+    case ConstraintKind::peak_lift_min: return "mm";
+    case ConstraintKind::duration_min:
+    case ConstraintKind::duration_max: return "cam deg";
+    case ConstraintKind::radius_min:
+    case ConstraintKind::concave_radius:
+    case ConstraintKind::face_width: return "mm";
+    case ConstraintKind::pressure_angle: return "deg";
+    case ConstraintKind::roller_speed: return "rpm";
+    case ConstraintKind::sliding_speed: return "m/s";
+    case ConstraintKind::hertz_stress: return "MPa";
+    case ConstraintKind::peak_bound: return "-";
+  }
+  return "";
+}
+
+double CamProblem::limit_of(ConstraintKind kind) const {
+  const auto& l = spec_.limits;
+  switch (kind) {
+    case ConstraintKind::acc_max: return *l.acc_max_mm_per_deg2;
+    case ConstraintKind::acc_min: return *l.acc_min_mm_per_deg2;
+    case ConstraintKind::jerk_max: return *l.jerk_max_mm_per_deg3;
+    case ConstraintKind::lift_max: return *l.max_lift_mm;
+    case ConstraintKind::peak_lift_min: return *l.min_max_lift_mm;
+    case ConstraintKind::duration_min: return *l.min_duration_deg;
+    case ConstraintKind::duration_max: return *l.max_duration_deg;
+    case ConstraintKind::radius_min: return *l.min_radius_of_curvature_mm;
+    case ConstraintKind::concave_radius: return -*l.grinding_wheel_radius_mm;
+    case ConstraintKind::pressure_angle: return *l.max_pressure_angle_deg;
+    case ConstraintKind::roller_speed: return *l.max_roller_speed_rpm;
+    case ConstraintKind::sliding_speed: return *l.max_sliding_speed_m_per_s;
+    case ConstraintKind::hertz_stress: return *l.max_hertz_stress_MPa;
+    case ConstraintKind::face_width: return contact_->face_half_width_mm();
+    case ConstraintKind::peak_bound: return 0.0;
+  }
+  return 0.0;
+}
+
+bool CamProblem::is_upper_limit(ConstraintKind kind) const {
+  switch (kind) {
+    case ConstraintKind::acc_min:
+    case ConstraintKind::peak_lift_min:
+    case ConstraintKind::duration_min:
+    case ConstraintKind::radius_min: return false;
+    case ConstraintKind::concave_radius: return true;  // the concave radius as a negative number: <= -wheel
+    default: return true;
+  }
+}
+
+Status CamProblem::evaluate(std::span<const double> u, Evaluation& e, bool gradients) {
+  CAMOPT_ASSERT(static_cast<int>(u.size()) == n_);
+  const int nv = lift_.variables();
+  const auto& lim = spec_.limits;
+  const Eigen::Map<const Eigen::VectorXd> uv(u.data(), n_);
+  const Eigen::VectorXd us = uv.head(nv);
+  const std::size_t m = rows_.size();
+  e.g.resize(static_cast<Eigen::Index>(m));
+  e.physical.resize(static_cast<Eigen::Index>(m));
+  e.have_gradients = gradients;
+  if (gradients) {
+    e.jacobian.setZero(static_cast<Eigen::Index>(m), n_);
+    e.gradient.setZero(n_);
+  }
+  e.equality = eq_a_ * uv - eq_b_;
+  const bool peak = spec_.objective.peak_weight > 0.0;
+  const double t = peak ? u[static_cast<std::size_t>(n_ - 1)] : 0.0;
+  const double r1 = kDegPerRad, r2 = kDegPerRad * kDegPerRad;
+
+  // objective: target least squares and lift area over the grid
+  double f = 0.0;
+  Eigen::VectorXd df = Eigen::VectorXd::Zero(n_);
+  const std::size_t np = points_.size();
+  std::vector<std::array<double, 4>> motion(np);
+  for (std::size_t i = 0; i < np; ++i) {
+    const GridPoint& gp = points_[i];
+    for (int k = 0; k < 4; ++k) motion[i][static_cast<std::size_t>(k)] = gp.constant[static_cast<std::size_t>(k)] + gp.rows.row(k).dot(us);
+  }
+  if (spec_.objective.target_weight > 0.0) {
+    const double w = spec_.objective.target_weight / (static_cast<double>(np) * lift_scale_ * lift_scale_);
+    for (std::size_t i = 0; i < np; ++i) {
+      const double d = motion[i][0] - target_[i];
+      f += w * d * d;
+      if (gradients) df.head(nv) += 2.0 * w * d * points_[i].rows.row(0).transpose();
+    }
+  }
+  if (spec_.objective.area_weight > 0.0) {
+    const double w = spec_.objective.area_weight / area0_;
+    for (std::size_t i = 0; i + 1 < np; ++i) {
+      const double h = 0.5 * (points_[i + 1].deg - points_[i].deg);
+      f -= w * h * (motion[i][0] + motion[i + 1][0]);
+      if (gradients) df.head(nv) -= w * h * (points_[i].rows.row(0) + points_[i + 1].rows.row(0)).transpose();
+    }
+  }
+  if (peak) {
+    f += spec_.objective.peak_weight * t;
+    df(n_ - 1) += spec_.objective.peak_weight;
+  }
+  e.objective = f;
+  if (gradients) e.gradient = df;
+
+  // per-angle constraints
+  ContactQuantities cq;
+  std::size_t r = 0;
+  const bool roller_like = contact_ && contact_->follower_shape() != FollowerShape::flat;
+  const double rf = roller_like ? contact_->follower_radius_mm() : 0.0;
+  for (std::size_t i = 0; i < np && r < m; ++i) {
+    const GridPoint& gp = points_[i];
+    const auto& mo = motion[i];
+    bool have_contact = false;
+    auto contact = [&]() -> Status {
+      if (have_contact) return Status::success();
+      const double lift[3] = {mo[0], mo[1] * r1, mo[2] * r2};
+      Status st = contact_->evaluate(gp.deg / kDegPerRad, lift, *contact_ws_, cq);
+      if (!st.ok()) return st;
+      have_contact = true;
+      return Status::success();
+    };
+    // gradient row of a contact quantity
+    auto chain = [&](const Grad3& q, double scale) {
+      return ((q.d[0] * gp.rows.row(0) + q.d[1] * r1 * gp.rows.row(1) + q.d[2] * r2 * gp.rows.row(2)) * scale).eval();
+    };
+    for (; r < m && rows_[r].grid == static_cast<int>(i); ++r) {
+      const ConstraintKind kind = rows_[r].kind;
+      const auto ri = static_cast<Eigen::Index>(r);
+      auto set_linear = [&](double value, int k, double sign, double scale, double physical) {
+        e.g(ri) = value;
+        e.physical(ri) = physical;
+        if (gradients) e.jacobian.row(ri).head(nv) = sign / scale * gp.rows.row(k);
+      };
+      auto set_contact = [&](const Grad3& q, double physical) {
+        e.g(ri) = q.v;
+        e.physical(ri) = physical;
+        if (gradients) e.jacobian.row(ri).head(nv) = chain(q, 1.0);
+      };
+      const bool second_jerk_row = r > 0 && rows_[r - 1].grid == rows_[r].grid && rows_[r - 1].kind == kind;
+      switch (kind) {
+        case ConstraintKind::acc_max: {
+          const double a = *lim.acc_max_mm_per_deg2;
+          set_linear((mo[2] - a) / a, 2, 1.0, a, mo[2]);
+          break;
+        }
+        case ConstraintKind::acc_min: {
+          const double a = -*lim.acc_min_mm_per_deg2;
+          set_linear((-a - mo[2]) / a, 2, -1.0, a, mo[2]);
+          break;
+        }
+        case ConstraintKind::jerk_max: {
+          const double j = *lim.jerk_max_mm_per_deg3;
+          const double s = second_jerk_row ? -1.0 : 1.0;
+          set_linear((s * mo[3] - j) / j, 3, s, j, std::abs(mo[3]));
+          break;
+        }
+        case ConstraintKind::lift_max: {
+          const double l = *lim.max_lift_mm;
+          set_linear((mo[0] - l) / l, 0, 1.0, l, mo[0]);
+          break;
+        }
+        case ConstraintKind::peak_bound: {
+          const Quantity q = spec_.objective.peak;
+          if (q == Quantity::acceleration || q == Quantity::deceleration || q == Quantity::jerk) {
+            const int k = q == Quantity::jerk ? 3 : 2;
+            const double s = q == Quantity::deceleration || (q == Quantity::jerk && second_jerk_row) ? -1.0 : 1.0;
+            set_linear(s * mo[static_cast<std::size_t>(k)] / peak_scale_ - t, k, s, peak_scale_,
+                       s * mo[static_cast<std::size_t>(k)]);
+          } else {
+            if (Status st = contact(); !st.ok()) return st;
+            Grad3 v;
+            switch (q) {
+              case Quantity::pressure_angle: v = cq.pressure_angle * kDegPerRad; break;
+              case Quantity::roller_speed: v = cq.roller_speed * cq.roller_speed; break;
+              case Quantity::sliding_speed: v = cq.sliding * cq.sliding; break;
+              case Quantity::curvature: v = roller_like ? cq.pitch_curvature : 1.0 / cq.cam_radius; break;
+              default: {  // hertz: p0^2 ~ F / R*
+                const double w = omega_ * omega_ * 1e-3;
+                Grad3 fv(spec_.load->spring_preload_N + spec_.load->spring_rate_N_per_mm * mo[0] +
+                         spec_.load->moving_mass_kg * mo[2] * r2 * w);
+                fv.d = {spec_.load->spring_rate_N_per_mm, 0.0, spec_.load->moving_mass_kg * w};
+                v = fv * cq.force_ratio * cq.inverse_radius_sum * (e_star_MPa_ / (std::numbers::pi * width_mm_));
+              }
+            }
+            set_contact(v / peak_scale_, v.v);
+            e.g(ri) -= t;
+          }
+          if (gradients) e.jacobian(ri, n_ - 1) = -1.0;
+          break;
+        }
+        default: {
+          if (Status st = contact(); !st.ok()) return st;
+          switch (kind) {
+            case ConstraintKind::radius_min: {
+              const double rho = *lim.min_radius_of_curvature_mm;
+              if (roller_like) set_contact(cq.pitch_curvature * (rho + rf) - 1.0, cq.cam_radius.v);
+              else set_contact((rho - cq.cam_radius) / rho, cq.cam_radius.v);
+              break;
+            }
+            case ConstraintKind::concave_radius: {
+              const double rw = *lim.grinding_wheel_radius_mm;
+              set_contact(-cq.pitch_curvature * (rw - rf) - 1.0, cq.cam_radius.v);
+              break;
+            }
+            case ConstraintKind::pressure_angle: {
+              const double a = *lim.max_pressure_angle_deg / kDegPerRad;
+              set_contact((cq.pressure_angle - a) / a, cq.pressure_angle.v * kDegPerRad);
+              break;
+            }
+            case ConstraintKind::roller_speed: {
+              const double lim_rad = *lim.max_roller_speed_rpm * 2.0 * std::numbers::pi / 60.0 / omega_;  // [rad/rad]
+              set_contact((cq.roller_speed * cq.roller_speed - lim_rad * lim_rad) / (lim_rad * lim_rad),
+                          std::abs(cq.roller_speed.v) * omega_ * 60.0 / (2.0 * std::numbers::pi));
+              break;
+            }
+            case ConstraintKind::sliding_speed: {
+              const double lim_mm = *lim.max_sliding_speed_m_per_s * 1e3 / omega_;  // [mm/rad]
+              set_contact((cq.sliding * cq.sliding - lim_mm * lim_mm) / (lim_mm * lim_mm),
+                          std::abs(cq.sliding.v) * omega_ * 1e-3);
+              break;
+            }
+            case ConstraintKind::hertz_stress: {
+              const double w = omega_ * omega_ * 1e-3;
+              Grad3 fv(spec_.load->spring_preload_N + spec_.load->spring_rate_N_per_mm * mo[0] +
+                       spec_.load->moving_mass_kg * mo[2] * r2 * w);
+              fv.d = {spec_.load->spring_rate_N_per_mm, 0.0, spec_.load->moving_mass_kg * w};
+              // p0^2 = F E* / (pi L R*) (Johnson, Contact Mechanics, eq. 4.45) [MPa^2]
+              const Grad3 p2 = fv * cq.force_ratio * cq.inverse_radius_sum * (e_star_MPa_ / (std::numbers::pi * width_mm_));
+              const double s2 = *lim.max_hertz_stress_MPa * *lim.max_hertz_stress_MPa;
+              set_contact((p2 - s2) / s2, std::sqrt(std::max(0.0, p2.v)));
+              break;
+            }
+            case ConstraintKind::face_width: {
+              const double hw = contact_->face_half_width_mm();
+              set_contact((cq.face_offset * cq.face_offset - hw * hw) / (hw * hw), std::abs(cq.face_offset.v));
+              break;
+            }
+            default: CAMOPT_ASSERT(false);
+          }
+        }
+      }
+    }
+  }
+
+  // scalar constraints: peak lift and duration at the check height
+  Eigen::Matrix<double, 4, Eigen::Dynamic> rows4(4, nv);
+  std::array<double, 4> cst{};
+  auto lift_at = [&](double deg, int k) {
+    lift_.rows(deg, cst, rows4);
+    return cst[static_cast<std::size_t>(k)] + rows4.row(k).dot(us * coef_scale_);
+  };
+  for (; r < m; ++r) {
+    const auto ri = static_cast<Eigen::Index>(r);
+    const ConstraintKind kind = rows_[r].kind;
+    if (kind == ConstraintKind::peak_lift_min) {
+      std::size_t best = 0;
+      for (std::size_t i = 1; i < np; ++i)
+        if (motion[i][0] > motion[best][0]) best = i;
+      double th = points_[best].deg;
+      for (int it = 0; it < 20; ++it) {  // newton on L' = 0
+        const double d1 = lift_at(th, 1), d2 = lift_at(th, 2);
+        if (!(d2 < 0)) break;
+        const double step = std::clamp(-d1 / d2, -spec_.grid_step_deg, spec_.grid_step_deg);
+        th += step;
+        if (std::abs(step) < 1e-12) break;
+      }
+      const double peak_lift = lift_at(th, 0);
+      const double lm = *lim.min_max_lift_mm;
+      e.g(ri) = (lm - peak_lift) / lm;
+      e.physical(ri) = peak_lift;
+      rows_[r].cam_deg = th;
+      if (gradients) e.jacobian.row(ri).head(nv) = -rows4.row(0) * coef_scale_ / lm;
+    } else {
+      const double h = *lim.duration_check_height_mm;
+      // first and last crossing of the check height, refined by newton on the lift model
+      int first = -1, last = -1;
+      for (std::size_t i = 0; i + 1 < np; ++i) {
+        if (first < 0 && motion[i][0] < h && motion[i + 1][0] >= h) first = static_cast<int>(i);
+        if (motion[i][0] >= h && motion[i + 1][0] < h) last = static_cast<int>(i);
+      }
+      double duration = 0.0;
+      Eigen::RowVectorXd grad = Eigen::RowVectorXd::Zero(nv);
+      if (first >= 0 && last >= 0) {
+        auto crossing = [&](int i, double sign) {
+          double th = points_[static_cast<std::size_t>(i)].deg;
+          const double lo = th, hi = points_[static_cast<std::size_t>(i) + 1].deg;
+          for (int it = 0; it < 30; ++it) {
+            const double v = lift_at(th, 0) - h, d1 = lift_at(th, 1);
+            const double next = std::clamp(th - v / d1, lo, hi);
+            if (std::abs(next - th) < 1e-13) break;
+            th = next;
+          }
+          const double d1 = lift_at(th, 1);  // also leaves rows4 at the crossing
+          // d(theta*)/du = -dL/du / L'(theta*)
+          grad += sign * (-rows4.row(0) * coef_scale_ / d1);
+          return th;
+        };
+        const double open = crossing(first, -1.0);
+        const double close = crossing(last, 1.0);
+        duration = close - open;
+      }
+      const bool is_min = kind == ConstraintKind::duration_min;
+      const double lim_d = is_min ? *lim.min_duration_deg : *lim.max_duration_deg;
+      e.g(ri) = is_min ? (lim_d - duration) / lim_d : (duration - lim_d) / lim_d;
+      e.physical(ri) = duration;
+      if (gradients) e.jacobian.row(ri).head(nv) = (is_min ? -grad : grad) / lim_d;
+    }
+  }
+  return Status::success();
+}
+
+}  // namespace camopt::opt
