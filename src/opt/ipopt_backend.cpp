@@ -5,6 +5,7 @@
 #include <IpTNLP.hpp>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 
 #include "backends.hpp"
 
@@ -151,7 +152,7 @@ const char* describe(Ipopt::SolverReturn s) {
 void run_ipopt(CamProblem& problem, const SolverOptions& options, const std::vector<double>& start, SolveResult& result) {
   Ipopt::SmartPtr<CamTnlp> nlp = new CamTnlp(problem, start, options.time_limit_s);
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
-  app->Options()->SetIntegerValue("print_level", 0);
+  app->Options()->SetIntegerValue("print_level", std::getenv("CAMOPT_IPOPT_PRINT") ? 5 : 0);
   app->Options()->SetStringValue("sb", "yes");
   app->Options()->SetStringValue("hessian_approximation", "limited-memory");
   app->Options()->SetNumericValue("tol", options.tolerance);
@@ -159,6 +160,7 @@ void run_ipopt(CamProblem& problem, const SolverOptions& options, const std::vec
   app->Options()->SetNumericValue("acceptable_tol", 1e3 * options.tolerance);
   app->Options()->SetIntegerValue("max_iter", options.max_iterations);
   app->Options()->SetStringValue("mu_strategy", "adaptive");
+  app->Options()->SetIntegerValue("limited_memory_max_history", 50);
   app->Options()->SetNumericValue("bound_push", 1e-6);
   app->Options()->SetNumericValue("bound_frac", 1e-6);
   if (app->Initialize() != Ipopt::Solve_Succeeded) {

@@ -183,8 +183,6 @@ CamProblem::CamProblem(const DesignSpec& design, const OptimizationSpec& spec, c
     eq_a_.row(r) /= s;
     eq_b_(r) /= s;
   }
-  lift_scale_ = std::max(spec_.initial_max_lift_mm, 1.0);
-  if (target_lift) lift_scale_ = std::max(*std::max_element(target_.begin(), target_.end()), 1e-3);
 
   build_rows();
 
@@ -219,7 +217,7 @@ void CamProblem::build_rows() {
   const int nv = lift_.variables();
   rows_.clear();
   pattern_.clear();
-  auto add = [&](ConstraintKind kind, int grid, std::initializer_list<int> derivs, bool peak_col) {
+  auto add = [&](ConstraintKind kind, int grid, const std::vector<int>& derivs, bool peak_col) {
     const int r = static_cast<int>(rows_.size());
     rows_.push_back({kind, grid >= 0 ? points_[static_cast<std::size_t>(grid)].deg : 0.0, grid});
     for (int j = 0; j < nv; ++j) {
@@ -250,10 +248,9 @@ void CamProblem::build_rows() {
       add(ConstraintKind::face_width, i, {0, 1, 2}, false);
     if (peak) {
       const Quantity q = spec_.objective.peak;
-      const std::initializer_list<int> d = q == Quantity::acceleration || q == Quantity::deceleration
-                                               ? std::initializer_list<int>{2}
-                                           : q == Quantity::jerk ? std::initializer_list<int>{3}
-                                                                 : std::initializer_list<int>{0, 1, 2};
+      const std::vector<int> d = q == Quantity::acceleration || q == Quantity::deceleration ? std::vector<int>{2}
+                                 : q == Quantity::jerk                                     ? std::vector<int>{3}
+                                                                                           : std::vector<int>{0, 1, 2};
       add(ConstraintKind::peak_bound, i, d, true);
       if (q == Quantity::jerk) add(ConstraintKind::peak_bound, i, d, true);
     }
@@ -352,7 +349,8 @@ Status CamProblem::evaluate(std::span<const double> u, Evaluation& e, bool gradi
     for (int k = 0; k < 4; ++k) motion[i][static_cast<std::size_t>(k)] = gp.constant[static_cast<std::size_t>(k)] + gp.rows.row(k).dot(us);
   }
   if (spec_.objective.target_weight > 0.0) {
-    const double w = spec_.objective.target_weight / (static_cast<double>(np) * lift_scale_ * lift_scale_);
+    // mean squared error in um^2: 1 um is the scale of interest of a lift match
+    const double w = spec_.objective.target_weight / (static_cast<double>(np) * 1e-6);
     for (std::size_t i = 0; i < np; ++i) {
       const double d = motion[i][0] - target_[i];
       f += w * d * d;

@@ -114,7 +114,7 @@ class CamProblem {
   double coef_scale_ = 1.0;                 // [mm/deg^2] per unit of u
   double omega_ = 0.0;                      // cam speed [rad/s]
   double e_star_MPa_ = 0.0, width_mm_ = 0.0;
-  double area0_ = 1.0, lift_scale_ = 1.0, peak_scale_ = 1.0;
+  double area0_ = 1.0, peak_scale_ = 1.0;
   bool need_contact_ = false;
 };
 
