@@ -14,6 +14,7 @@
 #include "camopt/synthesis/envelope.hpp"
 #include "camopt/synthesis/target_lift.hpp"
 #include "cli_common.hpp"
+#include "profile_exports.hpp"
 
 namespace camopt::cli {
 
@@ -151,11 +152,6 @@ void run_synthesize(const SynthesizeOptions& o) {
   }
 
   // ---- outputs ----
-  std::vector<double> excess(res.radius_mm.size());
-  for (std::size_t i = 0; i < excess.size(); ++i) excess[i] = res.radius_mm[i] - res.base_radius_mm;
-  const std::string profile_csv =
-      io::format_csv({"angle_deg", "radius_mm", "excess_radius_mm", "x_mm", "y_mm", "radius_of_curvature_mm"},
-                     {res.angle_deg, res.radius_mm, excess, res.x_mm, res.y_mm, res.radius_of_curvature_mm}, 12);
   const bool flat = res.follower_shape == "line";
   double half_width = 0.0;
   for (const auto& c : spec.connections)
@@ -217,40 +213,12 @@ void run_synthesize(const SynthesizeOptions& o) {
                       {"residual_max_at_cam_deg", target.residual_max_at_deg},
                       {"max_lift_mm", target.max_lift_mm},
                       {"max_lift_at_cam_deg", target.max_lift_at_deg}};
-  report["profile"] = {{"name", res.profile.name},
-                       {"points", res.angle_deg.size()},
-                       {"base_circle_radius_mm", res.base_radius_mm},
-                       {"max_radius_mm", res.max_radius_mm},
-                       {"max_excess_radius_mm", res.max_radius_mm - res.base_radius_mm}};
   report["checks"] = checks;
   report["notes"] = res.notes;
 
-  // exports: DXF polyline of the profile, grinding table for a master roller
-  double master = o.master_radius_mm ? *o.master_radius_mm : 0.0;
-  if (!o.master_radius_mm)
-    for (const auto& c : spec.connections)
-      if (c.name == res.connection) {
-        const auto& fs = c.surface_a.node == res.follower_node ? c.surface_a : c.surface_b;
-        if (fs.shape == SurfaceShape::circle) master = fs.radius_mm;  // the follower's own roller
-      }
-  std::vector<double> grind_deg, grind_lift;
-  st = synthesis::grinding_table(res.profile, master, o.grinding_step_deg, grind_deg, grind_lift);
-  if (!st.ok()) {
-    st.message = "grinding table with a " + std::to_string(master) + " mm master: " + st.message;
-    throw NumericalError(st);
-  }
-  report["exports"] = {{"dxf", "profile.dxf"},
-                       {"grinding_table", "grinding.csv"},
-                       {"grinding_master_radius_mm", master},
-                       {"grinding_master", master > 0 ? "roller" : "flat"}};
-
   io::OutputTransaction out(o.out_dir);
-  out.stage("profile.dxf", io::dxf_closed_polyline(res.x_mm, res.y_mm, "CAM_" + res.profile.name));
-  out.stage("grinding.csv", io::format_csv({"cam_deg", "master_lift_mm"}, {grind_deg, grind_lift}, 12));
-  out.stage("profile.csv", profile_csv);
+  stage_profile_exports(out, o.out_dir, o.design, spec, res, o.master_radius_mm, o.grinding_step_deg, report);
   out.stage("report.json", report.dump(2) + "\n");
-  const std::string profile_path = std::filesystem::absolute(std::filesystem::path(o.out_dir) / "profile.csv").string();
-  out.stage("design.toml", io::design_with_profile_file(o.design, res.profile.name, profile_path));
   out.commit();
 
   if (!checks["min_radius_ok"].get<bool>())

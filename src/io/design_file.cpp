@@ -557,23 +557,13 @@ class Parser {
 
 DesignSpec parse_design(std::string_view text, const std::string& file_name, const std::string& directory) {
   const Context context{file_name, directory};
-  toml::table document;
-  try {
-    document = toml::parse(text, std::string_view(file_name));
-  } catch (const toml::parse_error& e) {
-    throw InputError(context.ref(e.source(), ""), "TOML syntax error: " + std::string(e.description()));
-  }
-  return Parser(context).run(document);
+  return Parser(context).run(parse_document(text, context));
 }
 
 DesignSpec load_design(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(SourceRef{path, 0, 0, ""}, "cannot open design file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  std::string directory = fs::path(path).parent_path().string();
-  if (directory.empty()) directory = ".";
-  return parse_design(text.str(), path, directory);
+  std::string directory;
+  const std::string text = read_text_file(path, "design file", directory);
+  return parse_design(text, path, directory);
 }
 
 }  // namespace camopt::io

@@ -9,6 +9,7 @@
 #include <charconv>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <initializer_list>
 #include <optional>
 #include <sstream>
@@ -385,5 +386,25 @@ class Table {
   std::string path_;
 };
 
+
+// the document of a TOML text; a syntax error is an InputError at its line and column
+inline toml::table parse_document(std::string_view text, const Context& context) {
+  try {
+    return toml::parse(text, std::string_view(context.file));
+  } catch (const toml::parse_error& e) {
+    throw InputError(context.ref(e.source(), ""), "TOML syntax error: " + std::string(e.description()));
+  }
+}
+
+// the whole file and its directory ("." for a bare name); InputError "cannot open <what>"
+inline std::string read_text_file(const std::string& path, const char* what, std::string& directory) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(SourceRef{path, 0, 0, ""}, std::string("cannot open ") + what);
+  std::ostringstream text;
+  text << in.rdbuf();
+  directory = fs::path(path).parent_path().string();
+  if (directory.empty()) directory = ".";
+  return text.str();
+}
 
 }  // namespace camopt::io::toml_detail
