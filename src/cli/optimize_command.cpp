@@ -1,27 +1,244 @@
 // camopt optimize: constrained cam optimisation with Ipopt / NLopt (issue #5).
 #include <CLI/CLI.hpp>
+#include <cmath>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <numbers>
 
+#include "camopt/io/atomic_file.hpp"
+#include "camopt/io/constraint_file.hpp"
+#include "camopt/io/csv.hpp"
+#include "camopt/io/design_file.hpp"
+#include "camopt/kinematics/sweep.hpp"
+#include "camopt/opt/solve.hpp"
+#include "camopt/synthesis/envelope.hpp"
 #include "cli_common.hpp"
+#include "profile_exports.hpp"
+#include "target_input.hpp"
 
 namespace camopt::cli {
 
 namespace {
+
+constexpr double kPi = std::numbers::pi;
+
 struct OptimizeOptions {
   std::string design, constraints, solver = "ipopt", out_dir;
   bool verify = false;
+  int points = 720;
+  int max_iterations = 3000;
+  int starts = 6;
 };
+
+// contiguous runs of active rows of one kind as "a..b" cam-degree ranges
+std::vector<std::string> active_ranges(const opt::CamProblem& p, const opt::Evaluation& e, opt::ConstraintKind kind) {
+  std::vector<std::string> out;
+  double first = 0, last = 0;
+  bool open = false;
+  auto close = [&] {
+    if (!open) return;
+    char buf[64];
+    std::snprintf(buf, sizeof buf, first == last ? "%.1f" : "%.1f..%.1f", first, last);
+    out.emplace_back(buf);
+    open = false;
+  };
+  for (std::size_t r = 0; r < p.rows().size(); ++r) {
+    if (p.rows()[r].kind != kind) continue;
+    const bool active = e.g(static_cast<Eigen::Index>(r)) > -1e-5;
+    if (active && !open) {
+      first = p.rows()[r].cam_deg;
+      open = true;
+    }
+    if (active) last = p.rows()[r].cam_deg;
+    if (!active) close();
+  }
+  close();
+  return out;
+}
+
+nlohmann::json constraint_report(const opt::CamProblem& p, const opt::Evaluation& e) {
+  nlohmann::json out = nlohmann::json::object();
+  for (std::size_t r = 0; r < p.rows().size(); ++r) {
+    const opt::ConstraintKind kind = p.rows()[r].kind;
+    if (kind == opt::ConstraintKind::peak_bound) continue;
+    const std::string name = opt::to_string(kind);
+    const double g = e.g(static_cast<Eigen::Index>(r));
+    if (out.contains(name) && out[name]["normalised"].get<double>() >= g) continue;
+    const double value = e.physical(static_cast<Eigen::Index>(r));
+    const double limit = p.limit_of(kind);
+    const bool upper = p.is_upper_limit(kind);
+    nlohmann::json c;
+    c["unit"] = p.unit_of(kind);
+    c["limit"] = limit;
+    c["limit_is"] = upper ? "max" : "min";
+    c["worst"] = value;
+    c["worst_at_cam_deg"] = p.rows()[r].cam_deg;
+    c["normalised"] = g;  // (value - limit) / limit, <= 0 feasible
+    c["satisfied"] = g <= 1e-6;
+    out[name] = c;
+  }
+  for (auto& [name, c] : out.items()) {
+    for (std::size_t r = 0; r < p.rows().size(); ++r)
+      if (name == opt::to_string(p.rows()[r].kind)) {
+        c["active_at_cam_deg"] = active_ranges(p, e, p.rows()[r].kind);
+        break;
+      }
+    // margin in the quantity's unit: how far the worst value is inside its limit
+    c["margin"] = -c["normalised"].get<double>() * std::abs(c["limit"].get<double>());
+  }
+  return out;
+}
+
+void run_optimize(const OptimizeOptions& o) {
+  const DesignSpec spec = io::load_design(o.design);
+  const opt::OptimizationSpec set = io::load_constraints(o.constraints);
+  opt::SolverOptions so;
+  so.solver = opt::parse_solver(o.solver);
+  so.max_iterations = o.max_iterations;
+  so.starts = o.starts;
+
+  std::unique_ptr<ValveTarget> target;
+  if (!set.objective.target_file.empty()) {
+    const io::CsvTable table = io::read_csv(set.objective.target_file);
+    target = std::make_unique<ValveTarget>(read_valve_target(table, set.objective.target_file, spec, {}));
+  }
+  opt::CamProblem problem(spec, set, target ? &target->fit.lift : nullptr);
+  info("optimize: " + std::to_string(problem.variables()) + " variables, " + std::to_string(problem.rows().size()) +
+       " inequality constraints on a " + std::to_string(set.grid_step_deg) + " deg grid, solver " + o.solver);
+  const opt::SolveResult result = opt::optimize(problem, so);
+
+  nlohmann::json report;
+  report["design"] = spec.name;
+  report["design_file"] = o.design;
+  report["constraints_file"] = o.constraints;
+  report["constraint_set"] = set.name;
+  report["solver"] = o.solver;
+  report["status"] = result.status.ok() ? "converged" : to_string(result.status.code);
+  report["message"] = result.status.ok() ? result.solver_message : result.status.str();
+  report["solver_message"] = result.solver_message;
+  report["iterations"] = result.iterations;
+  report["evaluations"] = result.evaluations;
+  report["time_s"] = result.seconds;
+  report["variables"] = problem.variables();
+  report["inequality_constraints"] = problem.rows().size();
+  report["max_violation_normalised"] = result.max_violation;
+  report["objective"] = {{"value", result.final.objective},
+                         {"target_weight", set.objective.target_weight},
+                         {"area_weight", set.objective.area_weight},
+                         {"peak_weight", set.objective.peak_weight},
+                         {"peak", opt::to_string(set.objective.peak)}};
+  if (result.final.g.size() > 0) report["constraints"] = constraint_report(problem, result.final);
+
+  io::OutputTransaction out(o.out_dir);
+  if (result.status.code == StatusCode::infeasible || result.u.empty()) {
+    // which constraints conflict: every kind still violated at the least-infeasible design
+    nlohmann::json conflicts = nlohmann::json::array();
+    if (report.contains("constraints"))
+      for (auto& [name, c] : report["constraints"].items())
+        if (!c["satisfied"].get<bool>()) conflicts.push_back(name);
+    report["conflicting_constraints"] = conflicts;
+    out.stage("report.json", report.dump(2) + "\n");
+    out.commit();
+    throw NumericalError(result.status);
+  }
+
+  // the optimised lift over the cycle
+  const auto coef = problem.coefficients(result.u);
+  const auto& lift = problem.lift_model();
+  std::vector<double> cam_deg, l0, l1, l2, l3, knots, values;
+  for (int i = 0; i < 1440; ++i) {
+    const double deg = 0.25 * i;
+    const auto m = lift.evaluate(coef, deg);
+    cam_deg.push_back(deg);
+    l0.push_back(m.lift);
+    l1.push_back(m.vel);
+    l2.push_back(m.acc);
+    l3.push_back(m.jerk);
+  }
+  for (int i = 0; i < 3600; ++i) {
+    knots.push_back(2 * kPi * i / 3600);
+    values.push_back(lift.evaluate(coef, 0.1 * i).lift);
+  }
+  const PeriodicSpline lift_spline = PeriodicSpline::interpolate(knots, values, 2 * kPi);
+  out.stage("lift.csv", io::format_csv({"cam_deg", "lift_mm", "vel_mm_per_deg", "acc_mm_per_deg2", "jerk_mm_per_deg3"},
+                                       {cam_deg, l0, l1, l2, l3}, 12));
+
+  // the cam for it, as synthesize delivers it
+  synthesis::SynthesisOptions so_syn;
+  so_syn.points = o.points;
+  so_syn.samples = std::max(2880, 4 * o.points);
+  so_syn.controls = problem.contact().controls();
+  so_syn.wheel_radius_mm = set.limits.grinding_wheel_radius_mm.value_or(0.0);
+  synthesis::SynthesisResult res;
+  Status st = synthesis::synthesize(spec, lift_spline, so_syn, res);
+  if (!st.ok()) {
+    st.message = "synthesizing the optimised lift: " + st.message;
+    throw NumericalError(st);
+  }
+  stage_profile_exports(out, o.out_dir, o.design, spec, res, std::nullopt, 0.25, report);
+
+  if (o.verify) {
+    // forward kinematics of the new design: lift against the optimised lift, and the
+    // quantities the constraints bound, from the kinematic solver's own contact outputs
+    const DesignSpec made = synthesis::with_profile(spec, res.profile);
+    synthesis::RoundTrip rt;
+    st = synthesis::round_trip(made, lift_spline, so_syn.controls, res.connection, rt);
+    if (!st.ok()) throw NumericalError(st);
+    const kin::Mechanism mech = kin::compile(made);
+    kin::SweepSpec sw;
+    sw.start = 0;
+    sw.stop = 360;
+    sw.step = 0.5;
+    sw.control_positions = {so_syn.controls};
+    sw.request = {3, true};
+    const kin::SweepResult sr = kin::sweep(mech, sw);
+    if (!sr.positions[0].status.ok()) throw NumericalError(sr.positions[0].status);
+    const kin::PositionSummary s = kin::summarize(mech, sr, 0);
+    const double rpm_scale = problem.cam_speed_rad_per_s() * 60.0 / (2 * kPi);  // [rev/min per rad/rad]
+    report["verify"]["kinematics"] = {
+        {"lift_error_max_mm", rt.max_error_mm},
+        {"lift_error_max_at_cam_deg", rt.max_error_at_deg},
+        {"max_lift_mm", s.max_lift},
+        {"max_acceleration_mm_per_deg2", s.max_acceleration},
+        {"min_acceleration_mm_per_deg2", s.min_acceleration},
+        {"max_pressure_angle_deg", s.max_pressure_angle_deg},
+        {"min_cam_radius_of_curvature_mm", s.min_cam_radius_mm},
+        {"max_roller_speed_rpm", s.max_roller_speed * 180.0 / kPi * rpm_scale},
+        {"duration_at_1mm_deg", s.duration_at_1mm}};
+    report["verify"]["dynamics"] = "not run: rigid and flexible dynamics are not built yet (issues #6, #7)";
+    info("optimize --verify: kinematic lift matches the optimised lift to " + std::to_string(rt.max_error_mm) +
+         " mm; max pressure angle " + std::to_string(s.max_pressure_angle_deg) + " deg");
+  }
+  out.stage("report.json", report.dump(2) + "\n");
+  out.commit();
+  info("optimize: " + std::string(result.status.ok() ? "converged" : result.status.str()) + " in " +
+       std::to_string(result.iterations) + " iterations, " + std::to_string(result.seconds) + " s; objective " +
+       std::to_string(result.final.objective) + " -> " + o.out_dir + "/lift.csv, profile.csv, report.json, design.toml, "
+       "profile.dxf, grinding.csv");
+  if (!result.status.ok()) throw NumericalError(result.status);
+}
+
 }  // namespace
 
 void setup_optimize(CLI::App& app) {
   auto opts = std::make_shared<OptimizeOptions>();
-  auto* cmd = app.add_subcommand("optimize", "optimise a cam profile under acceleration, curvature, pressure-angle "
-                                             "and stress limits (not built yet)");
+  auto* cmd = app.add_subcommand("optimize", "optimise a cam's lift under acceleration, curvature, pressure-angle, "
+                                             "rolling-speed and Hertz-stress limits, and synthesize its profile");
   cmd->add_option("design", opts->design, "design file (TOML)")->required();
-  cmd->add_option("--constraints", opts->constraints, "constraint set (TOML, see constraints/)")->required();
-  cmd->add_option("--solver", opts->solver, "ipopt, slsqp, mma, cobyla or global");
+  cmd->add_option("--constraints", opts->constraints, "constraint set (TOML, see constraints/ and docs/optimisation.md)")
+      ->required();
+  cmd->add_option("--solver", opts->solver, "ipopt, slsqp, mma, cobyla or global (multi-start slsqp)")
+      ->capture_default_str();
   cmd->add_option("--out", opts->out_dir, "output directory")->required();
-  cmd->add_flag("--verify", opts->verify, "run the optimised design through kinematics and dynamics");
-  cmd->callback([opts] { throw NotBuilt{"optimize is not built yet (issue #5: constrained optimisation)"}; });
+  cmd->add_option("--points", opts->points, "polar points of the synthesized profile")
+      ->check(CLI::Range(36, 100000))
+      ->capture_default_str();
+  cmd->add_option("--max-iterations", opts->max_iterations, "iteration (ipopt) or evaluation (nlopt) limit")
+      ->check(CLI::Range(1, 1000000))
+      ->capture_default_str();
+  cmd->add_option("--starts", opts->starts, "global: number of starts")->check(CLI::Range(1, 1000))->capture_default_str();
+  cmd->add_flag("--verify", opts->verify, "run the optimised design through the kinematic solver and report it");
+  cmd->callback([opts] { run_optimize(*opts); });
 }
 
 }  // namespace camopt::cli

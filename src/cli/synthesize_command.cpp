@@ -15,6 +15,7 @@
 #include "camopt/synthesis/target_lift.hpp"
 #include "cli_common.hpp"
 #include "profile_exports.hpp"
+#include "target_input.hpp"
 
 namespace camopt::cli {
 
@@ -100,18 +101,13 @@ void run_synthesize(const SynthesizeOptions& o) {
   PeriodicSpline node_target;
   std::size_t target_points = table.rows();
   if (valve_target) {
-    const io::AngleTable at = io::read_angle_table(table, {"lift_mm", "valve_lift_mm", "tappet_lift_mm"});
-    basis = at.basis;
-    std::vector<double> cam_deg = at.angle_deg;
-    if (at.basis == io::AngleBasis::crank)
-      for (auto& a : cam_deg) a /= spec.driver.crank_per_cam;
     synthesis::TargetLiftOptions fit;
     fit.smooth = o.smooth;
     fit.smoothing_knot_spacing_deg = o.knot_spacing_deg;
-    fit.source = o.target_csv;
     fit.closure_tolerance_mm = o.closure_tolerance_mm;
-    target = synthesis::fit_target_lift(cam_deg, at.value, at.lines, fit);
-    if (target.closed_on_base_circle) info("synthesize: " + target.closure_message);
+    ValveTarget vt = read_valve_target(table, o.target_csv, spec, fit);
+    basis = vt.basis;
+    target = std::move(vt.fit);
   } else {
     node_target = fit_node_target(table, spec, o.target_node, basis);
   }

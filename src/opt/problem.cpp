@@ -45,6 +45,7 @@ const char* to_string(ConstraintKind kind) {
     case ConstraintKind::acc_min: return "acc_min";
     case ConstraintKind::jerk_max: return "jerk_max";
     case ConstraintKind::lift_max: return "lift_max";
+    case ConstraintKind::lift_nonnegative: return "lift_nonnegative";
     case ConstraintKind::peak_lift_min: return "peak_lift_min";
     case ConstraintKind::duration_min: return "duration_min";
     case ConstraintKind::duration_max: return "duration_max";
@@ -237,6 +238,7 @@ void CamProblem::build_rows() {
       add(ConstraintKind::jerk_max, i, {3}, false);
     }
     if (lim.max_lift_mm) add(ConstraintKind::lift_max, i, {0}, false);
+    if (points_[static_cast<std::size_t>(i)].variable) add(ConstraintKind::lift_nonnegative, i, {0}, false);
     if (lim.min_radius_of_curvature_mm) add(ConstraintKind::radius_min, i, {0, 1, 2}, false);
     if (lim.grinding_wheel_radius_mm && roller_like && *lim.grinding_wheel_radius_mm > contact_->follower_radius_mm())
       add(ConstraintKind::concave_radius, i, {0, 1, 2}, false);
@@ -272,6 +274,7 @@ const char* CamProblem::unit_of(ConstraintKind kind) const {
     case ConstraintKind::acc_min: return "mm/deg^2";
     case ConstraintKind::jerk_max: return "mm/deg^3";
     case ConstraintKind::lift_max:
+    case ConstraintKind::lift_nonnegative:
     case ConstraintKind::peak_lift_min: return "mm";
     case ConstraintKind::duration_min:
     case ConstraintKind::duration_max: return "cam deg";
@@ -294,6 +297,7 @@ double CamProblem::limit_of(ConstraintKind kind) const {
     case ConstraintKind::acc_min: return *l.acc_min_mm_per_deg2;
     case ConstraintKind::jerk_max: return *l.jerk_max_mm_per_deg3;
     case ConstraintKind::lift_max: return *l.max_lift_mm;
+    case ConstraintKind::lift_nonnegative: return 0.0;
     case ConstraintKind::peak_lift_min: return *l.min_max_lift_mm;
     case ConstraintKind::duration_min: return *l.min_duration_deg;
     case ConstraintKind::duration_max: return *l.max_duration_deg;
@@ -312,6 +316,7 @@ double CamProblem::limit_of(ConstraintKind kind) const {
 bool CamProblem::is_upper_limit(ConstraintKind kind) const {
   switch (kind) {
     case ConstraintKind::acc_min:
+    case ConstraintKind::lift_nonnegative:
     case ConstraintKind::peak_lift_min:
     case ConstraintKind::duration_min:
     case ConstraintKind::radius_min: return false;
@@ -427,6 +432,11 @@ Status CamProblem::evaluate(std::span<const double> u, Evaluation& e, bool gradi
         case ConstraintKind::lift_max: {
           const double l = *lim.max_lift_mm;
           set_linear((mo[0] - l) / l, 0, 1.0, l, mo[0]);
+          break;
+        }
+        case ConstraintKind::lift_nonnegative: {
+          const double l = std::max(spec_.initial_max_lift_mm, 1.0);
+          set_linear(-mo[0] / l, 0, -1.0, l, mo[0]);
           break;
         }
         case ConstraintKind::peak_bound: {

@@ -65,6 +65,7 @@ double halton(int index, int base) {
 
 void finish(CamProblem& problem, const SolverOptions& options, SolveResult& r) {
   Status st = problem.evaluate(r.u, r.final, true);
+  r.evaluated = st.ok();
   if (!st.ok()) {
     r.status = st;
     return;
@@ -122,8 +123,10 @@ SolveResult optimize(CamProblem& problem, const SolverOptions& options) {
       evaluations += r.evaluations;
       if (r.u.empty()) continue;
       finish(problem, options, r);
-      const bool feasible = r.status.ok() || r.status.code == StatusCode::no_convergence;
-      const bool best_feasible = have && (best.status.ok() || best.status.code == StatusCode::no_convergence);
+      const double tol = std::max(options.constraint_tolerance, 1e-6);
+      if (!r.evaluated) continue;
+      const bool feasible = r.max_violation <= tol;
+      const bool best_feasible = have && best.max_violation <= tol;
       if (!have || (feasible && !best_feasible) ||
           (feasible == best_feasible && (feasible ? r.final.objective < best.final.objective
                                                   : r.max_violation < best.max_violation))) {

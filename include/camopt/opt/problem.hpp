@@ -27,6 +27,7 @@ enum class ConstraintKind {
   acc_min,
   jerk_max,
   lift_max,
+  lift_nonnegative,  // the valve stays off its seat between the ramps
   peak_lift_min,
   duration_min,
   duration_max,

@@ -40,6 +40,7 @@ struct SolveResult {
   int evaluations = 0;             // objective evaluations
   double seconds = 0.0;
   double max_violation = 0.0;      // largest normalised constraint violation (0: feasible)
+  bool evaluated = false;          // `final` holds a successful evaluation at u
   std::string solver_message;      // the backend's own status
 };
 

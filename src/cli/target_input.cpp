@@ -1,0 +1,23 @@
+#include "target_input.hpp"
+
+#include "cli_common.hpp"
+
+namespace camopt::cli {
+
+ValveTarget read_valve_target(const io::CsvTable& table, const std::string& path, const DesignSpec& spec,
+                              const synthesis::TargetLiftOptions& options) {
+  ValveTarget t;
+  t.rows = table.rows();
+  const io::AngleTable at = io::read_angle_table(table, {"lift_mm", "valve_lift_mm", "tappet_lift_mm"});
+  t.basis = at.basis;
+  std::vector<double> cam_deg = at.angle_deg;
+  if (at.basis == io::AngleBasis::crank)
+    for (auto& a : cam_deg) a /= spec.driver.crank_per_cam;
+  synthesis::TargetLiftOptions fit = options;
+  fit.source = path;
+  t.fit = synthesis::fit_target_lift(cam_deg, at.value, at.lines, fit);
+  if (t.fit.closed_on_base_circle) info("target " + path + ": " + t.fit.closure_message);
+  return t;
+}
+
+}  // namespace camopt::cli
