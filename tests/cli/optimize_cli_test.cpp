@@ -1,0 +1,103 @@
+// camopt optimize end to end: the bundled constraint set, its outputs checked against the
+// kinematic solver, and bad input (contradictions, unknown keys and solvers, infeasible sets).
+#include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
+
+#include <sstream>
+
+#include "cli_support.hpp"
+
+using namespace camopt::test;
+
+namespace {
+
+const std::string kDesign = (source_dir() / "designs/roller_finger_follower.toml").string();
+const std::string kSet = (source_dir() / "constraints/passenger_car_intake.toml").string();
+
+std::string with_line(const std::string& text, const std::string& key_prefix, const std::string& replacement) {
+  std::string out, line;
+  std::istringstream in(text);
+  while (std::getline(in, line)) out += (line.rfind(key_prefix, 0) == 0 ? replacement : line) + "\n";
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("optimize: the passenger-car intake set converges, every constraint holds and kinematics agrees", "[cli][opt]") {
+  TempDir tmp;
+  // 2880 polar points: the delivered table then reproduces the optimised lift to ~4e-8 mm
+  // (720 points: 2e-6 mm), so the kinematic check can be held to 1e-6 of each limit
+  const auto r = run_camopt({"optimize", kDesign, "--constraints", kSet, "--solver", "slsqp", "--out",
+                             (tmp / "out").string(), "--verify", "--points", "2880"});
+  INFO(r.all());
+  REQUIRE(r.exit_code == 0);
+  for (const char* f : {"lift.csv", "profile.csv", "report.json", "design.toml", "profile.dxf", "grinding.csv"})
+    CHECK(fs::exists(tmp / "out" / f));
+  const auto report = nlohmann::json::parse(read_file(tmp / "out/report.json"));
+  CHECK(report["status"] == "converged");
+  for (auto& [name, c] : report["constraints"].items()) {
+    INFO(name);
+    CHECK(c["normalised"].get<double>() <= 1e-6);
+  }
+  // the kinematic solver on the delivered design: same lift, same pressure angle and radius
+  const auto& k = report["verify"]["kinematics"];
+  CHECK(k["lift_error_max_mm"].get<double>() < 1e-7);
+  CHECK(k["max_pressure_angle_deg"].get<double>() ==
+        Approx(report["constraints"]["pressure_angle_max"]["worst"].get<double>()).margin(0.05));
+  CHECK(k["max_acceleration_mm_per_deg2"].get<double>() <= 0.020 * (1 + 1e-6));
+  CHECK(k["min_acceleration_mm_per_deg2"].get<double>() >= -0.011 * (1 + 1e-6));
+}
+
+TEST_CASE("optimize: bad input names the field and exits 3 without output", "[cli][opt]") {
+  const std::string base = read_file(kSet);
+  struct Case {
+    std::string text, expect;
+  };
+  const std::vector<Case> cases = {
+      {with_line(base, "max_lift_mm", "max_lift_mm = 9.0\nmin_max_lift_mm = 9.5"), "min_max_lift_mm = 9.5 mm is above"},
+      {with_line(base, "acc_min_mm_per_deg2", "acc_min_mm_per_deg2 = 0.01"), "acc_min_mm_per_deg2"},
+      {with_line(base, "max_pressure_angle_deg", "max_pressure_angle_deg = 95"), "max_pressure_angle_deg"},
+      {with_line(base, "max_seating_velocity_m_per_s", "max_seating_velocity_m_per_s = 0.05"),
+       "seating velocity"},
+      {with_line(base, "coefficients", "coefficent = 24"), "coefficent"},
+      {with_line(base, "area_weight", "area_weight = 0"), "objective"},
+  };
+  for (const auto& c : cases) {
+    TempDir tmp;
+    write_text(tmp / "set.toml", c.text);
+    const auto r = run_camopt({"optimize", kDesign, "--constraints", (tmp / "set.toml").string(), "--out",
+                               (tmp / "out").string()});
+    INFO(c.expect << "\n" << r.all());
+    CHECK(r.exit_code == 3);
+    CHECK(r.err.find(c.expect) != std::string::npos);
+    CHECK_FALSE(fs::exists(tmp / "out"));
+  }
+  TempDir tmp;
+  const auto r = run_camopt({"optimize", kDesign, "--constraints", kSet, "--solver", "simplex", "--out",
+                             (tmp / "out").string()});
+  CHECK(r.exit_code == 3);
+  CHECK(r.err.find("unknown solver 'simplex'") != std::string::npos);
+}
+
+TEST_CASE("optimize: an infeasible set exits 4 and its report names the conflicting constraints", "[cli][opt]") {
+  // 9 mm of lift needs more acceleration than 0.004 mm/deg^2 allows in this event
+  std::string text = read_file(kSet);
+  text = with_line(text, "acc_max_mm_per_deg2", "acc_max_mm_per_deg2 = 0.004");
+  text = with_line(text, "max_lift_mm", "max_lift_mm = 9.0\nmin_max_lift_mm = 8.5");
+  TempDir tmp;
+  write_text(tmp / "set.toml", text);
+  const auto r = run_camopt({"optimize", kDesign, "--constraints", (tmp / "set.toml").string(), "--solver", "slsqp",
+                             "--out", (tmp / "out").string()});
+  INFO(r.all());
+  CHECK(r.exit_code == 4);
+  CHECK(r.err.find("infeasible") != std::string::npos);
+  REQUIRE(fs::exists(tmp / "out/report.json"));
+  CHECK_FALSE(fs::exists(tmp / "out/profile.csv"));
+  const auto report = nlohmann::json::parse(read_file(tmp / "out/report.json"));
+  const auto conflicts = report["conflicting_constraints"];
+  REQUIRE(conflicts.size() >= 1);
+  bool names_lift_or_acc = false;
+  for (const auto& c : conflicts)
+    names_lift_or_acc = names_lift_or_acc || c == "peak_lift_min" || c == "acc_max";
+  CHECK(names_lift_or_acc);
+}
