@@ -160,7 +160,7 @@ void run_ipopt(CamProblem& problem, const SolverOptions& options, const std::vec
   app->Options()->SetNumericValue("acceptable_tol", 1e3 * options.tolerance);
   app->Options()->SetIntegerValue("max_iter", options.max_iterations);
   app->Options()->SetStringValue("mu_strategy", "adaptive");
-  app->Options()->SetIntegerValue("limited_memory_max_history", 50);
+  app->Options()->SetIntegerValue("limited_memory_max_history", 20);
   app->Options()->SetNumericValue("bound_push", 1e-6);
   app->Options()->SetNumericValue("bound_frac", 1e-6);
   if (app->Initialize() != Ipopt::Solve_Succeeded) {

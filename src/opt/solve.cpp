@@ -74,8 +74,9 @@ void finish(CamProblem& problem, const SolverOptions& options, SolveResult& r) {
   if (r.max_violation > std::max(options.constraint_tolerance, 1e-6)) {
     // the worst constraint names the conflict
     Eigen::Index worst = 0;
-    std::string what = "closure";
-    if (r.final.g.size() > 0) {
+    std::string what = "closure (the lift does not return to the closing ramp)";
+    const double eq = r.final.equality.size() > 0 ? r.final.equality.cwiseAbs().maxCoeff() : 0.0;
+    if (r.final.g.size() > 0 && r.final.g.maxCoeff() >= eq) {
       r.final.g.maxCoeff(&worst);
       const ConstraintRow& row = problem.rows()[static_cast<std::size_t>(worst)];
       std::ostringstream os;
