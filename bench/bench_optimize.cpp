@@ -1,0 +1,75 @@
+// optimisation benchmark: iterations, evaluations and time of every solver on the bundled
+// constraint sets, with the error of each result: the objective's distance from the best
+// objective any solver reached (same problem, so the same optimum), and the largest
+// normalised constraint violation (fraction of its limit).
+// usage: bench_optimize [--csv FILE] [--solvers a,b,c]
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "camopt/io/constraint_file.hpp"
+#include "camopt/io/design_file.hpp"
+#include "camopt/opt/solve.hpp"
+
+using namespace camopt;
+
+int main(int argc, char** argv) {
+  std::string csv_path;
+  std::vector<std::string> solvers = {"ipopt", "slsqp", "mma", "cobyla", "global"};
+  for (int i = 1; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--csv") && i + 1 < argc) {
+      csv_path = argv[++i];
+    } else if (!std::strcmp(argv[i], "--solvers") && i + 1 < argc) {
+      solvers.clear();
+      std::stringstream s(argv[++i]);
+      for (std::string item; std::getline(s, item, ',');) solvers.push_back(item);
+    } else {
+      std::fprintf(stderr, "usage: bench_optimize [--csv FILE] [--solvers ipopt,slsqp,mma,cobyla,global]\n");
+      return 2;
+    }
+  }
+  const std::string root = CAMOPT_SOURCE_DIR;
+  struct Case {
+    const char *design, *set;
+  };
+  const Case cases[] = {{"designs/roller_finger_follower.toml", "constraints/passenger_car_intake.toml"},
+                        {"designs/bucket_tappet.toml", "constraints/high_speed_bucket.toml"}};
+  std::ostringstream csv;
+  csv << "constraint_set,solver,variables,constraints,status,iterations,evaluations,time_s,objective,"
+         "objective_error,max_violation\n";
+  std::printf("| constraint set | solver | vars | constraints | status | iterations | evaluations | time s | "
+              "objective | objective error | max violation |\n|---|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const Case& c : cases) {
+    const DesignSpec d = io::load_design(root + "/" + c.design);
+    const opt::OptimizationSpec set = io::load_constraints(root + "/" + c.set);
+    struct Row {
+      std::string solver, status;
+      int it, ev;
+      double t, f, v;
+    };
+    std::vector<Row> rows;
+    double best = 1e300;
+    opt::CamProblem problem(d, set, nullptr);
+    for (const auto& s : solvers) {
+      opt::SolverOptions so;
+      so.solver = opt::parse_solver(s);
+      const auto r = opt::optimize(problem, so);
+      rows.push_back({s, r.status.ok() ? "converged" : to_string(r.status.code), r.iterations, r.evaluations, r.seconds,
+                      r.final.objective, r.max_violation});
+      if (r.max_violation <= 1e-6) best = std::min(best, r.final.objective);
+    }
+    for (const auto& r : rows) {
+      const double err = std::abs(r.f - best) / std::max(1.0, std::abs(best));
+      std::printf("| %s | %s | %d | %zu | %s | %d | %d | %.3f | %.9f | %.1e | %.1e |\n", set.name.c_str(),
+                  r.solver.c_str(), problem.variables(), problem.rows().size(), r.status.c_str(), r.it, r.ev, r.t, r.f,
+                  err, r.v);
+      csv << '"' << set.name << "\"," << r.solver << ',' << problem.variables() << ',' << problem.rows().size() << ','
+          << r.status << ',' << r.it << ',' << r.ev << ',' << r.t << ',' << r.f << ',' << err << ',' << r.v << '\n';
+    }
+  }
+  if (!csv_path.empty()) std::ofstream(csv_path) << csv.str();
+  return 0;
+}
