@@ -5,7 +5,7 @@
 //    (derivatives + contact quantities), single-threaded, best of --repeat runs; and a
 //    derivative self-check (jets against 6th-order central differences of the positions);
 //  - the CVVL 17-position sweep at 0.5 deg, single-threaded and with --threads.
-// usage: bench_kinematics [--repeat N] [--threads N] [--csv FILE]
+// usage: bench_kinematics [--repeat N] [--threads N] [--csv FILE] [--only DESIGN]
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -109,13 +109,14 @@ std::pair<double, double> derivative_self_check(const kin::Mechanism& m, const s
 
 int main(int argc, char** argv) {
   int repeat = 5, threads = 2;
-  std::string csv_path;
+  std::string csv_path, only;  // only: run just this bundled design (no accuracy case)
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--repeat") && i + 1 < argc) repeat = std::atoi(argv[++i]);
     else if (!std::strcmp(argv[i], "--threads") && i + 1 < argc) threads = std::atoi(argv[++i]);
     else if (!std::strcmp(argv[i], "--csv") && i + 1 < argc) csv_path = argv[++i];
+    else if (!std::strcmp(argv[i], "--only") && i + 1 < argc) only = argv[++i];
     else {
-      std::fprintf(stderr, "usage: bench_kinematics [--repeat N] [--threads N] [--csv FILE]\n");
+      std::fprintf(stderr, "usage: bench_kinematics [--repeat N] [--threads N] [--csv FILE] [--only DESIGN]\n");
       return 2;
     }
   }
@@ -123,7 +124,7 @@ int main(int argc, char** argv) {
   rows.push_back("design,positions,points,mode,ns_per_point,total_ms,error_kind,error_rel_peak");
 
   // ---- accuracy against a closed form ----
-  {
+  if (only.empty()) {
     oracles::EccentricOffsetRoller o;
     o.disc_radius = 20;
     o.eccentricity = 4;
@@ -134,15 +135,32 @@ int main(int argc, char** argv) {
     d.name = "eccentric_offset_roller(code)";
     d.output_node = "follower";
     d.driver.node = "cam";
-    NodeSpec cam{.name = "cam", .kind = NodeKind::rotational};
+    NodeSpec cam;
+    cam.name = "cam";
+    cam.kind = NodeKind::rotational;
     const double y0 = o.centre_height(0)[0];
-    NodeSpec fol{.name = "follower", .kind = NodeKind::translational, .origin_mm = {3.0, y0}};
+    NodeSpec fol;
+    fol.name = "follower";
+    fol.kind = NodeKind::translational;
+    fol.origin_mm = {3.0, y0};
     d.nodes = {cam, fol};
-    ProfileSpec disc{.name = "disc", .form = ProfileForm::eccentric, .disc_radius_mm = 20, .eccentricity_mm = 4};
+    ProfileSpec disc;
+    disc.name = "disc";
+    disc.form = ProfileForm::eccentric;
+    disc.disc_radius_mm = 20;
+    disc.eccentricity_mm = 4;
     d.profiles = {disc};
-    ConnectionSpec c{.name = "cam_roller", .kind = ConnectionKind::contact};
-    c.surface_a = {.node = "cam", .shape = SurfaceShape::profile, .profile = "disc"};
-    c.surface_b = {.node = "follower", .shape = SurfaceShape::circle, .origin_mm = {3.0, y0}, .radius_mm = 8, .roller = true};
+    ConnectionSpec c;
+    c.name = "cam_roller";
+    c.kind = ConnectionKind::contact;
+    c.surface_a.node = "cam";
+    c.surface_a.shape = SurfaceShape::profile;
+    c.surface_a.profile = "disc";
+    c.surface_b.node = "follower";
+    c.surface_b.shape = SurfaceShape::circle;
+    c.surface_b.origin_mm = {3.0, y0};
+    c.surface_b.radius_mm = 8;
+    c.surface_b.roller = true;
     d.connections = {c};
     const auto m = kin::compile(d);
     for (double step : {1.0, 0.5, 0.1}) {
@@ -183,6 +201,7 @@ int main(int argc, char** argv) {
   std::printf("\n%-30s %5s %6s %12s %12s %12s %10s %12s %12s\n", "design", "pos", "points", "lift ns/pt",
               "deriv ns/pt", "all ns/pt", "all ms", "fd vel err", "fd acc err");
   for (const auto& cs : cases) {
+    if (!only.empty() && only != cs.file) continue;
     const std::string path = std::string(CAMOPT_SOURCE_DIR) + "/designs/" + cs.file + ".toml";
     if (!std::ifstream(path)) continue;
     const auto m = kin::compile(io::load_design(path));

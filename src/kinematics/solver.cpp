@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 #include <sstream>
+#include <type_traits>
 
 
 namespace camopt::kin {
@@ -25,6 +26,10 @@ template <int N>
 double value_of(const Jet<N>& x) {
   return x.value();
 }
+template <int M>
+double value_of(const detail::Dual<M>& x) {
+  return x.value();
+}
 
 std::string fmt(double v) {
   std::ostringstream os;
@@ -35,6 +40,42 @@ std::string fmt(double v) {
 
 std::string driver_text(const Mechanism& m, double driver) {
   return m.driver_is_angle() ? "driver " + fmt(driver * 180.0 / pi) + " deg" : "driver " + fmt(driver) + " mm";
+}
+
+// the one-equation form of a block (see Workspace::Block::OffsetContact): one contact, no
+// lash opening, a profile curve on a known body, a circle on the one unknown body, which
+// rotates or translates; its two unknowns are that body's displacement and the curve parameter
+Workspace::Block::OffsetContact offset_contact(const Mechanism& m, const SolveStep& step) {
+  Workspace::Block::OffsetContact oc;
+  if (step.method != StepMethod::implicit || step.connections.size() != 1 || step.one_sided || step.output_node < 0 ||
+      step.unknowns.size() != 2)
+    return oc;
+  const Connection& c = m.connections[step.connections[0]];
+  if (c.kind != ConnectionKind::contact) return oc;
+  const int u = step.output_node;
+  const Node& node = m.nodes[u];
+  if (node.kind == NodeKind::floating || (c.node_a != u && c.node_b != u) || c.node_a == c.node_b) return oc;
+  const bool circle_on_a = c.node_a == u;
+  const Surface& circle = circle_on_a ? c.surface_a : c.surface_b;
+  const Surface& curve = circle_on_a ? c.surface_b : c.surface_a;
+  if (circle.kind != SurfaceKind::point || curve.kind != SurfaceKind::curve || curve.variable < 0) return oc;
+  oc.connection = step.connections[0];
+  oc.unknown_node = u;
+  oc.known_node = circle_on_a ? c.node_b : c.node_a;
+  oc.curve_variable = curve.variable;
+  oc.node_variable = node.first_variable;
+  oc.curve_on_a = !circle_on_a;
+  oc.centre_offset = circle.offset - c.lash;
+  oc.centre = circle.origin;
+  if (node.kind == NodeKind::rotational) {
+    const Eigen::Vector2d arm = circle.origin - node.pivot;
+    oc.arm = arm.norm();
+    oc.arm_angle = std::atan2(arm.y(), arm.x());
+    // a circle centred on the pivot does not move its body: leave the block to the general solver
+    if (!(oc.arm > 1e-9 * m.length_scale)) return oc;
+  }
+  oc.active = true;
+  return oc;
 }
 
 Workspace::Block make_block(const Mechanism& m, const SolveStep& step, bool tangency_only) {
@@ -53,12 +94,16 @@ Workspace::Block make_block(const Mechanism& m, const SolveStep& step, bool tang
     if (m.variables[v].node >= 0) b.solving[m.variables[v].node] = 1;
   b.inverse.setZero(n, n);
   b.jacobian.setZero(n, n);
+  b.last_jacobian.setZero(n, n);
+  b.prev_jacobian.setZero(n, n);
   b.x.setZero(n);
   b.f.setZero(n);
   b.dx.setZero(n);
   b.f_new.setZero(n);
   b.u.setZero(n);
   b.row.setZero(n);
+  b.r1.setZero(n);
+  if (!tangency_only) b.offset = offset_contact(m, step);
   return b;
 }
 
@@ -88,14 +133,26 @@ class Kernel {
 
  private:
   double evaluate(Workspace::Block& b, const Workspace::Vector& x, Workspace::Vector& f);
-  void jacobian(Workspace::Block& b, const Workspace::Vector& x);
+  double jacobian(Workspace::Block& b, const Workspace::Vector& x, Workspace::Vector& f);
   template <int M>
-  void jacobian_columns(Workspace::Block& b, const Workspace::Vector& x, int first);
+  void jacobian_columns(Workspace::Block& b, const Workspace::Vector& x, Workspace::Vector& f, int first);
   void finish_block(const Workspace::Block& b) {
     for (int v : b.unknowns)
       if (m_.variables[v].node >= 0) ws_.invalidate_pose(m_.variables[v].node);
   }
   Status solve_values(Workspace::Block& b, double driver);
+  Status solve_offset_contact(Workspace::Block& b, double driver, bool& solved);
+  static void remember_jacobian(Workspace::Block& b, double driver) {
+    const int n = static_cast<int>(b.unknowns.size());
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) {
+        b.prev_jacobian(i, j) = b.last_jacobian(i, j);
+        b.last_jacobian(i, j) = b.jacobian(i, j);
+      }
+    b.prev_driver = b.last_driver;
+    b.last_driver = driver;
+    b.jacobians = std::min(b.jacobians + 1, 2);
+  }
   bool broyden(Workspace::Block& b, double tol);
   Status newton(Workspace::Block& b, double tol, double driver);
   Status differentiate(Workspace::Block& b, double driver);
@@ -119,19 +176,34 @@ class Kernel {
   const Request& rq_;
 };
 
+// out = a * v for the leading n x n block (no expression templates: n is 1 to 3 here)
+void multiply(int n, const Workspace::Matrix& a, const double* v, double* out) {
+  for (int i = 0; i < n; ++i) {
+    double s = 0.0;
+    for (int j = 0; j < n; ++j) s += a(i, j) * v[j];
+    out[i] = s;
+  }
+}
+
 double Kernel::evaluate(Workspace::Block& b, const Workspace::Vector& x, Workspace::Vector& f) {
-  for (int i = 0; i < static_cast<int>(b.unknowns.size()); ++i) ws_.values[b.unknowns[i]] = x[i];
+  const int n = static_cast<int>(b.unknowns.size());
+  for (int i = 0; i < n; ++i) ws_.values[b.unknowns[i]] = x[i];
   block_residual(m_, b, ws_.values.data(), ws_.pivots.data(), ws_.poses0, ws_.point_id, ws_.residual_buffer.data(),
                  f.data());
-  return f.lpNorm<Eigen::Infinity>();
+  double norm = 0.0;
+  for (int i = 0; i < n; ++i) {
+    if (!std::isfinite(f[i])) return INFINITY;
+    norm = std::max(norm, std::abs(f[i]));
+  }
+  return norm;
 }
 
 // exact jacobian by forward mode on Dual<M>: direction 0 carries the known variables'
-// true first-order rates with every unknown rate zero, giving r_1 (kept in b.row);
-// direction 1 + j seeds unknown first + j, giving column first + j of J. One sweep gives
-// r_1 and up to M - 1 columns.
+// true first-order rates with every unknown rate zero, giving r_1 (b.r1); direction 1 + j
+// seeds unknown first + j, giving column first + j of J. One sweep gives the residual
+// itself (into f), r_1 and up to M - 1 columns.
 template <int M>
-void Kernel::jacobian_columns(Workspace::Block& b, const Workspace::Vector& x, int first) {
+void Kernel::jacobian_columns(Workspace::Block& b, const Workspace::Vector& x, Workspace::Vector& f, int first) {
   using D = detail::Dual<M>;
   const int n = static_cast<int>(b.unknowns.size());
   const int cols = std::min(M - 1, n - first);
@@ -140,77 +212,119 @@ void Kernel::jacobian_columns(Workspace::Block& b, const Workspace::Vector& x, i
     vars[v] = D(ws_.values[v]);
     vars[v].d[0] = ws_.vars[v].c[1];
   }
-  for (int i = 0; i < n; ++i) vars[b.unknowns[i]] = D(x[i]);
+  for (int i = 0; i < n; ++i) {
+    vars[b.unknowns[i]] = D(x[i]);
+    ws_.values[b.unknowns[i]] = x[i];
+  }
   for (int j = 0; j < cols; ++j) vars[b.unknowns[first + j]].d[1 + j] = 1.0;
   D out[Workspace::max_block], scratch[4];
   block_residual(m_, b, vars.data(), detail::DirectPoses<D>{m_, vars.data(), ws_.pivots.data()}, scratch, out);
   for (int i = 0; i < n; ++i) {
-    b.row[i] = out[i].d[0];
+    f[i] = out[i].v;
+    b.r1[i] = out[i].d[0];
     for (int j = 0; j < cols; ++j) b.jacobian(i, first + j) = out[i].d[1 + j];
   }
 }
 
-void Kernel::jacobian(Workspace::Block& b, const Workspace::Vector& x) {
+// the exact jacobian and r_1 at x, and the residual there (into f); returns its norm
+double Kernel::jacobian(Workspace::Block& b, const Workspace::Vector& x, Workspace::Vector& f) {
   const int n = static_cast<int>(b.unknowns.size());
   CAMOPT_ASSERT(n <= Workspace::max_block);
   switch (n) {
     case 1:
-      return jacobian_columns<2>(b, x, 0);
+      jacobian_columns<2>(b, x, f, 0);
+      break;
     case 2:
-      return jacobian_columns<3>(b, x, 0);
+      jacobian_columns<3>(b, x, f, 0);
+      break;
     case 3:
-      return jacobian_columns<4>(b, x, 0);
+      jacobian_columns<4>(b, x, f, 0);
+      break;
     default:
       for (int first = 0; first < n; first += Workspace::max_dual - 1)
-        jacobian_columns<Workspace::max_dual>(b, x, first);
+        jacobian_columns<Workspace::max_dual>(b, x, f, first);
   }
+  double norm = 0.0;
+  for (int i = 0; i < n; ++i) {
+    if (!std::isfinite(f[i])) return INFINITY;
+    norm = std::max(norm, std::abs(f[i]));
+  }
+  return norm;
 }
 
 bool Kernel::broyden(Workspace::Block& b, double tol) {
   // "good" broyden update of the inverse jacobian (Broyden 1965; Kelley, Iterative
-  // Methods for Linear and Nonlinear Equations, ch. 7), started from the last exact one
+  // Methods for Linear and Nonlinear Equations, ch. 7), started from the last exact one.
+  // When the last observed contraction says a step will converge, the step's residual is
+  // taken from the jacobian sweep (which the derivatives need at the solution anyway):
+  // the converged point then costs no separate residual evaluation.
+  const int n = static_cast<int>(b.unknowns.size());
   double norm = evaluate(b, b.x, b.f);
   if (norm <= tol) return true;
   for (int it = 0; it < max_broyden_iterations; ++it) {
     ++ws_.stats.broyden_iterations;
-    b.dx.noalias() = -b.inverse * b.f;
-    b.x += b.dx;
-    const double new_norm = evaluate(b, b.x, b.f_new);
+    multiply(n, b.inverse, b.f.data(), b.dx.data());
+    for (int i = 0; i < n; ++i) {
+      b.dx[i] = -b.dx[i];
+      b.x[i] += b.dx[i];
+    }
+    const bool speculate = rq_.derivative_order > 0 && (it == 0 || norm * b.contraction <= tol);
+    const double new_norm = speculate ? jacobian(b, b.x, b.f_new) : evaluate(b, b.x, b.f_new);
+    b.jacobian_at_x = speculate;
     if (!std::isfinite(new_norm) || new_norm > 4.0 * norm) {
-      b.x -= b.dx;
+      for (int i = 0; i < n; ++i) b.x[i] -= b.dx[i];
       evaluate(b, b.x, b.f);
+      b.jacobian_at_x = false;
       return false;
     }
-    b.f = b.f_new - b.f;  // df
-    b.u.noalias() = b.inverse * b.f;
-    const double denom = b.dx.dot(b.u);
-    if (std::abs(denom) > 1e-300) {
-      b.row.noalias() = b.inverse.transpose() * b.dx;  // (dx^T B^-1)^T
-      b.u = (b.dx - b.u) / denom;
-      b.inverse.noalias() += b.u * b.row.transpose();
+    b.contraction = new_norm / norm;
+    if (new_norm <= tol) {
+      for (int i = 0; i < n; ++i) b.f[i] = b.f_new[i];
+      return true;
     }
-    b.f = b.f_new;
+    for (int i = 0; i < n; ++i) b.f[i] = b.f_new[i] - b.f[i];  // df
+    multiply(n, b.inverse, b.f.data(), b.u.data());
+    double denom = 0.0;
+    for (int i = 0; i < n; ++i) denom += b.dx[i] * b.u[i];
+    if (std::abs(denom) > 1e-300) {
+      // inverse += (dx - B^-1 df) (dx^T B^-1) / (dx^T B^-1 df)
+      for (int j = 0; j < n; ++j) {
+        double s = 0.0;
+        for (int i = 0; i < n; ++i) s += b.dx[i] * b.inverse(i, j);
+        b.row[j] = s;
+      }
+      for (int i = 0; i < n; ++i) {
+        const double ui = (b.dx[i] - b.u[i]) / denom;
+        for (int j = 0; j < n; ++j) b.inverse(i, j) += ui * b.row[j];
+      }
+    }
+    for (int i = 0; i < n; ++i) b.f[i] = b.f_new[i];
     norm = new_norm;
-    if (norm <= tol) return true;
   }
+  b.jacobian_at_x = false;
   return false;
 }
 
 Status Kernel::newton(Workspace::Block& b, double tol, double driver) {
   ++ws_.stats.newton_fallbacks;
+  const int n = static_cast<int>(b.unknowns.size());
   double norm = evaluate(b, b.x, b.f);
   for (int it = 0; it < max_newton_iterations; ++it) {
     if (norm <= tol) return Status::success();
     ++ws_.stats.newton_iterations;
-    jacobian(b, b.x);
-    b.lu.factor(static_cast<int>(b.unknowns.size()), b.jacobian);
+    jacobian(b, b.x, b.f);
+    b.lu.factor(n, b.jacobian);
     b.lu.solve(b.f.data(), b.dx.data());
-    b.dx = -b.dx;
-    if (!b.dx.allFinite()) break;
+    bool finite = true;
+    for (int i = 0; i < n; ++i) {
+      b.dx[i] = -b.dx[i];
+      finite &= std::isfinite(b.dx[i]);
+    }
+    if (!finite) break;
     // backtracking on the residual norm
     double step = 1.0, new_norm = 0.0;
     for (int ls = 0; ls < 30; ++ls) {
-      b.u = b.x + step * b.dx;
+      for (int i = 0; i < n; ++i) b.u[i] = b.x[i] + step * b.dx[i];
       new_norm = evaluate(b, b.u, b.f_new);
       if (std::isfinite(new_norm) && new_norm < norm) break;
       step *= 0.5;
@@ -223,7 +337,7 @@ Status Kernel::newton(Workspace::Block& b, double tol, double driver) {
     b.f = b.f_new;
     norm = new_norm;
   }
-  evaluate(b, b.x, b.f);
+  norm = evaluate(b, b.x, b.f);
   if (norm <= tol) return Status::success();
   const Connection& c = m_.connections[b.connections.front()];
   std::string names;
@@ -302,10 +416,15 @@ Status Kernel::solve_values(Workspace::Block& b, double driver) {
   const int n = static_cast<int>(b.unknowns.size());
   for (int i = 0; i < n; ++i) b.x[i] = ws_.values[b.unknowns[i]];
   const double tol = tolerance();
-  if (b.have_lu && !b.have_inverse) {
-    // broyden starts from the last exact jacobian (factored for the derivatives)
-    b.lu.inverse(b.inverse);
-    b.have_inverse = b.inverse.allFinite();
+  b.jacobian_at_x = false;
+  if (b.jacobians >= 2 && b.last_driver != b.prev_driver) {
+    // J(d) ~ J_last + (J_last - J_prev) (d - d_last) / (d_last - d_prev): the chord step
+    // then errs by O(h^2) of the jacobian instead of O(h)
+    const double w = (driver - b.last_driver) / (b.last_driver - b.prev_driver);
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j)
+        b.jacobian(i, j) = b.last_jacobian(i, j) + w * (b.last_jacobian(i, j) - b.prev_jacobian(i, j));
+    if (b.lu.factor(n, b.jacobian) && std::isfinite(b.lu.inverse(b.inverse))) b.have_inverse = true;
   }
   if (b.have_inverse && broyden(b, tol)) return Status::success();
   Status st = newton(b, tol, driver);
@@ -317,12 +436,15 @@ Status Kernel::solve_values(Workspace::Block& b, double driver) {
     st = newton(b, tol, driver);
     if (!st.ok()) return st;
   }
-  // keep the exact jacobian for the next point's broyden start
-  jacobian(b, b.x);
-  b.lu.factor(n, b.jacobian);
-  b.have_lu = true;
-  b.have_inverse = false;
-  evaluate(b, b.x, b.f);
+  if (rq_.derivative_order == 0) {
+    // the exact jacobian's inverse starts the next point's broyden iteration (with
+    // derivatives, differentiate() factors it anyway)
+    jacobian(b, b.x, b.f_new);
+    b.lu.factor(n, b.jacobian);
+    b.lu.inverse(b.inverse);
+    remember_jacobian(b, driver);
+    b.have_inverse = b.inverse.topLeftCorner(n, n).allFinite();
+  }
   return Status::success();
 }
 
@@ -330,12 +452,14 @@ Status Kernel::solve_values(Workspace::Block& b, double driver) {
 // the order-k residual coefficient with the unknowns' order >= k terms still zero
 Status Kernel::differentiate(Workspace::Block& b, double driver) {
   const int n = static_cast<int>(b.unknowns.size());
-  jacobian(b, b.x);  // also r_1 in b.row
+  if (!b.jacobian_at_x) jacobian(b, b.x, b.f_new);  // also r_1 in b.r1
+  b.jacobian_at_x = false;
   b.lu.factor(n, b.jacobian);
-  b.have_lu = true;
-  b.have_inverse = false;
-  // condition estimate in the 1-norm (Eigen's LAPACK-style estimate of |J^-1|)
-  const double cond = b.lu.condition();
+  // condition in the 1-norm, exact for these tiny blocks; the inverse starts the next
+  // point's broyden iteration
+  const double cond = b.lu.inverse(b.inverse);
+  remember_jacobian(b, driver);
+  b.have_inverse = std::isfinite(cond);
   ws_.max_condition = std::max(ws_.max_condition, cond);
   if (!(cond < 1e13)) {
     std::string names;
@@ -345,28 +469,189 @@ Status Kernel::differentiate(Workspace::Block& b, double driver) {
                 "): a pressure angle reached 90 deg or a linkage is at toggle",
             driver_text(m_, driver)};
   }
-  for (int i = 0; i < n; ++i) ws_.vars[b.unknowns[i]] = Jet3(b.x[i]);
-  b.f = -b.row;
-  b.lu.solve(b.f.data(), b.dx.data());
-  for (int i = 0; i < n; ++i) ws_.vars[b.unknowns[i]].c[1] = b.dx[i];
+  double rhs[Workspace::max_block], xk[Workspace::max_block];
+  for (int i = 0; i < n; ++i) {
+    ws_.vars[b.unknowns[i]] = Jet3(b.x[i]);
+    rhs[i] = -b.r1[i];
+  }
+  b.lu.solve(rhs, xk);
+  for (int i = 0; i < n; ++i) ws_.vars[b.unknowns[i]].c[1] = xk[i];
   if (rq_.derivative_order >= 2) {
     // order 2 needs only second-order jets: the known variables truncated to Jet<2>
     for (std::size_t v = 0; v < ws_.values.size(); ++v) ws_.vars2[v] = truncate<2>(ws_.vars[v]);
     Jet<2> out2[Workspace::max_block];
     block_residual(m_, b, ws_.vars2.data(), ws_.pivots.data(), ws_.poses2, ws_.point_id, ws_.residual_buffer2.data(),
                    out2);
-    for (int i = 0; i < n; ++i) b.f[i] = -out2[i].c[2];
-    b.lu.solve(b.f.data(), b.dx.data());
-    for (int i = 0; i < n; ++i) ws_.vars[b.unknowns[i]].c[2] = b.dx[i];
+    for (int i = 0; i < n; ++i) rhs[i] = -out2[i].c[2];
+    b.lu.solve(rhs, xk);
+    for (int i = 0; i < n; ++i) ws_.vars[b.unknowns[i]].c[2] = xk[i];
   }
   if (rq_.derivative_order >= 3) {
     Jet3 out[Workspace::max_block];
     block_residual(m_, b, ws_.vars.data(), ws_.pivots.data(), ws_.poses3, ws_.point_id, ws_.residual_buffer3.data(),
                    out);
-    for (int i = 0; i < n; ++i) b.f[i] = -out[i].c[3];
-    b.lu.solve(b.f.data(), b.dx.data());
-    for (int i = 0; i < n; ++i) ws_.vars[b.unknowns[i]].c[3] = b.dx[i];
+    for (int i = 0; i < n; ++i) rhs[i] = -out[i].c[3];
+    b.lu.solve(rhs, xk);
+    for (int i = 0; i < n; ++i) ws_.vars[b.unknowns[i]].c[3] = xk[i];
   }
+  return Status::success();
+}
+
+// ---- one-equation form of a curve-circle contact (Workspace::Block::OffsetContact) ----
+
+// the circle centre that touches the curve at parameter u: C = p(u) + offset n(u), n the
+// curve's outward unit normal (right of its counter-clockwise tangent); also the unit
+// tangent's value [global]
+template <class T>
+V2<T> offset_centre(const Mechanism& m, const Surface& s, double offset, const detail::Pose<T>& pose, const T& u,
+                    V2<double>& tangent) {
+  using std::sqrt;
+  const CurvePoint<T> c = m.profiles[s.profile].point(u, false);
+  const T len = sqrt(c.dx * c.dx + c.dy * c.dy);
+  const T k = offset / len;
+  const T qx = c.x + k * c.dy, qy = c.y - k * c.dx;
+  const double co = s.cos_orient, so = s.sin_orient;
+  const double tx = value_of(c.dx) / value_of(len), ty = value_of(c.dy) / value_of(len);
+  const double pc = value_of(pose.c), ps = value_of(pose.s);
+  const double gx = co * tx - so * ty, gy = so * tx + co * ty;
+  tangent = {pc * gx - ps * gy, ps * gx + pc * gy};
+  return pose.apply(s.origin.x() + co * qx - so * qy, s.origin.y() + so * qx + co * qy);
+}
+
+// the one equation [mm]: the centre at its distance from the unknown body's pivot
+// (rotational) or on the unknown body's line of travel (translational)
+template <class T>
+T offset_residual(const Workspace::Block::OffsetContact& oc, const Node& node, const Eigen::Vector2d& pivot,
+                  const V2<T>& centre) {
+  using std::sqrt;
+  if (node.kind == NodeKind::rotational) {
+    const T dx = centre.x - pivot.x(), dy = centre.y - pivot.y();
+    return sqrt(dx * dx + dy * dy) - oc.arm;
+  }
+  return node.direction.x() * (centre.y - oc.centre.y()) - node.direction.y() * (centre.x - oc.centre.x());
+}
+
+template <class To, int N>
+detail::Pose<To> convert_pose(const detail::Pose<Jet<N>>& p) {
+  detail::Pose<To> out;
+  auto conv = [](const Jet<N>& x) {
+    if constexpr (std::is_same_v<To, Jet<2>>) {
+      return truncate<2>(x);
+    } else {
+      To d(x.value());
+      d.d[0] = x.c[1];  // direction 0: the driver
+      return d;
+    }
+  };
+  out.tx = conv(p.tx);
+  out.ty = conv(p.ty);
+  out.c = conv(p.c);
+  out.s = conv(p.s);
+  out.rx = p.rx;
+  out.ry = p.ry;
+  return out;
+}
+
+// solves the block through its one equation g(u) = 0 by newton from the predicted u; its
+// taylor coefficients by implicit differentiation g_u u_k = -r_k; the body's displacement
+// in closed form from the centre. solved = false (values untouched) leaves the block to
+// the general solver.
+Status Kernel::solve_offset_contact(Workspace::Block& b, double driver, bool& solved) {
+  using D = detail::Dual<2>;  // direction 0: driver (unknown rates zero), 1: u
+  const auto& oc = b.offset;
+  const Connection& c = m_.connections[oc.connection];
+  const Surface& curve = oc.curve_on_a ? c.surface_a : c.surface_b;
+  const Node& node = m_.nodes[oc.unknown_node];
+  const Eigen::Vector2d pivot = ws_.pivots[oc.unknown_node];
+  const int order = rq_.derivative_order;
+  solved = false;
+  const auto& pose3 = detail::CachedPoses<Jet3>{m_, ws_.vars.data(), ws_.pivots.data(), ws_.poses3, ws_.point_id,
+                                                b.solving}
+                          .get(oc.known_node);
+  const auto pose1 = convert_pose<D>(pose3);
+  double u = ws_.values[oc.curve_variable];
+  V2<D> centre;
+  V2<double> tangent;
+  D g;
+  bool converged = false;
+  constexpr int max_iterations = 6;
+  for (int it = 0; it < max_iterations; ++it) {
+    D ud(u);
+    ud.d[1] = 1.0;
+    centre = offset_centre(m_, curve, oc.centre_offset, pose1, ud, tangent);
+    g = offset_residual(oc, node, pivot, centre);
+    if (!std::isfinite(g.v) || !std::isfinite(g.d[1]) || g.d[1] == 0.0) break;
+    if (std::abs(g.v) <= tolerance()) {
+      converged = true;
+      break;
+    }
+    ++ws_.stats.newton_iterations;
+    u -= g.v / g.d[1];
+  }
+  if (!converged) return Status::success();
+  const double gu = g.d[1];
+  // the block's 2 x 2 jacobian of (tangency, closure) in (displacement, u), for its
+  // condition: d/dq = (X_q . t, X_q . n), d/du = (-C_u . t, 0) with n = (t_y, -t_x)
+  if (order > 0) {
+    const V2<double> cv{centre.x.v, centre.y.v};
+    const V2<double> xq = node.kind == NodeKind::rotational ? V2<double>{-(cv.y - pivot.y()), cv.x - pivot.x()}
+                                                            : V2<double>{node.direction.x(), node.direction.y()};
+    const V2<double> n{tangent.y, -tangent.x};
+    const double a = detail::dot(xq, tangent), bb = -(centre.x.d[1] * tangent.x + centre.y.d[1] * tangent.y);
+    const double cc = detail::dot(xq, n);
+    const double det = -bb * cc;
+    // |J|_1 |J^-1|_1, J^-1 = [[0, -b], [-c, a]] / det
+    const double cond = std::max(std::abs(a) + std::abs(cc), std::abs(bb)) *
+                        std::max(std::abs(cc), std::abs(bb) + std::abs(a)) / std::abs(det);
+    ws_.max_condition = std::max(ws_.max_condition, cond);
+    if (!(cond < 1e13))
+      return {StatusCode::singular,
+              "connection(s) '" + c.name + "' are singular (condition number " + fmt(cond) +
+                  "): a pressure angle reached 90 deg or a linkage is at toggle",
+              driver_text(m_, driver)};
+  }
+  // taylor coefficients of u and of the centre
+  Jet3 uj(u), cx(centre.x.v), cy(centre.y.v);
+  if (order >= 1) {
+    uj.c[1] = -g.d[0] / gu;
+    cx.c[1] = centre.x.d[0] + centre.x.d[1] * uj.c[1];
+    cy.c[1] = centre.y.d[0] + centre.y.d[1] * uj.c[1];
+  }
+  if (order >= 2) {
+    const auto pose2 = convert_pose<Jet<2>>(pose3);
+    Jet<2> u2(u);
+    u2.c[1] = uj.c[1];
+    V2<double> unused;
+    const auto c2 = offset_centre(m_, curve, oc.centre_offset, pose2, u2, unused);
+    uj.c[2] = -offset_residual(oc, node, pivot, c2).c[2] / gu;
+    cx.c[2] = c2.x.c[2] + centre.x.d[1] * uj.c[2];
+    cy.c[2] = c2.y.c[2] + centre.y.d[1] * uj.c[2];
+  }
+  if (order >= 3) {
+    Jet3 u3 = uj;
+    u3.c[3] = 0.0;
+    V2<double> unused;
+    const auto c3 = offset_centre(m_, curve, oc.centre_offset, pose3, u3, unused);
+    uj.c[3] = -offset_residual(oc, node, pivot, c3).c[3] / gu;
+    cx.c[3] = c3.x.c[3] + centre.x.d[1] * uj.c[3];
+    cy.c[3] = c3.y.c[3] + centre.y.d[1] * uj.c[3];
+  }
+  // the body's displacement from its circle centre
+  Jet3 q;
+  if (node.kind == NodeKind::rotational) {
+    q = atan2(cy - pivot.y(), cx - pivot.x()) - oc.arm_angle;
+    // the branch nearest the prediction (the general solver tracks it continuously)
+    const double turns = std::round((ws_.values[oc.node_variable] - q.value()) / (2 * pi));
+    q.c[0] += turns * 2 * pi;
+  } else {
+    q = node.direction.x() * (cx - oc.centre.x()) + node.direction.y() * (cy - oc.centre.y());
+  }
+  for (int k = order + 1; k <= 3; ++k) q.c[k] = 0.0;
+  ws_.values[oc.curve_variable] = u;
+  ws_.values[oc.node_variable] = q.value();
+  ws_.vars[oc.curve_variable] = uj;
+  ws_.vars[oc.node_variable] = q;
+  solved = true;
   return Status::success();
 }
 
@@ -609,6 +894,9 @@ Status Kernel::run(double driver) {
       if (ws_.prev_order >= 1) {
         double hp = h;
         for (int k = 1; k <= ws_.prev_order; ++k, hp *= h) x += ws_.prev_jets[v].c[k] * hp;
+        // quartic term from the change of the cubic coefficient: d c_3 / dt = 4 c_4
+        if (ws_.prev_order == 3 && ws_.history >= 2 && ws_.prev2_order == 3 && ws_.prev_driver != ws_.prev2_driver)
+          x += (ws_.prev_jets[v].c[3] - ws_.prev2_jets[v].c[3]) / (4.0 * (ws_.prev_driver - ws_.prev2_driver)) * hp;
       } else if (ws_.history >= 2 && ws_.prev_driver != ws_.prev2_driver) {
         x += (ws_.prev_values[v] - ws_.prev2_values[v]) * h / (ws_.prev_driver - ws_.prev2_driver);
       }
@@ -668,6 +956,18 @@ Status Kernel::run(double driver) {
       ws_.invalidate_pose(step.output_node);
       ws_.contacts[step.connections[0]].gap = 0.0;
     }
+    if (b.offset.active && !fresh && ws_.offset_contacts) {
+      bool solved = false;
+      Status st = solve_offset_contact(b, driver, solved);
+      if (!st.ok()) return st;
+      if (solved) {
+        finish_block(b);
+        continue;
+      }
+      // the general solver takes over from the prediction: no stale warm start
+      b.have_inverse = false;
+      b.jacobians = 0;
+    }
     Status st = solve_values(b, driver);
     if (!st.ok()) return st;
     if (rq_.derivative_order > 0) {
@@ -692,7 +992,9 @@ Status Kernel::run(double driver) {
   // history for the next predictor
   ws_.prev2_values.swap(ws_.prev_values);
   ws_.prev_values = ws_.values;
+  ws_.prev2_jets.swap(ws_.prev_jets);
   ws_.prev_jets = ws_.vars;
+  ws_.prev2_order = ws_.prev_order;
   ws_.prev2_driver = ws_.prev_driver;
   ws_.prev_driver = driver;
   ws_.prev_order = rq_.derivative_order;
@@ -724,8 +1026,10 @@ void Kernel::contact_outputs(int step_index) {
     if (!out.open) out.gap = 0.0;
     using J1 = Jet<1>;
     const J1* vars = ws_.vars1.data();
-    const auto pa = node_pose(m_, c.node_a, vars, ws_.pivots.data());
-    const auto pb = node_pose(m_, c.node_b, vars, ws_.pivots.data());
+    // a body's pose serves every contact it carries (every variable is final here)
+    const detail::CachedPoses<J1> poses{m_, vars, ws_.pivots.data(), ws_.poses1, ws_.point_id, ws_.no_node_solving};
+    const auto& pa = poses.get(c.node_a);
+    const auto& pb = poses.get(c.node_b);
     const auto A = surface_point(m_, c.surface_a, pa, vars);
     const auto B = surface_point(m_, c.surface_b, pb, vars);
     // unit normal from a into b and the contact point (on a's surface)
@@ -846,6 +1150,7 @@ Workspace::Workspace(const Mechanism& mech) {
   prev_values.assign(nv, 0.0);
   prev2_values.assign(nv, 0.0);
   prev_jets.assign(nv, Jet3(0.0));
+  prev2_jets.assign(nv, Jet3(0.0));
   vars1.assign(nv, Jet<1>(0.0));
   vars2.assign(nv, Jet<2>(0.0));
   std::apply([nv](auto&... v) { (v.assign(nv, {}), ...); }, dual_vars);
@@ -865,14 +1170,20 @@ Workspace::Workspace(const Mechanism& mech) {
   poses0.resize(mech.nodes.size());
   poses2.resize(mech.nodes.size());
   poses3.resize(mech.nodes.size());
+  poses1.resize(mech.nodes.size());
+  no_node_solving.assign(mech.nodes.size(), 0);
   set_controls(controls_);
 }
 
 void Workspace::reset() {
   history = 0;
   std::fill(values.begin(), values.end(), 0.0);
-  for (auto& b : full_blocks) b.have_inverse = b.have_lu = false;
-  for (auto& b : tangency_blocks) b.have_inverse = b.have_lu = false;
+  for (auto* blocks : {&full_blocks, &tangency_blocks})
+    for (auto& b : *blocks) {
+      b.have_inverse = b.jacobian_at_x = false;
+      b.contraction = 0.0;
+      b.jacobians = 0;
+    }
 }
 
 void Workspace::set_controls(std::span<const double> values_in) {

@@ -1,8 +1,9 @@
 #pragma once
 // LU factorisation with partial pivoting for the small dense blocks of the kinematics
-// kernel (n <= 16): no heap, no expression templates; Golub & Van Loan, Matrix
+// kernel (n <= MaxN): no heap, no expression templates; Golub & Van Loan, Matrix
 // Computations, 4th ed., alg. 3.4.1. The kernel factors one block per point, so the
-// constant overhead of a general library routine dominated at n = 2 or 3.
+// constant overhead of a general library routine dominated at n = 2 or 3: sizes 1 to 4
+// run on loops with compile-time bounds (fully unrolled), larger ones on runtime bounds.
 #include <algorithm>
 #include <cmath>
 
@@ -24,7 +25,65 @@ class SmallLU {
       }
       norm1_ = std::max(norm1_, col);
     }
-    ok_ = true;
+    switch (n) {
+      case 1: ok_ = factor_in_place<1>(); break;
+      case 2: ok_ = factor_in_place<2>(); break;
+      case 3: ok_ = factor_in_place<3>(); break;
+      case 4: ok_ = factor_in_place<4>(); break;
+      default: ok_ = factor_in_place<0>();
+    }
+    return ok_;
+  }
+
+  bool ok() const { return ok_; }
+  int size() const { return n_; }
+
+  // x = A^-1 b (x may alias b)
+  void solve(const double* b, double* x) const {
+    switch (n_) {
+      case 1: return solve_n<1>(b, x);
+      case 2: return solve_n<2>(b, x);
+      case 3: return solve_n<3>(b, x);
+      case 4: return solve_n<4>(b, x);
+      default: return solve_n<0>(b, x);
+    }
+  }
+
+  // inverse into inv(i, j); returns the 1-norm condition number |A|_1 |A^-1|_1 (exact:
+  // the blocks are tiny), infinite when the factorisation failed
+  template <class Matrix>
+  double inverse(Matrix& inv) const {
+    return inverse_columns([&](int j, const double* x) {
+      for (int i = 0; i < n_; ++i) inv(i, j) = x[i];
+    });
+  }
+
+  // 1-norm condition number |A|_1 |A^-1|_1
+  double condition() const {
+    return inverse_columns([](int, const double*) {});
+  }
+
+ private:
+  // column(j, x) for every column x of the inverse; returns the condition number
+  template <class Column>
+  double inverse_columns(Column&& column) const {
+    double e[MaxN], x[MaxN], worst = 0.0;
+    for (int j = 0; j < n_; ++j) {
+      for (int i = 0; i < n_; ++i) e[i] = i == j ? 1.0 : 0.0;
+      solve(e, x);
+      double col = 0.0;
+      for (int i = 0; i < n_; ++i) col += std::abs(x[i]);
+      worst = std::max(worst, col);
+      column(j, x);
+    }
+    return ok_ ? norm1_ * worst : INFINITY;
+  }
+
+  // N > 0: compile-time size, N = 0: n_
+  template <int N>
+  bool factor_in_place() {
+    const int n = N > 0 ? N : n_;
+    bool ok = true;
     for (int k = 0; k < n; ++k) {
       int p = k;
       for (int i = k + 1; i < n; ++i)
@@ -33,7 +92,7 @@ class SmallLU {
       if (p != k)
         for (int j = 0; j < n; ++j) std::swap(lu_[k][j], lu_[p][j]);
       if (lu_[k][k] == 0.0) {
-        ok_ = false;
+        ok = false;
         continue;
       }
       const double inv = 1.0 / lu_[k][k];
@@ -42,52 +101,25 @@ class SmallLU {
         for (int j = k + 1; j < n; ++j) lu_[i][j] -= l * lu_[k][j];
       }
     }
-    return ok_;
+    return ok;
   }
 
-  bool ok() const { return ok_; }
-
-  // x = A^-1 b (x may alias b)
-  void solve(const double* b, double* x) const {
+  template <int N>
+  void solve_n(const double* b, double* x) const {
+    const int n = N > 0 ? N : n_;
     double y[MaxN];
-    for (int i = 0; i < n_; ++i) y[i] = b[i];
-    for (int k = 0; k < n_; ++k)
+    for (int i = 0; i < n; ++i) y[i] = b[i];
+    for (int k = 0; k < n; ++k)
       if (piv_[k] != k) std::swap(y[k], y[piv_[k]]);
-    for (int i = 0; i < n_; ++i)
+    for (int i = 0; i < n; ++i)
       for (int j = 0; j < i; ++j) y[i] -= lu_[i][j] * y[j];
-    for (int i = n_ - 1; i >= 0; --i) {
-      for (int j = i + 1; j < n_; ++j) y[i] -= lu_[i][j] * y[j];
+    for (int i = n - 1; i >= 0; --i) {
+      for (int j = i + 1; j < n; ++j) y[i] -= lu_[i][j] * y[j];
       y[i] /= lu_[i][i];
     }
-    for (int i = 0; i < n_; ++i) x[i] = y[i];
+    for (int i = 0; i < n; ++i) x[i] = y[i];
   }
 
-  // inverse into inv(i, j)
-  template <class Matrix>
-  void inverse(Matrix& inv) const {
-    double e[MaxN], x[MaxN];
-    for (int j = 0; j < n_; ++j) {
-      for (int i = 0; i < n_; ++i) e[i] = i == j ? 1.0 : 0.0;
-      solve(e, x);
-      for (int i = 0; i < n_; ++i) inv(i, j) = x[i];
-    }
-  }
-
-  // 1-norm condition number |A|_1 |A^-1|_1 (exact: the blocks are tiny)
-  double condition() const {
-    if (!ok_) return INFINITY;
-    double e[MaxN], x[MaxN], worst = 0.0;
-    for (int j = 0; j < n_; ++j) {
-      for (int i = 0; i < n_; ++i) e[i] = i == j ? 1.0 : 0.0;
-      solve(e, x);
-      double col = 0.0;
-      for (int i = 0; i < n_; ++i) col += std::abs(x[i]);
-      worst = std::max(worst, col);
-    }
-    return norm1_ * worst;
-  }
-
- private:
   int n_ = 0;
   double lu_[MaxN][MaxN] = {};
   int piv_[MaxN] = {};

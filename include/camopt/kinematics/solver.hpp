@@ -69,15 +69,32 @@ class Workspace {
     std::vector<char> solving;  // per node: its variables are unknowns here
     Matrix inverse;             // broyden inverse jacobian (warm start)
     bool have_inverse = false;
-    bool have_lu = false;       // lu holds the last exact jacobian
     SmallLU<max_block> lu;
-    Matrix jacobian;
-    Vector x, f, dx, f_new, u, row;
+    Matrix jacobian;            // exact jacobian at x when jacobian_at_x
+    bool jacobian_at_x = false;
+    double contraction = 0.0;   // last residual reduction of a broyden step (|f_new| / |f|)
+    // exact jacobians at the last two solved points, extrapolated linearly in the driver
+    // to start broyden at the next one
+    Matrix last_jacobian, prev_jacobian;
+    double last_driver = 0.0, prev_driver = 0.0;
+    int jacobians = 0;
+    Vector x, f, dx, f_new, u, row, r1;  // r1: order-1 residual coefficient (jacobian sweep)
+    // a curve on a known body against a circle on the block's one unknown body: solved as
+    // one equation in the curve parameter (the circle centre on the curve's offset)
+    struct OffsetContact {
+      bool active = false;
+      int connection = -1, known_node = -1, unknown_node = -1;
+      int curve_variable = -1, node_variable = -1;
+      bool curve_on_a = true;
+      double centre_offset = 0.0;       // circle radius - lash [mm] along the curve's outward normal
+      Eigen::Vector2d centre{0, 0};     // circle centre, drawing [mm]
+      double arm = 0.0, arm_angle = 0.0;  // rotational: centre about the pivot [mm], [rad]
+    } offset;
   };
   std::vector<Block> full_blocks;      // per plan step
   std::vector<Block> tangency_blocks;  // per plan step (one-sided contacts: params only)
   std::vector<double> values, prev_values, prev2_values;
-  std::vector<Jet3> prev_jets;
+  std::vector<Jet3> prev_jets, prev2_jets;
   std::vector<Jet<1>> vars1;  // contact outputs
   std::vector<Jet<2>> vars2;
   // the jacobian sweep: Dual<n + 1> for a block of n <= max_dual - 1 unknowns, larger
@@ -94,16 +111,20 @@ class Workspace {
   detail::PoseCache<double> poses0;
   detail::PoseCache<Jet<2>> poses2;
   detail::PoseCache<Jet3> poses3;
+  detail::PoseCache<Jet<1>> poses1;   // contact outputs
+  std::vector<char> no_node_solving;  // per node: 0 (poses once every variable is final)
   long point_id = 0;
   void invalidate_pose(int node) {
     poses0.invalidate(node);
     poses2.invalidate(node);
     poses3.invalidate(node);
+    poses1.invalidate(node);
   }
   std::vector<bool> open;  // per plan step: lash gap open
+  bool offset_contacts = true;  // use the one-equation form where it applies (off: tests compare)
   double prev_driver = 0.0, prev2_driver = 0.0;
   int history = 0;  // number of previous points available for prediction
-  int prev_order = 0;
+  int prev_order = 0, prev2_order = 0;
   std::vector<double> residual_buffer;
   std::vector<Jet<2>> residual_buffer2;
   std::vector<Jet3> residual_buffer3;
