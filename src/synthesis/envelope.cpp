@@ -201,6 +201,100 @@ PolarHit envelope_at_polar_angle(const P2<Jet2>& a, const P2<Jet2>& b, double ph
   return p;
 }
 
+// smallest (which < 0) or largest (which > 0) distance from the origin of a closed
+// envelope sampled every h of theta: the extreme sample, refined by newton on
+// d(x^2 + y^2)/dt = 0 over the quintic hermite pieces on both sides of it [mm]
+double extreme_radius(const std::vector<P2<Jet2>>& env, double h, int which) {
+  const int n = static_cast<int>(env.size());
+  auto radius = [&](int i) { return std::hypot(env[i].x.value(), env[i].y.value()); };
+  int best = 0;
+  for (int i = 1; i < n; ++i)
+    if ((radius(i) - radius(best)) * which > 0) best = i;
+  double out = radius(best);
+  for (int a : {(best + n - 1) % n, best}) {
+    const int b = (a + 1) % n;
+    auto hermite = [&](const Jet2& pa, const Jet2& pb) {
+      return Quintic(pa.value(), pa.derivative(1) * h, pa.derivative(2) * h * h, pb.value(), pb.derivative(1) * h,
+                     pb.derivative(2) * h * h);
+    };
+    const Quintic qx = hermite(env[a].x, env[b].x), qy = hermite(env[a].y, env[b].y);
+    double t = 0.5, x, y, x1, y1, x2, y2;
+    for (int it = 0; it < 30; ++it) {
+      qx.eval(t, x, x1, x2);
+      qy.eval(t, y, y1, y2);
+      const double g = x * x1 + y * y1, g1 = x1 * x1 + y1 * y1 + x * x2 + y * y2;
+      if (g1 == 0.0) break;
+      const double next = std::clamp(t - g / g1, 0.0, 1.0);
+      if (std::abs(next - t) < 1e-15) break;
+      t = next;
+    }
+    qx.eval(t, x, x1, x2);
+    qy.eval(t, y, y1, y2);
+    if ((std::hypot(x, y) - out) * which > 0) out = std::hypot(x, y);
+  }
+  return out;
+}
+
+// polar angles of the profile table [rad] for a resolution of `step` [rad]. The target
+// lift carries detail on the scale of the cam angle theta, and the kernel interpolates the
+// table in polar angle phi: where the contact moves slowly in phi (a sharp nose under a
+// flat face, a swing cam's short working stretch) a table uniform in phi would skip over
+// several target knots. So the points are uniform in the measure
+//   dw = max(|dphi|, |dtheta|, |dpsi|)   (psi: tangent direction of the envelope)
+// i.e. no two neighbours are further apart than `step` in polar angle, in cam angle or in
+// turn of the tangent. env / phi: the envelope sampled every h of theta and its unwrapped
+// polar angle (phi.size() == env.size() + 1 when closed: the last entry is sample 0 one
+// turn later). Closed: angles in [0, 2 pi), ascending, one point at polar angle 0.
+// Open (a traced stretch): the stretch's own unwrapped angles, both ends included, in
+// tracing order.
+std::vector<double> resolution_angles(const std::vector<P2<Jet2>>& env, const std::vector<double>& phi, double h,
+                                      double step, bool closed) {
+  const std::size_t intervals = phi.size() - 1;
+  auto tangent_angle = [&](std::size_t i) {
+    const P2<Jet2>& e = env[i % env.size()];
+    return std::atan2(e.y.derivative(1), e.x.derivative(1));
+  };
+  std::vector<double> w(phi.size(), 0.0);
+  double psi_prev = tangent_angle(0);
+  for (std::size_t i = 0; i < intervals; ++i) {
+    const double psi = tangent_angle(i + 1);
+    const double turn = std::remainder(psi - psi_prev, 2 * pi);
+    psi_prev = psi;
+    w[i + 1] = w[i] + std::max({std::abs(phi[i + 1] - phi[i]), h, std::abs(turn)});
+  }
+  const double total = w.back();
+  const int count = std::max(closed ? 6 : 2, static_cast<int>(std::ceil(total / step - 1e-9)));
+  // phi at measure v (linear within a sample interval; newton on the envelope refines it)
+  auto phi_at = [&](double v) {
+    const std::size_t i = std::min<std::size_t>(
+        intervals - 1, static_cast<std::size_t>(std::upper_bound(w.begin(), w.end(), v) - w.begin()) - 1);
+    const double t = (v - w[i]) / (w[i + 1] - w[i]);
+    return phi[i] + t * (phi[i + 1] - phi[i]);
+  };
+  std::vector<double> out;
+  if (!closed) {
+    for (int k = 0; k <= count; ++k) out.push_back(k == count ? phi.back() : phi_at(total * k / count));
+    return out;
+  }
+  // start where the envelope crosses polar angle 0 (mod 2 pi)
+  const double dir = phi.back() > phi.front() ? 1.0 : -1.0;
+  const double zero = phi.front() + dir * std::fmod(std::fmod(-dir * phi.front(), 2 * pi) + 2 * pi, 2 * pi);
+  std::size_t i0 = 0;
+  while (i0 + 1 < intervals && (phi[i0 + 1] - zero) * dir <= 0) ++i0;
+  const double w0 = w[i0] + (w[i0 + 1] - w[i0]) * (zero - phi[i0]) / (phi[i0 + 1] - phi[i0]);
+  for (int k = 0; k < count; ++k) {
+    double v = w0 + total * k / count;
+    if (v >= total) v -= total;
+    double a = k == 0 ? 0.0 : std::fmod(phi_at(v), 2 * pi);
+    if (a < 0) a += 2 * pi;
+    if (a >= 2 * pi) a = 0.0;
+    out.push_back(a);
+  }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
 }  // namespace
 
 namespace {
@@ -301,28 +395,6 @@ Status swing_profile(const DesignSpec& spec, const kin::Mechanism& up, const Cut
     if ((phi[j] - phi[j - 1]) * dir <= 0)
       return {StatusCode::undercut, "the synthesized swing profile folds back on itself (undercut or cusp)",
               "cam " + fmt(theta[run[j]] * 180 / pi) + " deg"};
-  // the closing stroke must retrace the opening one
-  double worst = 0.0, worst_at = 0.0;
-  for (int i = 0; i < n; ++i) {
-    if (!(cam_rate[i] * open_sign < -1e-3 * max_rate)) continue;
-    const P2<Jet2> q = envelope(i);
-    double best = 1e300;
-    for (std::size_t j = 0; j + 1 < env.size(); ++j) {
-      const double ax = env[j].x.value(), ay = env[j].y.value();
-      const double bx = env[j + 1].x.value() - ax, by = env[j + 1].y.value() - ay;
-      const double t = std::clamp(((q.x.value() - ax) * bx + (q.y.value() - ay) * by) / (bx * bx + by * by), 0.0, 1.0);
-      best = std::min(best, std::hypot(q.x.value() - ax - t * bx, q.y.value() - ay - t * by));
-    }
-    if (best > worst) worst = best, worst_at = theta[i];
-  }
-  if (worst > 5e-3)  // [mm] grinding accuracy
-    return {StatusCode::undercut,
-            "the closing stroke of the swing cam does not retrace the opening stroke (off by " + fmt(worst) +
-                " mm): the target lift is not a function of the swing angle",
-            "cam " + fmt(worst_at * 180 / pi) + " deg"};
-  result.notes.push_back("swing cam traced over " + fmt(std::abs(phi.back() - phi.front()) * 180 / pi) +
-                         " deg of its profile; closing stroke retraces it within " + fmt(worst) + " mm");
-
   // radius on the traced stretch at polar angle a (quintic hermite in theta between samples)
   const double h = 2 * pi / n;
   auto traced_radius = [&](double a) {
@@ -334,6 +406,35 @@ Status swing_profile(const DesignSpec& spec, const kin::Mechanism& up, const Cut
     const PolarHit p = envelope_at_polar_angle(env[lo], env[hi], phi[lo], phi[hi], h, a);
     return std::hypot(p.x, p.y);
   };
+  // the closing stroke must retrace the opening one: radial distance of each closing
+  // envelope point from the traced profile at its polar angle (or from the nearer end of
+  // the stretch when it lies beyond it)
+  double worst = 0.0, worst_at = 0.0;
+  const double lo_phi = std::min(phi.front(), phi.back()), hi_phi = std::max(phi.front(), phi.back());
+  for (int i = 0; i < n; ++i) {
+    if (!(cam_rate[i] * open_sign < -1e-3 * max_rate)) continue;
+    const P2<Jet2> q = envelope(i);
+    const double qx = q.x.value(), qy = q.y.value();
+    double a = std::atan2(qy, qx);
+    a += 2 * pi * std::round((0.5 * (lo_phi + hi_phi) - a) / (2 * pi));
+    double off = 0.0;
+    if (a >= lo_phi && a <= hi_phi) {
+      off = std::abs(std::hypot(qx, qy) - traced_radius(a));
+    } else {
+      const P2<Jet2>& end = std::abs(a - phi.front()) < std::abs(a - phi.back()) ? env.front() : env.back();
+      off = std::hypot(qx - end.x.value(), qy - end.y.value());
+    }
+    if (off > worst) worst = off, worst_at = theta[i];
+  }
+  if (worst > 5e-3)  // [mm] grinding accuracy
+    return {StatusCode::undercut,
+            "the closing stroke of the swing cam does not retrace the opening stroke (off by " + fmt(worst) +
+                " mm): the target lift is not a function of the swing angle",
+            "cam " + fmt(worst_at * 180 / pi) + " deg"};
+  result.notes.push_back("swing cam traced over " + fmt(std::abs(phi.back() - phi.front()) * 180 / pi) +
+                         " deg of its profile; closing stroke retraces it within " + fmt(worst) +
+                         " mm (the round trip on the closing stroke is limited by this)");
+
   // dwell arc about the swing pivot, in the profile frame
   const kin::Node& swing = up.nodes[up.node_index(cut.cam_node)];
   const double ox = cam_surface.origin_mm[0], oy = cam_surface.origin_mm[1];
@@ -367,27 +468,39 @@ Status swing_profile(const DesignSpec& spec, const kin::Mechanism& up, const Cut
   const double span = join - phi_end;  // signed
   const Quintic bridge(end_d[0], end_d[1] * span, end_d[2] * span * span, join_d[0], join_d[1] * span,
                        join_d[2] * span * span);
-  const int m = options.points;
-  result.angle_deg.resize(m);
-  result.radius_mm.resize(m);
-  for (int k = 0; k < m; ++k) {
-    const double a0 = 2 * pi * k / m;
-    // signed distance along the traced direction from the rest point, in [0, 2 pi)
-    double along = (a0 - phi_start) * dir;
-    along -= 2 * pi * std::floor(along / (2 * pi));
-    const double a = phi_start + dir * along;
+  // the traced stretch at the resolution of resolution_angles, the bridge and the dwell arc
+  // (smooth, no target detail) uniform in polar angle
+  const double step = 2 * pi / options.points;
+  const double traced = std::abs(phi_end - phi_start);
+  std::vector<double> along;  // distance along the traced direction from the rest point [rad]
+  for (double a : resolution_angles(env, phi, h, step, false)) along.push_back((a - phi_start) * dir);
+  const int rest_count = std::max(2, static_cast<int>(std::ceil(untouched / step - 1e-9)));
+  for (int j = 1; j < rest_count; ++j) along.push_back(traced + untouched * j / rest_count);
+  std::vector<std::pair<double, double>> table;  // (polar angle in [0, 2 pi), radius)
+  for (double d : along) {
+    const double a = phi_start + dir * d;
     double r = 0.0;
-    if (along <= std::abs(phi_end - phi_start)) {
+    if (d <= traced) {
       r = traced_radius(a);
-    } else if (along <= std::abs(phi_end - phi_start) + untouched / 2) {
+    } else if (d <= traced + untouched / 2) {
       double f, d1, d2;
       bridge.eval((a - phi_end) / span, f, d1, d2);
       r = f;
     } else {
       r = dwell_radius(a);
     }
-    result.angle_deg[k] = a0 * 180 / pi;
-    result.radius_mm[k] = r;
+    double a0 = std::fmod(a, 2 * pi);
+    if (a0 < 0) a0 += 2 * pi;
+    if (a0 >= 2 * pi) a0 = 0.0;
+    table.push_back({a0, r});
+  }
+  std::sort(table.begin(), table.end());
+  table.erase(std::unique(table.begin(), table.end(), [](auto a, auto b) { return a.first == b.first; }), table.end());
+  result.angle_deg.clear();
+  result.radius_mm.clear();
+  for (const auto& [a0, r] : table) {
+    result.angle_deg.push_back(a0 * 180 / pi);
+    result.radius_mm.push_back(r);
   }
   finish_from_polar(result, options.wheel_radius_mm);
   result.profile.name = cut.profile;
@@ -577,9 +690,11 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
   if (std::abs(std::abs(phi[n] - phi[0]) - 2 * pi) > 1e-6)
     return {StatusCode::undercut, "the synthesized profile does not wind once around the cam pivot", "whole revolution"};
 
-  // resample at uniform polar angles by quintic hermite interpolation in theta
+  // resample at polar angles chosen by resolution_angles, each point by quintic hermite
+  // interpolation in theta and newton on its polar angle
   const double h = 2 * pi / n;
-  const int m = options.points;
+  const std::vector<double> targets = resolution_angles(env, phi, h, 2 * pi / options.points, true);
+  const int m = static_cast<int>(targets.size());
   result.angle_deg.resize(m);
   result.radius_mm.resize(m);
   result.x_mm.resize(m);
@@ -588,7 +703,7 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
   result.min_radius_of_curvature_mm = 1e300;
   result.min_concave_radius_mm = 1e300;
   for (int k = 0; k < m; ++k) {
-    const double target0 = 2 * pi * k / m;
+    const double target0 = targets[k];
     // bring the target into the traced range
     double target = target0 + 2 * pi * std::floor((std::min(phi[0], phi[n]) - target0) / (2 * pi) + 1.0);
     if (target > std::max(phi[0], phi[n])) target -= 2 * pi;
@@ -622,8 +737,8 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
   if (result.min_radius_of_curvature_mm == 1e300) result.min_radius_of_curvature_mm = 0.0;
   result.concave_narrower_than_wheel =
       result.has_concave && options.wheel_radius_mm > 0 && result.min_concave_radius_mm < options.wheel_radius_mm;
-  result.base_radius_mm = *std::min_element(result.radius_mm.begin(), result.radius_mm.end());
-  result.max_radius_mm = *std::max_element(result.radius_mm.begin(), result.radius_mm.end());
+  result.base_radius_mm = extreme_radius(env, h, -1);
+  result.max_radius_mm = extreme_radius(env, h, +1);
   result.profile.name = cut.profile;
   result.profile.form = ProfileForm::polar;
   result.profile.angle_deg = result.angle_deg;
