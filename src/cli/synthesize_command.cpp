@@ -119,7 +119,7 @@ void run_synthesize(const SynthesizeOptions& o) {
   synthesis::SynthesisOptions opt;
   opt.cam = o.cam;
   opt.points = o.points;
-  opt.samples = std::max(2880, 4 * o.points);
+  opt.samples = o.points;
   opt.wheel_radius_mm = o.wheel_radius_mm;
   if (!valve_target) opt.target_node = o.target_node;
   for (const auto& c : mech.controls) opt.controls.push_back(c.default_value);

@@ -19,6 +19,10 @@ namespace camopt::synthesis {
 namespace {
 
 constexpr double pi = std::numbers::pi;
+// levels of the target motion at which the downstream chain is solved for the inversion
+// (septic hermite between them: for the bundled designs the round trip is unchanged from
+// a solve at every sample to 1e-12 mm)
+constexpr int kInversionLevels = 64;
 using Jet3 = Jet<3>;
 using Jet2 = Jet<2>;
 
@@ -138,6 +142,14 @@ Cut cut_mechanism(const DesignSpec& spec, const std::string& cam_kind, const std
       k.lash_mm = 0.0;
       h.connections.push_back(k);
     }
+    // only the profiles this half uses (compile builds every listed profile)
+    std::erase_if(h.profiles, [&](const ProfileSpec& p) {
+      for (const auto& k : h.connections)
+        if ((k.surface_a.shape == SurfaceShape::profile && k.surface_a.profile == p.name) ||
+            (k.surface_b.shape == SurfaceShape::profile && k.surface_b.profile == p.name))
+          return false;
+      return true;
+    });
     return h;
   };
   cut.upstream = half(up_root);
@@ -147,6 +159,9 @@ Cut cut_mechanism(const DesignSpec& spec, const std::string& cam_kind, const std
   cut.downstream.output_node = cut.follower_node;
   return cut;
 }
+
+// v^1.5 [mm^3]: the denominator of a curvature from a squared speed v
+double curvature_denominator(double v) { return v * std::sqrt(v); }
 
 // quintic hermite on [0, 1] from value, first and second derivative (per unit t) at both ends
 struct Quintic {
@@ -170,6 +185,41 @@ struct Quintic {
   }
 };
 
+// septic hermite on [0, 1] from value and three derivatives (per unit t) at both ends:
+// p0[k], p1[k] = d^k p / dt^k at t = 0 and t = 1
+struct Septic {
+  double a[8];
+  Septic(const double* p0, const double* p1) {
+    a[0] = p0[0];
+    a[1] = p0[1];
+    a[2] = 0.5 * p0[2];
+    a[3] = p0[3] / 6;
+    const double r0 = p1[0] - (a[0] + a[1] + a[2] + a[3]);
+    const double r1 = p1[1] - (a[1] + 2 * a[2] + 3 * a[3]);
+    const double r2 = p1[2] - (2 * a[2] + 6 * a[3]);
+    const double r3 = p1[3] - 6 * a[3];
+    // inverse of the end conditions on a4..a7 (rows: value, d1, d2, d3 of t^4..t^7 at 1)
+    a[4] = 35 * r0 - 15 * r1 + 2.5 * r2 - r3 / 6;
+    a[5] = -84 * r0 + 39 * r1 - 7 * r2 + r3 / 2;
+    a[6] = 70 * r0 - 34 * r1 + 6.5 * r2 - r3 / 2;
+    a[7] = -20 * r0 + 10 * r1 - 2 * r2 + r3 / 6;
+  }
+  // d[k] = p^(k)(t), k = 0..3
+  void eval(double t, double* d) const {
+    // horner with synthetic division (Numerical Recipes, ddpoly): d[j] = p^(j) / j!
+    d[0] = a[7];
+    d[1] = d[2] = d[3] = 0.0;
+    for (int k = 6; k >= 0; --k) {
+      d[3] = d[3] * t + d[2];
+      d[2] = d[2] * t + d[1];
+      d[1] = d[1] * t + d[0];
+      d[0] = d[0] * t + a[k];
+    }
+    d[2] *= 2.0;
+    d[3] *= 6.0;
+  }
+};
+
 // the envelope point at polar angle `target` [rad] between two samples a (at polar angle
 // phi_a) and b (phi_b), theta spacing h: quintic hermite in theta from p, p', p'' at both
 // ends, then newton on atan2(y, x) = target. Derivatives are per unit of the local
@@ -187,14 +237,16 @@ PolarHit envelope_at_polar_angle(const P2<Jet2>& a, const P2<Jet2>& b, double ph
   const Quintic qx = hermite(a.x, b.x), qy = hermite(a.y, b.y);
   PolarHit p{};
   double t = (target - phi_a) / (phi_b - phi_a);
+  // newton on the signed distance from the ray at `target`: f = (x, y) x (cos, sin) = 0
+  // (the samples bracket the target within a fraction of a turn, so the ray is the right one)
+  const double c = std::cos(target), s = std::sin(target);
   for (int it = 0; it < 30; ++it) {
     qx.eval(t, p.x, p.x1, p.x2);
     qy.eval(t, p.y, p.y1, p.y2);
-    double f = std::atan2(p.y, p.x) - target;
-    f -= 2 * pi * std::round(f / (2 * pi));
-    const double step = f / ((p.x * p.y1 - p.y * p.x1) / (p.x * p.x + p.y * p.y));
+    const double f = c * p.y - s * p.x, df = c * p.y1 - s * p.x1;
+    const double step = f / df;
     t -= step;
-    if (std::abs(step) < 1e-15) break;
+    if (std::abs(step) < 1e-13) break;  // [fraction of a sample interval]
   }
   qx.eval(t, p.x, p.x1, p.x2);
   qy.eval(t, p.y, p.y1, p.y2);
@@ -206,11 +258,14 @@ PolarHit envelope_at_polar_angle(const P2<Jet2>& a, const P2<Jet2>& b, double ph
 // d(x^2 + y^2)/dt = 0 over the quintic hermite pieces on both sides of it [mm]
 double extreme_radius(const std::vector<P2<Jet2>>& env, double h, int which) {
   const int n = static_cast<int>(env.size());
-  auto radius = [&](int i) { return std::hypot(env[i].x.value(), env[i].y.value()); };
+  auto radius2 = [&](int i) { return env[i].x.value() * env[i].x.value() + env[i].y.value() * env[i].y.value(); };
   int best = 0;
-  for (int i = 1; i < n; ++i)
-    if ((radius(i) - radius(best)) * which > 0) best = i;
-  double out = radius(best);
+  double best2 = radius2(0);
+  for (int i = 1; i < n; ++i) {
+    const double r2 = radius2(i);
+    if ((r2 - best2) * which > 0) best = i, best2 = r2;
+  }
+  double out = std::sqrt(best2);
   for (int a : {(best + n - 1) % n, best}) {
     const int b = (a + 1) % n;
     auto hermite = [&](const Jet2& pa, const Jet2& pb) {
@@ -250,17 +305,19 @@ double extreme_radius(const std::vector<P2<Jet2>>& env, double h, int which) {
 std::vector<double> resolution_angles(const std::vector<P2<Jet2>>& env, const std::vector<double>& phi, double h,
                                       double step, bool closed) {
   const std::size_t intervals = phi.size() - 1;
-  auto tangent_angle = [&](std::size_t i) {
+  // |dpsi / dtheta| = |x' y'' - y' x''| / (x'^2 + y'^2), trapezoidal over a sample interval
+  auto turn_rate = [&](std::size_t i) {
     const P2<Jet2>& e = env[i % env.size()];
-    return std::atan2(e.y.derivative(1), e.x.derivative(1));
+    const double x1 = e.x.derivative(1), y1 = e.y.derivative(1);
+    return std::abs(x1 * e.y.derivative(2) - y1 * e.x.derivative(2)) / (x1 * x1 + y1 * y1);
   };
   std::vector<double> w(phi.size(), 0.0);
-  double psi_prev = tangent_angle(0);
+  double rate_prev = turn_rate(0);
   for (std::size_t i = 0; i < intervals; ++i) {
-    const double psi = tangent_angle(i + 1);
-    const double turn = std::remainder(psi - psi_prev, 2 * pi);
-    psi_prev = psi;
-    w[i + 1] = w[i] + std::max({std::abs(phi[i + 1] - phi[i]), h, std::abs(turn)});
+    const double rate = turn_rate(i + 1);
+    const double turn = 0.5 * h * (rate_prev + rate);
+    rate_prev = rate;
+    w[i + 1] = w[i] + std::max({std::abs(phi[i + 1] - phi[i]), h, turn});
   }
   const double total = w.back();
   const int count = std::max(closed ? 6 : 2, static_cast<int>(std::ceil(total / step - 1e-9)));
@@ -317,7 +374,7 @@ void finish_from_polar(SynthesisResult& result, double wheel_radius) {
     result.x_mm[k] = d[0] * std::cos(u[k]);
     result.y_mm[k] = d[0] * std::sin(u[k]);
     // polar curvature (r^2 + 2 r'^2 - r r'') / (r^2 + r'^2)^1.5, + convex
-    const double kappa = (d[0] * d[0] + 2 * d[1] * d[1] - d[0] * d[2]) / std::pow(d[0] * d[0] + d[1] * d[1], 1.5);
+    const double kappa = (d[0] * d[0] + 2 * d[1] * d[1] - d[0] * d[2]) / curvature_denominator(d[0] * d[0] + d[1] * d[1]);
     const double roc = std::abs(kappa) > 1e-12 ? 1.0 / kappa : 0.0;
     result.radius_of_curvature_mm[k] = roc;
     if (kappa > 0 && roc < result.min_radius_of_curvature_mm)
@@ -529,7 +586,7 @@ DesignSpec with_profile(const DesignSpec& spec, const ProfileSpec& profile) {
 
 Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const SynthesisOptions& options,
                   SynthesisResult& result) {
-  CAMOPT_ASSERT(options.points >= 6 && options.samples >= 2 * options.points);
+  CAMOPT_ASSERT(options.points >= 6 && options.samples >= options.points);
   const std::string target_node = options.target_node.empty() ? spec.output_node : options.target_node;
   const Cut cut = cut_mechanism(spec, options.cam, target_node);
   const auto& conn = spec.connections[cut.connection];
@@ -565,32 +622,70 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
 
   const int n = options.samples;
   std::vector<P2<Jet3>> path(n), normal(n);  // follower centre / face point and face normal in the profile frame
-  std::vector<Jet3> face_point_jets;
   std::vector<double> theta(n), cam_rate(n), valve_rate(n);
+  std::vector<Jet3> motion(n);  // target motion L(theta) as jets
+  double motion_lo = 1e300, motion_hi = -1e300;
   for (int i = 0; i < n; ++i) {
     theta[i] = 2 * pi * i / n;
-    const Jet3 L = lift(Jet3::variable(theta[i]));
-    Status st = kin::solve(down, down_ws, L.value(), {3, false});
-    if (!st.ok()) {
-      st.message = "inverting the valve lift " + fmt(L.value()) + " mm through '" + cut.follower_node +
-                   "': " + st.message + "; if a dwell arc or idle curve lies between this cam and the valve, the "
-                   "valve lift does not determine the follower there";
-      st.where = "cam " + fmt(theta[i] * 180 / pi) + " deg";
-      return st;
+    motion[i] = lift(Jet3::variable(theta[i]));
+    motion_lo = std::min(motion_lo, motion[i].value());
+    motion_hi = std::max(motion_hi, motion[i].value());
+  }
+  // inversion: the follower's variables are functions F(L) of the target motion alone, so
+  // they are solved at levels across L's range (F and three derivatives, by implicit
+  // differentiation in the solver) and interpolated by septic hermite pieces in L, then
+  // composed with L(theta) (Faa di Bruno). levels run up from the rest (L = 0) for warm starts.
+  const kin::Node& fn = down.nodes[follower];
+  const int dof = fn.dof;
+  if (motion_hi - motion_lo < 1e-9) motion_hi = motion_lo + 1e-3;  // no motion: any small bracket
+  const int levels = kInversionLevels;
+  const double level_step = (motion_hi - motion_lo) / levels;
+  std::vector<double> inverse((levels + 1) * dof * 4);  // [level][dof][derivative]
+  {
+    // one continuous path: from the rest level (L nearest 0, the drawing) down to the
+    // lowest level, then up through all of them (warm starts from the neighbour)
+    const int rest = std::clamp(static_cast<int>(std::lround(-motion_lo / level_step)), 0, levels);
+    std::vector<int> order;
+    for (int q = rest; q >= 0; --q) order.push_back(q);
+    for (int q = 1; q <= levels; ++q) order.push_back(q);
+    for (int q : order) {
+      const double level = motion_lo + q * level_step;
+      Status st = kin::solve(down, down_ws, level, {3, false});
+      if (!st.ok()) {
+        int at = 0;  // the first cam angle whose target motion reaches this level
+        for (int i = 0; i < n; ++i)
+          if (std::abs(motion[i].value() - level) < std::abs(motion[at].value() - level)) at = i;
+        st.message = "inverting the valve lift " + fmt(level) + " mm through '" + cut.follower_node +
+                     "': " + st.message + "; if a dwell arc or idle curve lies between this cam and the valve, the "
+                     "valve lift does not determine the follower there";
+        st.where = "cam " + fmt(theta[at] * 180 / pi) + " deg";
+        return st;
+      }
+      for (int k = 0; k < dof; ++k)
+        for (int d = 0; d < 4; ++d)
+          inverse[(q * dof + k) * 4 + d] = down_ws.vars[fn.first_variable + k].derivative(d);
     }
-    std::vector<Jet3> vars(down.variables.size(), Jet3(0.0));
-    const kin::Node& fn = down.nodes[follower];
-    for (int k = 0; k < fn.dof; ++k) {
-      const Jet3& j = down_ws.vars[fn.first_variable + k];
-      const double d[4] = {j.derivative(0), j.derivative(1), j.derivative(2), j.derivative(3)};
+  }
+  const double step_power[4] = {1.0, level_step, level_step * level_step, level_step * level_step * level_step};
+  std::vector<Jet3> vars(down.variables.size(), Jet3(0.0));
+  for (int i = 0; i < n; ++i) {
+    const Jet3& L = motion[i];
+    const double u = std::clamp((L.value() - motion_lo) / level_step, 0.0, static_cast<double>(levels));
+    const int q = std::min(levels - 1, static_cast<int>(u));
+    for (int k = 0; k < dof; ++k) {
+      // end data per unit of the local parameter t = u - q: d^j/dt^j = step^j d^j/dL^j
+      double e0[4], e1[4], d[4];
+      for (int j = 0; j < 4; ++j) {
+        e0[j] = inverse[(q * dof + k) * 4 + j] * step_power[j];
+        e1[j] = inverse[((q + 1) * dof + k) * 4 + j] * step_power[j];
+      }
+      Septic(e0, e1).eval(u - q, d);
+      for (int j = 1; j < 4; ++j) d[j] /= step_power[j];
       vars[fn.first_variable + k] = compose(d, L);  // follower(theta) = F(L(theta))
     }
     const auto fpose = kin::detail::node_pose(down, follower, vars.data(), down_ws.pivots.data());
-    st = kin::solve(up, up_ws, theta[i], {3, false});
-    if (!st.ok()) {
-      st.where = "cam " + fmt(theta[i] * 180 / pi) + " deg";
-      return st;
-    }
+    const Status st = kin::solve(up, up_ws, theta[i], {3, false});
+    if (!st.ok()) return {st.code, st.message, "cam " + fmt(theta[i] * 180 / pi) + " deg"};
     const auto cpose = kin::detail::node_pose(up, cam, up_ws.vars.data(), up_ws.pivots.data());
     cam_rate[i] = up_ws.vars[up.nodes[cam].first_variable].derivative(1);  // [rad per rad of driver]
     valve_rate[i] = L.derivative(1);
@@ -716,7 +811,7 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
     const double x = p.x, y = p.y, x1 = p.x1, y1 = p.y1, x2 = p.x2, y2 = p.y2;
     const double r = std::hypot(x, y);
     // curvature, convex positive: the profile runs counter-clockwise when sign > 0
-    const double kappa = sign * (x1 * y2 - y1 * x2) / std::pow(x1 * x1 + y1 * y1, 1.5);
+    const double kappa = sign * (x1 * y2 - y1 * x2) / curvature_denominator(x1 * x1 + y1 * y1);
     const double roc = std::abs(kappa) > 1e-12 ? 1.0 / kappa : 0.0;  // 0: flat
     result.angle_deg[k] = target0 * 180 / pi;
     result.radius_mm[k] = r;

@@ -31,7 +31,7 @@ struct SynthesisOptions {
   // apart in polar angle, in cam angle and in turn of the tangent (so a sharp nose or a
   // short swing-cam stretch gets more points than a uniform polar table would give it)
   int points = 1440;
-  int samples = 5760;  // envelope samples per revolution of the driver
+  int samples = 1440;  // envelope samples per revolution of the driver (>= points)
   double wheel_radius_mm = 0.0;    // grinding wheel radius; concave radii must be >= it (0: no check)
   std::string target_node;         // node whose motion is the target (empty: the valve, design.output_node)
 };
