@@ -339,16 +339,24 @@ std::vector<double> resolution_angles(const std::vector<P2<Jet2>>& env, const st
   std::size_t i0 = 0;
   while (i0 + 1 < intervals && (phi[i0 + 1] - zero) * dir <= 0) ++i0;
   const double w0 = w[i0] + (w[i0 + 1] - w[i0]) * (zero - phi[i0]) / (phi[i0 + 1] - phi[i0]);
+  // k = 0 .. count - 1 run once round from polar angle 0 in the tracing sense: wrapped into
+  // [0, 2 pi) they ascend (counter-clockwise tracing) or, after k = 0, descend
+  out.reserve(static_cast<std::size_t>(count));
   for (int k = 0; k < count; ++k) {
     double v = w0 + total * k / count;
     if (v >= total) v -= total;
-    double a = k == 0 ? 0.0 : std::fmod(phi_at(v), 2 * pi);
-    if (a < 0) a += 2 * pi;
-    if (a >= 2 * pi) a = 0.0;
-    out.push_back(a);
+    if (k == 0) {
+      out.push_back(0.0);
+      continue;
+    }
+    // polar angle travelled from the start, in (0, 2 pi) for a profile winding once
+    double a = (phi_at(v) - zero) * dir;
+    a -= 2 * pi * std::floor(a / (2 * pi));
+    out.push_back(dir > 0 ? a : 2 * pi - a);
   }
-  std::sort(out.begin(), out.end());
-  out.erase(std::unique(out.begin(), out.end()), out.end());
+  if (dir < 0) std::reverse(out.begin() + 1, out.end());
+  // guard against rounding at the ends of the turn (neighbours must stay strictly increasing)
+  out.erase(std::unique(out.begin(), out.end(), [](double a, double b) { return !(b > a); }), out.end());
   return out;
 }
 
@@ -666,6 +674,13 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
           inverse[(q * dof + k) * 4 + d] = down_ws.vars[fn.first_variable + k].derivative(d);
     }
   }
+  // a rotational cam that is the only body upstream turns with the driver: no solve needed
+  const bool cam_is_lone_driver = up.variables.size() == 1 && cam == up.driver_node && up.driver_variable() == 0;
+  Jet3 driver_alone;
+  if (cam_is_lone_driver) {  // one solve fills the workspace's pivot positions for node_pose
+    const Status st = kin::solve(up, up_ws, 0.0, {3, false});
+    if (!st.ok()) return {st.code, st.message, "cam 0 deg"};
+  }
   const double step_power[4] = {1.0, level_step, level_step * level_step, level_step * level_step * level_step};
   std::vector<Jet3> vars(down.variables.size(), Jet3(0.0));
   for (int i = 0; i < n; ++i) {
@@ -684,10 +699,16 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
       vars[fn.first_variable + k] = compose(d, L);  // follower(theta) = F(L(theta))
     }
     const auto fpose = kin::detail::node_pose(down, follower, vars.data(), down_ws.pivots.data());
-    const Status st = kin::solve(up, up_ws, theta[i], {3, false});
-    if (!st.ok()) return {st.code, st.message, "cam " + fmt(theta[i] * 180 / pi) + " deg"};
-    const auto cpose = kin::detail::node_pose(up, cam, up_ws.vars.data(), up_ws.pivots.data());
-    cam_rate[i] = up_ws.vars[up.nodes[cam].first_variable].derivative(1);  // [rad per rad of driver]
+    // the cam's motion: the driver itself (its angle is theta), or solved upstream
+    const Jet3* up_vars = &driver_alone;
+    driver_alone = Jet3::variable(theta[i]);
+    if (!cam_is_lone_driver) {
+      const Status st = kin::solve(up, up_ws, theta[i], {3, false});
+      if (!st.ok()) return {st.code, st.message, "cam " + fmt(theta[i] * 180 / pi) + " deg"};
+      up_vars = up_ws.vars.data();
+    }
+    const auto cpose = kin::detail::node_pose(up, cam, up_vars, up_ws.pivots.data());
+    cam_rate[i] = up_vars[up.nodes[cam].first_variable].derivative(1);  // [rad per rad of driver]
     valve_rate[i] = L.derivative(1);
     // global -> cam drawing -> profile frame
     auto to_profile = [&](const kin::detail::V2<Jet3>& g) {
