@@ -6,6 +6,7 @@
 #include <map>
 #include <numbers>
 #include <numeric>
+#include <optional>
 #include <sstream>
 
 #include "camopt/core/jet.hpp"
@@ -407,7 +408,8 @@ Status swing_profile(const DesignSpec& spec, const kin::Mechanism& up, const Cut
                      double radius, bool roller, const std::vector<P2<Jet3>>& path,
                      const std::vector<P2<Jet3>>& normal, const std::vector<double>& theta,
                      const std::vector<double>& cam_rate, const std::vector<double>& valve_rate,
-                     const SynthesisOptions& options, SynthesisResult& result) {
+                     const std::vector<P2<double>>& idle_centres, const SynthesisOptions& options,
+                     SynthesisResult& result) {
   (void)spec;
   if (!roller)
     throw InputError("synthesize --cam swing: the swing cam's follower must be a roller or pad (circle), not a flat face");
@@ -497,8 +499,8 @@ Status swing_profile(const DesignSpec& spec, const kin::Mechanism& up, const Cut
                 " mm): the target lift is not a function of the swing angle",
             "cam " + fmt(worst_at * 180 / pi) + " deg"};
   result.notes.push_back("swing cam traced over " + fmt(std::abs(phi.back() - phi.front()) * 180 / pi) +
-                         " deg of its profile; closing stroke retraces it within " + fmt(worst) +
-                         " mm (the round trip on the closing stroke is limited by this)");
+                         " deg of its profile; closing stroke retraces it within " + fmt(worst) + " mm (at cam " +
+                         fmt(worst_at * 180 / pi) + " deg; the round trip on the closing stroke is limited by this)");
 
   // dwell arc about the swing pivot, in the profile frame
   const kin::Node& swing = up.nodes[up.node_index(cut.cam_node)];
@@ -515,10 +517,79 @@ Status swing_profile(const DesignSpec& spec, const kin::Mechanism& up, const Cut
     const double disc = b * b - (px * px + py * py - dwell * dwell);
     return b + std::sqrt(std::max(0.0, disc));
   };
-  // bridge between the nose end (phi_end) and the dwell arc at the middle of the untouched range
+  // idle curve: where the follower rests at the other control positions. With controls,
+  // the envelope of the resting roller over the control family (its centres in the profile
+  // frame, idle_centres, in control order): a dwell arc about the pivot when the pivot stays
+  // put (CVVL), the control arm's idle curve when it moves with the control (VVLD). It is
+  // used on the far side of the rest contact, as a function of the polar distance
+  // delta = (phi_start - a) * dir beyond it; empty: the dwell arc alone.
   const double phi_start = phi.front(), phi_end = phi.back();
   const double untouched = 2 * pi - std::abs(phi_end - phi_start);
-  const double join = phi_end + dir * untouched / 2;  // where the dwell arc takes over
+  Spline idle;
+  double idle_reach = 0.0;  // [rad] of polar distance covered by the idle curve
+  if (idle_centres.size() >= 8) {
+    const std::size_t nc = idle_centres.size();
+    std::vector<std::pair<double, double>> beyond;  // (delta, radius)
+    for (std::size_t j = 0; j < nc; ++j) {
+      const std::size_t j0 = j == 0 ? 0 : j - 1, j1 = j + 1 == nc ? j : j + 1;
+      const double tx = idle_centres[j1].x - idle_centres[j0].x, ty = idle_centres[j1].y - idle_centres[j0].y;
+      const double len = std::hypot(tx, ty);
+      if (!(len > 1e-12)) continue;  // the centre stands still: no envelope point
+      double nx = ty / len, ny = -tx / len;
+      if (nx * idle_centres[j].x + ny * idle_centres[j].y < 0) nx = -nx, ny = -ny;  // away from the origin
+      const double x = idle_centres[j].x - radius * nx, y = idle_centres[j].y - radius * ny;
+      double delta = (phi_start - std::atan2(y, x)) * dir;
+      delta -= 2 * pi * std::floor(delta / (2 * pi));
+      if (delta > pi) continue;  // on the traced side of the rest contact
+      beyond.push_back({delta, std::hypot(x, y)});
+    }
+    std::sort(beyond.begin(), beyond.end());
+    // the idle curve starts at the rest contact itself (value continuity with the stretch)
+    std::vector<double> dx{0.0}, dr{std::hypot(env.front().x.value(), env.front().y.value())};
+    const double min_gap = 0.25 * (2 * pi / options.points);
+    for (const auto& [delta, r] : beyond)
+      if (delta - dx.back() > min_gap) dx.push_back(delta), dr.push_back(r);
+    if (dx.size() >= 6) {
+      // the first idle point must lie on the rest contact's side: its radius at the rest
+      // contact (extrapolated from the family) against the traced stretch's
+      const double gap = std::abs(dr[1] + (dr[1] - dr[2]) / (dx[2] - dx[1]) * dx[1] - dr[0]);
+      if (gap > 5e-3)  // [mm] grinding accuracy
+        return {StatusCode::undercut,
+                "the synthesized stretch ends " + fmt(gap) + " mm off the idle curve (where the follower rests at "
+                "the other control positions) at the rest contact: the target's idle travel does not follow the "
+                "idle curve",
+                "profile " + fmt(phi_start * 180 / pi) + " deg"};
+      idle = Spline::interpolate(dx, dr);
+      idle_reach = std::min(dx.back(), 0.25 * untouched);
+      result.notes.push_back("idle curve (resting follower over the control range) continues the profile for " +
+                             fmt(idle_reach * 180 / pi) + " deg beyond the rest contact");
+    }
+  }
+  // beyond the idle curve's reach: a quintic over `settle` to a constant radius (slope and
+  // curvature 0), so the bridge from the nose meets a plain arc about the profile origin
+  double settle = 0.0, settled_radius = 0.0;
+  std::optional<Quintic> to_arc;
+  if (idle_reach > 0) {
+    double d[3];
+    idle.evaluate(idle_reach, 2, d);
+    settle = std::min(20.0 * pi / 180, 0.5 * (0.5 * untouched - idle_reach));
+    settled_radius = d[0] + 0.5 * d[1] * settle;
+    to_arc.emplace(d[0], d[1] * settle, d[2] * settle * settle, settled_radius, 0.0, 0.0);
+  }
+  auto rest_side_radius = [&](double a) {
+    if (idle_reach <= 0) return dwell_radius(a);
+    double delta = (phi_start - a) * dir;
+    delta -= 2 * pi * std::floor(delta / (2 * pi));
+    if (delta <= idle_reach) return idle(delta);
+    if (delta >= idle_reach + settle) return settled_radius;
+    double f, d1, d2;
+    to_arc->eval((delta - idle_reach) / settle, f, d1, d2);
+    return f;
+  };
+  // bridge between the nose end (phi_end) and the idle curve's far end (or the dwell arc at
+  // the middle of the untouched range)
+  const double rest_reach = 0.5 * untouched;
+  const double join = phi_start - dir * rest_reach + dir * 2 * pi;  // where the rest side takes over
   const double e = 1e-4;                               // [rad] step for the end slopes
   auto derivs = [&](auto&& f, double a, double s, double out[3]) {
     // one-sided second-order differences into the known side (s = -1: backwards)
@@ -529,7 +600,7 @@ Status swing_profile(const DesignSpec& spec, const kin::Mechanism& up, const Cut
   };
   double end_d[3], join_d[3];
   derivs(traced_radius, phi_end, -dir, end_d);
-  derivs(dwell_radius, join, dir, join_d);
+  derivs(rest_side_radius, join, dir, join_d);
   const double span = join - phi_end;  // signed
   const Quintic bridge(end_d[0], end_d[1] * span, end_d[2] * span * span, join_d[0], join_d[1] * span,
                        join_d[2] * span * span);
@@ -547,12 +618,12 @@ Status swing_profile(const DesignSpec& spec, const kin::Mechanism& up, const Cut
     double r = 0.0;
     if (d <= traced) {
       r = traced_radius(a);
-    } else if (d <= traced + untouched / 2) {
+    } else if (d <= 2 * pi - rest_reach) {
       double f, d1, d2;
       bridge.eval((a - phi_end) / span, f, d1, d2);
       r = f;
     } else {
-      r = dwell_radius(a);
+      r = rest_side_radius(a);
     }
     double a0 = std::fmod(a, 2 * pi);
     if (a0 < 0) a0 += 2 * pi;
@@ -628,6 +699,13 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
   const bool roller = follower_surface.shape == SurfaceShape::circle;
   const double radius = follower_surface.radius_mm;
 
+  // global -> cam drawing -> profile frame, for a cam pose and a point (jets)
+  auto global_to_profile = [&](const auto& cpose, const kin::detail::V2<Jet3>& g) {
+    const Jet3 dx = g.x - cpose.tx, dy = g.y - cpose.ty;
+    const Jet3 lx = cpose.rx + cpose.c * dx + cpose.s * dy - ox;
+    const Jet3 ly = cpose.ry - cpose.s * dx + cpose.c * dy - oy;
+    return P2<Jet3>{co * lx + so * ly, -so * lx + co * ly};
+  };
   const int n = options.samples;
   std::vector<P2<Jet3>> path(n), normal(n);  // follower centre / face point and face normal in the profile frame
   std::vector<double> theta(n), cam_rate(n), valve_rate(n);
@@ -710,13 +788,7 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
     const auto cpose = kin::detail::node_pose(up, cam, up_vars, up_ws.pivots.data());
     cam_rate[i] = up_vars[up.nodes[cam].first_variable].derivative(1);  // [rad per rad of driver]
     valve_rate[i] = L.derivative(1);
-    // global -> cam drawing -> profile frame
-    auto to_profile = [&](const kin::detail::V2<Jet3>& g) {
-      const Jet3 dx = g.x - cpose.tx, dy = g.y - cpose.ty;
-      const Jet3 lx = cpose.rx + cpose.c * dx + cpose.s * dy - ox;
-      const Jet3 ly = cpose.ry - cpose.s * dx + cpose.c * dy - oy;
-      return P2<Jet3>{co * lx + so * ly, -so * lx + co * ly};
-    };
+    auto to_profile = [&](const kin::detail::V2<Jet3>& g) { return global_to_profile(cpose, g); };
     auto rotate_to_profile = [&](const kin::detail::V2<Jet3>& v) {
       const Jet3 lx = cpose.c * v.x + cpose.s * v.y, ly = -cpose.s * v.x + cpose.c * v.y;
       return P2<Jet3>{co * lx + so * ly, -so * lx + co * ly};
@@ -728,9 +800,56 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
       normal[i] = rotate_to_profile(fpose.rotate(nn[0] / len, nn[1] / len));
     }
   }
-  if (options.cam == "swing")
-    return swing_profile(spec, up, cut, cam_surface, radius, roller, path, normal, theta, cam_rate, valve_rate, options,
-                         result);
+  if (options.cam == "swing") {
+    // the resting follower's centre over the first control's range (and 10 % beyond each
+    // end), at the driver angle in the middle of the longest stretch where the cam rests
+    std::vector<P2<double>> idle_centres;
+    if (!up.controls.empty() && roller) {
+      double max_rate = 0.0;
+      for (double r : cam_rate) max_rate = std::max(max_rate, std::abs(r));
+      int best_start = -1, best_len = 0;
+      for (int i = 0; i < n; ++i) {
+        auto still = [&](int k) { return std::abs(cam_rate[(k + n) % n]) <= 1e-3 * max_rate; };
+        if (!still(i) || still(i - 1)) continue;
+        int len = 0;
+        while (len < n && still(i + len)) ++len;
+        if (len > best_len) best_len = len, best_start = i;
+      }
+      if (best_start >= 0) {
+        const double rest_theta = theta[(best_start + best_len / 2) % n];
+        const double rest_level = lift(rest_theta);
+        const auto& c0 = up.controls[0];
+        constexpr int kIdleControls = 240;  // control positions across the family
+        const double lo = c0.min - 0.1 * (c0.max - c0.min), hi = c0.max + 0.1 * (c0.max - c0.min);
+        // from the synthesized position outwards on both sides, so each solve starts next to the last
+        std::vector<double> family;
+        for (int j = 0; j <= kIdleControls; ++j) family.push_back(lo + (hi - lo) * j / kIdleControls);
+        const auto split = std::lower_bound(family.begin(), family.end(), controls[0]) - family.begin();
+        std::vector<P2<double>> lower, upper;
+        for (int side = 0; side < 2; ++side) {
+          std::vector<double> ctl = controls;
+          for (std::ptrdiff_t j = side == 0 ? split : split - 1; side == 0 ? j <= kIdleControls : j >= 0;
+               j += side == 0 ? 1 : -1) {
+            ctl[0] = family[static_cast<std::size_t>(j)];
+            up_ws.set_controls(ctl);
+            down_ws.set_controls(ctl);
+            if (!kin::solve(up, up_ws, rest_theta, {0, false}).ok() ||
+                !kin::solve(down, down_ws, rest_level, {0, false}).ok())
+              break;  // the family ends where the mechanism no longer assembles
+            const auto cpose = kin::detail::node_pose(up, cam, up_ws.vars.data(), up_ws.pivots.data());
+            const auto fpose = kin::detail::node_pose(down, follower, down_ws.vars.data(), down_ws.pivots.data());
+            const P2<Jet3> c =
+                global_to_profile(cpose, fpose.apply(follower_surface.origin_mm[0], follower_surface.origin_mm[1]));
+            (side == 0 ? upper : lower).push_back({c.x.value(), c.y.value()});
+          }
+        }
+        idle_centres.assign(lower.rbegin(), lower.rend());
+        idle_centres.insert(idle_centres.end(), upper.begin(), upper.end());
+      }
+    }
+    return swing_profile(spec, up, cut, cam_surface, radius, roller, path, normal, theta, cam_rate, valve_rate,
+                         idle_centres, options, result);
+  }
 
   // orientation of the traced path: +1 counter-clockwise (shoelace area)
   double area = 0.0;
