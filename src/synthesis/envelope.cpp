@@ -254,6 +254,20 @@ PolarHit envelope_at_polar_angle(const P2<Jet2>& a, const P2<Jet2>& b, double ph
   return p;
 }
 
+// samples of the envelope per revolution: at least `requested`; when the target's knots
+// are uniform from 0 (a table or a periodic_motion grid), a multiple of their count, so
+// every sample interval lies inside one piece of the target and the hermite resampling in
+// theta never straddles a jump in its 5th derivative
+int envelope_samples(const PeriodicSpline& target, int requested) {
+  const auto knots = target.knots();
+  const int count = static_cast<int>(knots.size());
+  if (count < 2 || std::abs(knots[0]) > 1e-12) return requested;
+  const double step = target.period() / count;
+  for (int i = 1; i < count; ++i)
+    if (std::abs(knots[i] - i * step) > 1e-9 * step) return requested;
+  return count * ((requested + count - 1) / count);
+}
+
 // smallest (which < 0) or largest (which > 0) distance from the origin of a closed
 // envelope sampled every h of theta: the extreme sample, refined by newton on
 // d(x^2 + y^2)/dt = 0 over the quintic hermite pieces on both sides of it [mm]
@@ -706,7 +720,7 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
     const Jet3 ly = cpose.ry - cpose.s * dx + cpose.c * dy - oy;
     return P2<Jet3>{co * lx + so * ly, -so * lx + co * ly};
   };
-  const int n = options.samples;
+  const int n = envelope_samples(lift, options.samples);
   std::vector<P2<Jet3>> path(n), normal(n);  // follower centre / face point and face normal in the profile frame
   std::vector<double> theta(n), cam_rate(n), valve_rate(n);
   std::vector<Jet3> motion(n);  // target motion L(theta) as jets

@@ -31,7 +31,10 @@ struct SynthesisOptions {
   // apart in polar angle, in cam angle and in turn of the tangent (so a sharp nose or a
   // short swing-cam stretch gets more points than a uniform polar table would give it)
   int points = 1440;
-  int samples = 1440;  // envelope samples per revolution of the driver (>= points)
+  // envelope samples per revolution of the driver (>= points); raised to a multiple of the
+  // target's knot count when its knots are uniform from 0, so no sample interval straddles
+  // a knot of the target
+  int samples = 1440;
   double wheel_radius_mm = 0.0;    // grinding wheel radius; concave radii must be >= it (0: no check)
   std::string target_node;         // node whose motion is the target (empty: the valve, design.output_node)
 };
