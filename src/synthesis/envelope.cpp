@@ -1,6 +1,7 @@
 #include "camopt/synthesis/envelope.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <functional>
 #include <map>
@@ -336,12 +337,14 @@ std::vector<double> resolution_angles(const std::vector<P2<Jet2>>& env, const st
   }
   const double total = w.back();
   const int count = std::max(closed ? 6 : 2, static_cast<int>(std::ceil(total / step - 1e-9)));
-  // phi at measure v (linear within a sample interval; newton on the envelope refines it)
+  // phi at measure v (linear within a sample interval; newton on the envelope refines it);
+  // the measures asked for ascend (once round, wrapping at most once), so a cursor walks w
+  std::size_t cursor = 0;
   auto phi_at = [&](double v) {
-    const std::size_t i = std::min<std::size_t>(
-        intervals - 1, static_cast<std::size_t>(std::upper_bound(w.begin(), w.end(), v) - w.begin()) - 1);
-    const double t = (v - w[i]) / (w[i + 1] - w[i]);
-    return phi[i] + t * (phi[i + 1] - phi[i]);
+    if (v < w[cursor]) cursor = 0;
+    while (cursor + 1 < intervals && w[cursor + 1] <= v) ++cursor;
+    const double t = (v - w[cursor]) / (w[cursor + 1] - w[cursor]);
+    return phi[cursor] + t * (phi[cursor + 1] - phi[cursor]);
   };
   std::vector<double> out;
   if (!closed) {
@@ -412,6 +415,12 @@ void finish_from_polar(SynthesisResult& result, double wheel_radius) {
   result.max_radius_mm = *std::max_element(result.radius_mm.begin(), result.radius_mm.end());
 }
 
+// the resting follower's centre in the cam's profile frame at one control position, with
+// its tangent d/dcontrol [mm, mm per control unit]
+struct IdleCentre {
+  double x, y, tx, ty;
+};
+
 // a swing cam is traced only while it moves, forth while the valve opens and back while it
 // closes, over the same stretch of profile. The opening stroke gives the profile; the
 // closing stroke must retrace it (else the target lift is not a function of the swing
@@ -422,7 +431,7 @@ Status swing_profile(const DesignSpec& spec, const kin::Mechanism& up, const Cut
                      double radius, bool roller, const std::vector<P2<Jet3>>& path,
                      const std::vector<P2<Jet3>>& normal, const std::vector<double>& theta,
                      const std::vector<double>& cam_rate, const std::vector<double>& valve_rate,
-                     const std::vector<P2<double>>& idle_centres, const SynthesisOptions& options,
+                     const std::vector<IdleCentre>& idle_centres, const SynthesisOptions& options,
                      SynthesisResult& result) {
   (void)spec;
   if (!roller)
@@ -545,8 +554,7 @@ Status swing_profile(const DesignSpec& spec, const kin::Mechanism& up, const Cut
     const std::size_t nc = idle_centres.size();
     std::vector<std::pair<double, double>> beyond;  // (delta, radius)
     for (std::size_t j = 0; j < nc; ++j) {
-      const std::size_t j0 = j == 0 ? 0 : j - 1, j1 = j + 1 == nc ? j : j + 1;
-      const double tx = idle_centres[j1].x - idle_centres[j0].x, ty = idle_centres[j1].y - idle_centres[j0].y;
+      const double tx = idle_centres[j].tx, ty = idle_centres[j].ty;
       const double len = std::hypot(tx, ty);
       if (!(len > 1e-12)) continue;  // the centre stands still: no envelope point
       double nx = ty / len, ny = -tx / len;
@@ -817,7 +825,7 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
   if (options.cam == "swing") {
     // the resting follower's centre over the first control's range (and 10 % beyond each
     // end), at the driver angle in the middle of the longest stretch where the cam rests
-    std::vector<P2<double>> idle_centres;
+    std::vector<IdleCentre> idle_centres;
     if (!up.controls.empty() && roller) {
       double max_rate = 0.0;
       for (double r : cam_rate) max_rate = std::max(max_rate, std::abs(r));
@@ -833,13 +841,15 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
         const double rest_theta = theta[(best_start + best_len / 2) % n];
         const double rest_level = lift(rest_theta);
         const auto& c0 = up.controls[0];
-        constexpr int kIdleControls = 240;  // control positions across the family
+        // control positions solved across the family; the centres are interpolated between
+        // them (quintic splines in the control) and the envelope taken 4 times as densely
+        constexpr int kIdleControls = 32;
         const double lo = c0.min - 0.1 * (c0.max - c0.min), hi = c0.max + 0.1 * (c0.max - c0.min);
         // from the synthesized position outwards on both sides, so each solve starts next to the last
         std::vector<double> family;
         for (int j = 0; j <= kIdleControls; ++j) family.push_back(lo + (hi - lo) * j / kIdleControls);
         const auto split = std::lower_bound(family.begin(), family.end(), controls[0]) - family.begin();
-        std::vector<P2<double>> lower, upper;
+        std::vector<std::array<double, 3>> lower, upper;  // (control, x, y)
         for (int side = 0; side < 2; ++side) {
           std::vector<double> ctl = controls;
           for (std::ptrdiff_t j = side == 0 ? split : split - 1; side == 0 ? j <= kIdleControls : j >= 0;
@@ -854,11 +864,24 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
             const auto fpose = kin::detail::node_pose(down, follower, down_ws.vars.data(), down_ws.pivots.data());
             const P2<Jet3> c =
                 global_to_profile(cpose, fpose.apply(follower_surface.origin_mm[0], follower_surface.origin_mm[1]));
-            (side == 0 ? upper : lower).push_back({c.x.value(), c.y.value()});
+            (side == 0 ? upper : lower).push_back({ctl[0], c.x.value(), c.y.value()});
           }
         }
-        idle_centres.assign(lower.rbegin(), lower.rend());
-        idle_centres.insert(idle_centres.end(), upper.begin(), upper.end());
+        std::vector<std::array<double, 3>> solved(lower.rbegin(), lower.rend());
+        solved.insert(solved.end(), upper.begin(), upper.end());
+        if (solved.size() >= 6) {
+          std::vector<double> cs, xs, ys;
+          for (const auto& q : solved) cs.push_back(q[0]), xs.push_back(q[1]), ys.push_back(q[2]);
+          const Spline sx = Spline::interpolate(cs, xs), sy = Spline::interpolate(cs, ys);
+          const int dense = 4 * (static_cast<int>(cs.size()) - 1);
+          for (int j = 0; j <= dense; ++j) {
+            const double cv = cs.front() + (cs.back() - cs.front()) * j / dense;
+            double dx[2], dy[2];
+            sx.evaluate(cv, 1, dx);
+            sy.evaluate(cv, 1, dy);
+            idle_centres.push_back({dx[0], dy[0], dx[1], dy[1]});
+          }
+        }
       }
     }
     return swing_profile(spec, up, cut, cam_surface, radius, roller, path, normal, theta, cam_rate, valve_rate,
@@ -951,16 +974,23 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
   result.radius_of_curvature_mm.resize(m);
   result.min_radius_of_curvature_mm = 1e300;
   result.min_concave_radius_mm = 1e300;
+  int hint = 0;
   for (int k = 0; k < m; ++k) {
     const double target0 = targets[k];
     // bring the target into the traced range
     double target = target0 + 2 * pi * std::floor((std::min(phi[0], phi[n]) - target0) / (2 * pi) + 1.0);
     if (target > std::max(phi[0], phi[n])) target -= 2 * pi;
-    int lo = 0, hi = n;  // phi is monotone: phi[lo] .. phi[hi] brackets the target
-    while (hi - lo > 1) {
-      const int mid = (lo + hi) / 2;
-      ((phi[mid] - target) * sign <= 0 ? lo : hi) = mid;
+    // phi is monotone: phi[lo] .. phi[hi] brackets the target; the targets ascend, so the
+    // previous bracket is tried first
+    int lo = hint, hi = hint + 1;
+    if (!((phi[lo] - target) * sign <= 0 && (phi[hi] - target) * sign > 0)) {
+      lo = 0, hi = n;
+      while (hi - lo > 1) {
+        const int mid = (lo + hi) / 2;
+        ((phi[mid] - target) * sign <= 0 ? lo : hi) = mid;
+      }
     }
+    hint = lo;
     const PolarHit p = envelope_at_polar_angle(env[lo], env[hi % n], phi[lo], phi[hi], h, target);
     const double x = p.x, y = p.y, x1 = p.x1, y1 = p.y1, x2 = p.x2, y2 = p.y2;
     const double r = std::hypot(x, y);
