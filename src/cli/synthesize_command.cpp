@@ -24,7 +24,7 @@ namespace {
 struct SynthesizeOptions {
   std::string target_csv, design, out_dir, cam = "rotational";
   std::optional<double> control;
-  int points = 720;
+  int points = 1440;
   bool smooth = false;
   double knot_spacing_deg = 4.0;
   double wheel_radius_mm = 0.0;
@@ -116,7 +116,7 @@ void run_synthesize(const SynthesizeOptions& o) {
   synthesis::SynthesisOptions opt;
   opt.cam = o.cam;
   opt.points = o.points;
-  opt.samples = std::max(2880, 4 * o.points);
+  opt.samples = o.points;
   opt.wheel_radius_mm = o.wheel_radius_mm;
   if (!valve_target) opt.target_node = o.target_node;
   for (const auto& c : mech.controls) opt.controls.push_back(c.default_value);
@@ -243,7 +243,8 @@ void setup_synthesize(CLI::App& app) {
       ->check(CLI::IsMember({"rotational", "swing"}));
   cmd->add_option("--control", opts->control,
                   "control position [deg or mm, per the design's control unit] (default: the position of largest lift)");
-  cmd->add_option("--points", opts->points, "polar points of the profile per revolution [count]")
+  cmd->add_option("--points", opts->points, "profile resolution [count per revolution]: neighbouring points at most 360/N deg apart in "
+                  "polar angle, cam angle and tangent turn (a sharp nose gets more points)")
       ->check(CLI::Range(36, 36000));
   cmd->add_flag("--smooth", opts->smooth, "smooth a measured, noisy target by least squares (residual reported)");
   cmd->add_option("--knot-spacing", opts->knot_spacing_deg, "knot spacing of the smoothing spline [cam deg]")

@@ -1,11 +1,13 @@
 #include "camopt/synthesis/envelope.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <functional>
 #include <map>
 #include <numbers>
 #include <numeric>
+#include <optional>
 #include <sstream>
 
 #include "camopt/core/jet.hpp"
@@ -20,6 +22,10 @@ namespace camopt::synthesis {
 namespace {
 
 constexpr double pi = std::numbers::pi;
+// levels of the target motion at which the downstream chain is solved for the inversion
+// (septic hermite between them: for the bundled designs the round trip is unchanged from
+// a solve at every sample to 1e-12 mm)
+constexpr int kInversionLevels = 64;
 using Jet3 = Jet<3>;
 using Jet2 = Jet<2>;
 
@@ -43,6 +49,9 @@ struct P2 {
 };
 
 
+// v^1.5 [mm^3]: the denominator of a curvature from a squared speed v
+double curvature_denominator(double v) { return v * std::sqrt(v); }
+
 // quintic hermite on [0, 1] from value, first and second derivative (per unit t) at both ends
 struct Quintic {
   double a[6];
@@ -65,6 +74,41 @@ struct Quintic {
   }
 };
 
+// septic hermite on [0, 1] from value and three derivatives (per unit t) at both ends:
+// p0[k], p1[k] = d^k p / dt^k at t = 0 and t = 1
+struct Septic {
+  double a[8];
+  Septic(const double* p0, const double* p1) {
+    a[0] = p0[0];
+    a[1] = p0[1];
+    a[2] = 0.5 * p0[2];
+    a[3] = p0[3] / 6;
+    const double r0 = p1[0] - (a[0] + a[1] + a[2] + a[3]);
+    const double r1 = p1[1] - (a[1] + 2 * a[2] + 3 * a[3]);
+    const double r2 = p1[2] - (2 * a[2] + 6 * a[3]);
+    const double r3 = p1[3] - 6 * a[3];
+    // inverse of the end conditions on a4..a7 (rows: value, d1, d2, d3 of t^4..t^7 at 1)
+    a[4] = 35 * r0 - 15 * r1 + 2.5 * r2 - r3 / 6;
+    a[5] = -84 * r0 + 39 * r1 - 7 * r2 + r3 / 2;
+    a[6] = 70 * r0 - 34 * r1 + 6.5 * r2 - r3 / 2;
+    a[7] = -20 * r0 + 10 * r1 - 2 * r2 + r3 / 6;
+  }
+  // d[k] = p^(k)(t), k = 0..3
+  void eval(double t, double* d) const {
+    // horner with synthetic division (Numerical Recipes, ddpoly): d[j] = p^(j) / j!
+    d[0] = a[7];
+    d[1] = d[2] = d[3] = 0.0;
+    for (int k = 6; k >= 0; --k) {
+      d[3] = d[3] * t + d[2];
+      d[2] = d[2] * t + d[1];
+      d[1] = d[1] * t + d[0];
+      d[0] = d[0] * t + a[k];
+    }
+    d[2] *= 2.0;
+    d[3] *= 6.0;
+  }
+};
+
 // the envelope point at polar angle `target` [rad] between two samples a (at polar angle
 // phi_a) and b (phi_b), theta spacing h: quintic hermite in theta from p, p', p'' at both
 // ends, then newton on atan2(y, x) = target. Derivatives are per unit of the local
@@ -82,18 +126,143 @@ PolarHit envelope_at_polar_angle(const P2<Jet2>& a, const P2<Jet2>& b, double ph
   const Quintic qx = hermite(a.x, b.x), qy = hermite(a.y, b.y);
   PolarHit p{};
   double t = (target - phi_a) / (phi_b - phi_a);
+  // newton on the signed distance from the ray at `target`: f = (x, y) x (cos, sin) = 0
+  // (the samples bracket the target within a fraction of a turn, so the ray is the right one)
+  const double c = std::cos(target), s = std::sin(target);
   for (int it = 0; it < 30; ++it) {
     qx.eval(t, p.x, p.x1, p.x2);
     qy.eval(t, p.y, p.y1, p.y2);
-    double f = std::atan2(p.y, p.x) - target;
-    f -= 2 * pi * std::round(f / (2 * pi));
-    const double step = f / ((p.x * p.y1 - p.y * p.x1) / (p.x * p.x + p.y * p.y));
+    const double f = c * p.y - s * p.x, df = c * p.y1 - s * p.x1;
+    const double step = f / df;
     t -= step;
-    if (std::abs(step) < 1e-15) break;
+    if (std::abs(step) < 1e-13) break;  // [fraction of a sample interval]
   }
   qx.eval(t, p.x, p.x1, p.x2);
   qy.eval(t, p.y, p.y1, p.y2);
   return p;
+}
+
+// samples of the envelope per revolution: at least `requested`; when the target's knots
+// are uniform from 0 (a table or a periodic_motion grid), a multiple of their count, so
+// every sample interval lies inside one piece of the target and the hermite resampling in
+// theta never straddles a jump in its 5th derivative
+int envelope_samples(const PeriodicSpline& target, int requested) {
+  const auto knots = target.knots();
+  const int count = static_cast<int>(knots.size());
+  if (count < 2 || std::abs(knots[0]) > 1e-12) return requested;
+  const double step = target.period() / count;
+  for (int i = 1; i < count; ++i)
+    if (std::abs(knots[i] - i * step) > 1e-9 * step) return requested;
+  return count * ((requested + count - 1) / count);
+}
+
+// smallest (which < 0) or largest (which > 0) distance from the origin of a closed
+// envelope sampled every h of theta: the extreme sample, refined by newton on
+// d(x^2 + y^2)/dt = 0 over the quintic hermite pieces on both sides of it [mm]
+double extreme_radius(const std::vector<P2<Jet2>>& env, double h, int which) {
+  const int n = static_cast<int>(env.size());
+  auto radius2 = [&](int i) { return env[i].x.value() * env[i].x.value() + env[i].y.value() * env[i].y.value(); };
+  int best = 0;
+  double best2 = radius2(0);
+  for (int i = 1; i < n; ++i) {
+    const double r2 = radius2(i);
+    if ((r2 - best2) * which > 0) best = i, best2 = r2;
+  }
+  double out = std::sqrt(best2);
+  for (int a : {(best + n - 1) % n, best}) {
+    const int b = (a + 1) % n;
+    auto hermite = [&](const Jet2& pa, const Jet2& pb) {
+      return Quintic(pa.value(), pa.derivative(1) * h, pa.derivative(2) * h * h, pb.value(), pb.derivative(1) * h,
+                     pb.derivative(2) * h * h);
+    };
+    const Quintic qx = hermite(env[a].x, env[b].x), qy = hermite(env[a].y, env[b].y);
+    double t = 0.5, x, y, x1, y1, x2, y2;
+    for (int it = 0; it < 30; ++it) {
+      qx.eval(t, x, x1, x2);
+      qy.eval(t, y, y1, y2);
+      const double g = x * x1 + y * y1, g1 = x1 * x1 + y1 * y1 + x * x2 + y * y2;
+      if (g1 == 0.0) break;
+      const double next = std::clamp(t - g / g1, 0.0, 1.0);
+      if (std::abs(next - t) < 1e-15) break;
+      t = next;
+    }
+    qx.eval(t, x, x1, x2);
+    qy.eval(t, y, y1, y2);
+    if ((std::hypot(x, y) - out) * which > 0) out = std::hypot(x, y);
+  }
+  return out;
+}
+
+// polar angles of the profile table [rad] for a resolution of `step` [rad]. The target
+// lift carries detail on the scale of the cam angle theta, and the kernel interpolates the
+// table in polar angle phi: where the contact moves slowly in phi (a sharp nose under a
+// flat face, a swing cam's short working stretch) a table uniform in phi would skip over
+// several target knots. So the points are uniform in the measure
+//   dw = max(|dphi|, |dtheta|, |dpsi|)   (psi: tangent direction of the envelope)
+// i.e. no two neighbours are further apart than `step` in polar angle, in cam angle or in
+// turn of the tangent. env / phi: the envelope sampled every h of theta and its unwrapped
+// polar angle (phi.size() == env.size() + 1 when closed: the last entry is sample 0 one
+// turn later). Closed: angles in [0, 2 pi), ascending, one point at polar angle 0.
+// Open (a traced stretch): the stretch's own unwrapped angles, both ends included, in
+// tracing order.
+std::vector<double> resolution_angles(const std::vector<P2<Jet2>>& env, const std::vector<double>& phi, double h,
+                                      double step, bool closed) {
+  const std::size_t intervals = phi.size() - 1;
+  // |dpsi / dtheta| = |x' y'' - y' x''| / (x'^2 + y'^2), trapezoidal over a sample interval
+  auto turn_rate = [&](std::size_t i) {
+    const P2<Jet2>& e = env[i % env.size()];
+    const double x1 = e.x.derivative(1), y1 = e.y.derivative(1);
+    return std::abs(x1 * e.y.derivative(2) - y1 * e.x.derivative(2)) / (x1 * x1 + y1 * y1);
+  };
+  std::vector<double> w(phi.size(), 0.0);
+  double rate_prev = turn_rate(0);
+  for (std::size_t i = 0; i < intervals; ++i) {
+    const double rate = turn_rate(i + 1);
+    const double turn = 0.5 * h * (rate_prev + rate);
+    rate_prev = rate;
+    w[i + 1] = w[i] + std::max({std::abs(phi[i + 1] - phi[i]), h, turn});
+  }
+  const double total = w.back();
+  const int count = std::max(closed ? 6 : 2, static_cast<int>(std::ceil(total / step - 1e-9)));
+  // phi at measure v (linear within a sample interval; newton on the envelope refines it);
+  // the measures asked for ascend (once round, wrapping at most once), so a cursor walks w
+  std::size_t cursor = 0;
+  auto phi_at = [&](double v) {
+    if (v < w[cursor]) cursor = 0;
+    while (cursor + 1 < intervals && w[cursor + 1] <= v) ++cursor;
+    const double t = (v - w[cursor]) / (w[cursor + 1] - w[cursor]);
+    return phi[cursor] + t * (phi[cursor + 1] - phi[cursor]);
+  };
+  std::vector<double> out;
+  if (!closed) {
+    for (int k = 0; k <= count; ++k) out.push_back(k == count ? phi.back() : phi_at(total * k / count));
+    return out;
+  }
+  // start where the envelope crosses polar angle 0 (mod 2 pi)
+  const double dir = phi.back() > phi.front() ? 1.0 : -1.0;
+  const double zero = phi.front() + dir * std::fmod(std::fmod(-dir * phi.front(), 2 * pi) + 2 * pi, 2 * pi);
+  std::size_t i0 = 0;
+  while (i0 + 1 < intervals && (phi[i0 + 1] - zero) * dir <= 0) ++i0;
+  const double w0 = w[i0] + (w[i0 + 1] - w[i0]) * (zero - phi[i0]) / (phi[i0 + 1] - phi[i0]);
+  // k = 0 .. count - 1 run once round from polar angle 0 in the tracing sense: wrapped into
+  // [0, 2 pi) they ascend (counter-clockwise tracing) or, after k = 0, descend
+  out.reserve(static_cast<std::size_t>(count));
+  for (int k = 0; k < count; ++k) {
+    double v = w0 + total * k / count;
+    if (v >= total) v -= total;
+    if (k == 0) {
+      out.push_back(0.0);
+      continue;
+    }
+    // polar angle travelled from the start, in (0, 2 pi) for a profile winding once
+    double a = (phi_at(v) - zero) * dir;
+    a -= 2 * pi * std::floor(a / (2 * pi));
+    out.push_back(dir > 0 ? a : 2 * pi - a);
+  }
+  if (dir < 0) std::reverse(out.begin() + 1, out.end());
+  // guard against rounding at the ends of the turn (neighbours must stay strictly increasing)
+  out.erase(std::unique(out.begin(), out.end(), [](double a, double b) { return !(b > a); }), out.end());
+  return out;
 }
 
 }  // namespace
@@ -118,7 +287,7 @@ void finish_from_polar(SynthesisResult& result, double wheel_radius) {
     result.x_mm[k] = d[0] * std::cos(u[k]);
     result.y_mm[k] = d[0] * std::sin(u[k]);
     // polar curvature (r^2 + 2 r'^2 - r r'') / (r^2 + r'^2)^1.5, + convex
-    const double kappa = (d[0] * d[0] + 2 * d[1] * d[1] - d[0] * d[2]) / std::pow(d[0] * d[0] + d[1] * d[1], 1.5);
+    const double kappa = (d[0] * d[0] + 2 * d[1] * d[1] - d[0] * d[2]) / curvature_denominator(d[0] * d[0] + d[1] * d[1]);
     const double roc = std::abs(kappa) > 1e-12 ? 1.0 / kappa : 0.0;
     result.radius_of_curvature_mm[k] = roc;
     if (kappa > 0 && roc < result.min_radius_of_curvature_mm)
@@ -133,6 +302,12 @@ void finish_from_polar(SynthesisResult& result, double wheel_radius) {
   result.max_radius_mm = *std::max_element(result.radius_mm.begin(), result.radius_mm.end());
 }
 
+// the resting follower's centre in the cam's profile frame at one control position, with
+// its tangent d/dcontrol [mm, mm per control unit]
+struct IdleCentre {
+  double x, y, tx, ty;
+};
+
 // a swing cam is traced only while it moves, forth while the valve opens and back while it
 // closes, over the same stretch of profile. The opening stroke gives the profile; the
 // closing stroke must retrace it (else the target lift is not a function of the swing
@@ -143,7 +318,8 @@ Status swing_profile(const DesignSpec& spec, const kin::Mechanism& up, const Mec
                      double radius, bool roller, const std::vector<P2<Jet3>>& path,
                      const std::vector<P2<Jet3>>& normal, const std::vector<double>& theta,
                      const std::vector<double>& cam_rate, const std::vector<double>& valve_rate,
-                     const SynthesisOptions& options, SynthesisResult& result) {
+                     const std::vector<IdleCentre>& idle_centres, const SynthesisOptions& options,
+                     SynthesisResult& result) {
   (void)spec;
   if (!roller)
     throw InputError("synthesize --cam swing: the swing cam's follower must be a roller or pad (circle), not a flat face");
@@ -196,28 +372,6 @@ Status swing_profile(const DesignSpec& spec, const kin::Mechanism& up, const Mec
     if ((phi[j] - phi[j - 1]) * dir <= 0)
       return {StatusCode::undercut, "the synthesized swing profile folds back on itself (undercut or cusp)",
               "cam " + fmt(theta[run[j]] * 180 / pi) + " deg"};
-  // the closing stroke must retrace the opening one
-  double worst = 0.0, worst_at = 0.0;
-  for (int i = 0; i < n; ++i) {
-    if (!(cam_rate[i] * open_sign < -1e-3 * max_rate)) continue;
-    const P2<Jet2> q = envelope(i);
-    double best = 1e300;
-    for (std::size_t j = 0; j + 1 < env.size(); ++j) {
-      const double ax = env[j].x.value(), ay = env[j].y.value();
-      const double bx = env[j + 1].x.value() - ax, by = env[j + 1].y.value() - ay;
-      const double t = std::clamp(((q.x.value() - ax) * bx + (q.y.value() - ay) * by) / (bx * bx + by * by), 0.0, 1.0);
-      best = std::min(best, std::hypot(q.x.value() - ax - t * bx, q.y.value() - ay - t * by));
-    }
-    if (best > worst) worst = best, worst_at = theta[i];
-  }
-  if (worst > 5e-3)  // [mm] grinding accuracy
-    return {StatusCode::undercut,
-            "the closing stroke of the swing cam does not retrace the opening stroke (off by " + fmt(worst) +
-                " mm): the target lift is not a function of the swing angle",
-            "cam " + fmt(worst_at * 180 / pi) + " deg"};
-  result.notes.push_back("swing cam traced over " + fmt(std::abs(phi.back() - phi.front()) * 180 / pi) +
-                         " deg of its profile; closing stroke retraces it within " + fmt(worst) + " mm");
-
   // radius on the traced stretch at polar angle a (quintic hermite in theta between samples)
   const double h = 2 * pi / n;
   auto traced_radius = [&](double a) {
@@ -229,6 +383,35 @@ Status swing_profile(const DesignSpec& spec, const kin::Mechanism& up, const Mec
     const PolarHit p = envelope_at_polar_angle(env[lo], env[hi], phi[lo], phi[hi], h, a);
     return std::hypot(p.x, p.y);
   };
+  // the closing stroke must retrace the opening one: radial distance of each closing
+  // envelope point from the traced profile at its polar angle (or from the nearer end of
+  // the stretch when it lies beyond it)
+  double worst = 0.0, worst_at = 0.0;
+  const double lo_phi = std::min(phi.front(), phi.back()), hi_phi = std::max(phi.front(), phi.back());
+  for (int i = 0; i < n; ++i) {
+    if (!(cam_rate[i] * open_sign < -1e-3 * max_rate)) continue;
+    const P2<Jet2> q = envelope(i);
+    const double qx = q.x.value(), qy = q.y.value();
+    double a = std::atan2(qy, qx);
+    a += 2 * pi * std::round((0.5 * (lo_phi + hi_phi) - a) / (2 * pi));
+    double off = 0.0;
+    if (a >= lo_phi && a <= hi_phi) {
+      off = std::abs(std::hypot(qx, qy) - traced_radius(a));
+    } else {
+      const P2<Jet2>& end = std::abs(a - phi.front()) < std::abs(a - phi.back()) ? env.front() : env.back();
+      off = std::hypot(qx - end.x.value(), qy - end.y.value());
+    }
+    if (off > worst) worst = off, worst_at = theta[i];
+  }
+  if (worst > 5e-3)  // [mm] grinding accuracy
+    return {StatusCode::undercut,
+            "the closing stroke of the swing cam does not retrace the opening stroke (off by " + fmt(worst) +
+                " mm): the target lift is not a function of the swing angle",
+            "cam " + fmt(worst_at * 180 / pi) + " deg"};
+  result.notes.push_back("swing cam traced over " + fmt(std::abs(phi.back() - phi.front()) * 180 / pi) +
+                         " deg of its profile; closing stroke retraces it within " + fmt(worst) + " mm (at cam " +
+                         fmt(worst_at * 180 / pi) + " deg; the round trip on the closing stroke is limited by this)");
+
   // dwell arc about the swing pivot, in the profile frame
   const kin::Node& swing = up.nodes[up.node_index(cut.cam_node)];
   const double ox = cam_surface.origin_mm[0], oy = cam_surface.origin_mm[1];
@@ -244,10 +427,78 @@ Status swing_profile(const DesignSpec& spec, const kin::Mechanism& up, const Mec
     const double disc = b * b - (px * px + py * py - dwell * dwell);
     return b + std::sqrt(std::max(0.0, disc));
   };
-  // bridge between the nose end (phi_end) and the dwell arc at the middle of the untouched range
+  // idle curve: where the follower rests at the other control positions. With controls,
+  // the envelope of the resting roller over the control family (its centres in the profile
+  // frame, idle_centres, in control order): a dwell arc about the pivot when the pivot stays
+  // put (CVVL), the control arm's idle curve when it moves with the control (VVLD). It is
+  // used on the far side of the rest contact, as a function of the polar distance
+  // delta = (phi_start - a) * dir beyond it; empty: the dwell arc alone.
   const double phi_start = phi.front(), phi_end = phi.back();
   const double untouched = 2 * pi - std::abs(phi_end - phi_start);
-  const double join = phi_end + dir * untouched / 2;  // where the dwell arc takes over
+  Spline idle;
+  double idle_reach = 0.0;  // [rad] of polar distance covered by the idle curve
+  if (idle_centres.size() >= 8) {
+    const std::size_t nc = idle_centres.size();
+    std::vector<std::pair<double, double>> beyond;  // (delta, radius)
+    for (std::size_t j = 0; j < nc; ++j) {
+      const double tx = idle_centres[j].tx, ty = idle_centres[j].ty;
+      const double len = std::hypot(tx, ty);
+      if (!(len > 1e-12)) continue;  // the centre stands still: no envelope point
+      double nx = ty / len, ny = -tx / len;
+      if (nx * idle_centres[j].x + ny * idle_centres[j].y < 0) nx = -nx, ny = -ny;  // away from the origin
+      const double x = idle_centres[j].x - radius * nx, y = idle_centres[j].y - radius * ny;
+      double delta = (phi_start - std::atan2(y, x)) * dir;
+      delta -= 2 * pi * std::floor(delta / (2 * pi));
+      if (delta > pi) continue;  // on the traced side of the rest contact
+      beyond.push_back({delta, std::hypot(x, y)});
+    }
+    std::sort(beyond.begin(), beyond.end());
+    // the idle curve starts at the rest contact itself (value continuity with the stretch)
+    std::vector<double> dx{0.0}, dr{std::hypot(env.front().x.value(), env.front().y.value())};
+    const double min_gap = 0.25 * (2 * pi / options.points);
+    for (const auto& [delta, r] : beyond)
+      if (delta - dx.back() > min_gap) dx.push_back(delta), dr.push_back(r);
+    if (dx.size() >= 6) {
+      // the first idle point must lie on the rest contact's side: its radius at the rest
+      // contact (extrapolated from the family) against the traced stretch's
+      const double gap = std::abs(dr[1] + (dr[1] - dr[2]) / (dx[2] - dx[1]) * dx[1] - dr[0]);
+      if (gap > 5e-3)  // [mm] grinding accuracy
+        return {StatusCode::undercut,
+                "the synthesized stretch ends " + fmt(gap) + " mm off the idle curve (where the follower rests at "
+                "the other control positions) at the rest contact: the target's idle travel does not follow the "
+                "idle curve",
+                "profile " + fmt(phi_start * 180 / pi) + " deg"};
+      idle = Spline::interpolate(dx, dr);
+      idle_reach = std::min(dx.back(), 0.25 * untouched);
+      result.notes.push_back("idle curve (resting follower over the control range) continues the profile for " +
+                             fmt(idle_reach * 180 / pi) + " deg beyond the rest contact");
+    }
+  }
+  // beyond the idle curve's reach: a quintic over `settle` to a constant radius (slope and
+  // curvature 0), so the bridge from the nose meets a plain arc about the profile origin
+  double settle = 0.0, settled_radius = 0.0;
+  std::optional<Quintic> to_arc;
+  if (idle_reach > 0) {
+    double d[3];
+    idle.evaluate(idle_reach, 2, d);
+    settle = std::min(20.0 * pi / 180, 0.5 * (0.5 * untouched - idle_reach));
+    settled_radius = d[0] + 0.5 * d[1] * settle;
+    to_arc.emplace(d[0], d[1] * settle, d[2] * settle * settle, settled_radius, 0.0, 0.0);
+  }
+  auto rest_side_radius = [&](double a) {
+    if (idle_reach <= 0) return dwell_radius(a);
+    double delta = (phi_start - a) * dir;
+    delta -= 2 * pi * std::floor(delta / (2 * pi));
+    if (delta <= idle_reach) return idle(delta);
+    if (delta >= idle_reach + settle) return settled_radius;
+    double f, d1, d2;
+    to_arc->eval((delta - idle_reach) / settle, f, d1, d2);
+    return f;
+  };
+  // bridge between the nose end (phi_end) and the idle curve's far end (or the dwell arc at
+  // the middle of the untouched range)
+  const double rest_reach = 0.5 * untouched;
+  const double join = phi_start - dir * rest_reach + dir * 2 * pi;  // where the rest side takes over
   const double e = 1e-4;                               // [rad] step for the end slopes
   auto derivs = [&](auto&& f, double a, double s, double out[3]) {
     // one-sided second-order differences into the known side (s = -1: backwards)
@@ -258,31 +509,43 @@ Status swing_profile(const DesignSpec& spec, const kin::Mechanism& up, const Mec
   };
   double end_d[3], join_d[3];
   derivs(traced_radius, phi_end, -dir, end_d);
-  derivs(dwell_radius, join, dir, join_d);
+  derivs(rest_side_radius, join, dir, join_d);
   const double span = join - phi_end;  // signed
   const Quintic bridge(end_d[0], end_d[1] * span, end_d[2] * span * span, join_d[0], join_d[1] * span,
                        join_d[2] * span * span);
-  const int m = options.points;
-  result.angle_deg.resize(m);
-  result.radius_mm.resize(m);
-  for (int k = 0; k < m; ++k) {
-    const double a0 = 2 * pi * k / m;
-    // signed distance along the traced direction from the rest point, in [0, 2 pi)
-    double along = (a0 - phi_start) * dir;
-    along -= 2 * pi * std::floor(along / (2 * pi));
-    const double a = phi_start + dir * along;
+  // the traced stretch at the resolution of resolution_angles, the bridge and the dwell arc
+  // (smooth, no target detail) uniform in polar angle
+  const double step = 2 * pi / options.points;
+  const double traced = std::abs(phi_end - phi_start);
+  std::vector<double> along;  // distance along the traced direction from the rest point [rad]
+  for (double a : resolution_angles(env, phi, h, step, false)) along.push_back((a - phi_start) * dir);
+  const int rest_count = std::max(2, static_cast<int>(std::ceil(untouched / step - 1e-9)));
+  for (int j = 1; j < rest_count; ++j) along.push_back(traced + untouched * j / rest_count);
+  std::vector<std::pair<double, double>> table;  // (polar angle in [0, 2 pi), radius)
+  for (double d : along) {
+    const double a = phi_start + dir * d;
     double r = 0.0;
-    if (along <= std::abs(phi_end - phi_start)) {
+    if (d <= traced) {
       r = traced_radius(a);
-    } else if (along <= std::abs(phi_end - phi_start) + untouched / 2) {
+    } else if (d <= 2 * pi - rest_reach) {
       double f, d1, d2;
       bridge.eval((a - phi_end) / span, f, d1, d2);
       r = f;
     } else {
-      r = dwell_radius(a);
+      r = rest_side_radius(a);
     }
-    result.angle_deg[k] = a0 * 180 / pi;
-    result.radius_mm[k] = r;
+    double a0 = std::fmod(a, 2 * pi);
+    if (a0 < 0) a0 += 2 * pi;
+    if (a0 >= 2 * pi) a0 = 0.0;
+    table.push_back({a0, r});
+  }
+  std::sort(table.begin(), table.end());
+  table.erase(std::unique(table.begin(), table.end(), [](auto a, auto b) { return a.first == b.first; }), table.end());
+  result.angle_deg.clear();
+  result.radius_mm.clear();
+  for (const auto& [a0, r] : table) {
+    result.angle_deg.push_back(a0 * 180 / pi);
+    result.radius_mm.push_back(r);
   }
   finish_from_polar(result, options.wheel_radius_mm);
   result.profile.name = cut.profile;
@@ -311,7 +574,7 @@ DesignSpec with_profile(const DesignSpec& spec, const ProfileSpec& profile) {
 
 Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const SynthesisOptions& options,
                   SynthesisResult& result) {
-  CAMOPT_ASSERT(options.points >= 6 && options.samples >= 2 * options.points);
+  CAMOPT_ASSERT(options.points >= 6 && options.samples >= options.points);
   const std::string target_node = options.target_node.empty() ? spec.output_node : options.target_node;
   const MechanismCut cut = cut_mechanism(spec, options.cam, target_node);
   const auto& conn = spec.connections[cut.connection];
@@ -345,44 +608,96 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
   const bool roller = follower_surface.shape == SurfaceShape::circle;
   const double radius = follower_surface.radius_mm;
 
-  const int n = options.samples;
+  // global -> cam drawing -> profile frame, for a cam pose and a point (jets)
+  auto global_to_profile = [&](const auto& cpose, const kin::detail::V2<Jet3>& g) {
+    const Jet3 dx = g.x - cpose.tx, dy = g.y - cpose.ty;
+    const Jet3 lx = cpose.rx + cpose.c * dx + cpose.s * dy - ox;
+    const Jet3 ly = cpose.ry - cpose.s * dx + cpose.c * dy - oy;
+    return P2<Jet3>{co * lx + so * ly, -so * lx + co * ly};
+  };
+  const int n = envelope_samples(lift, options.samples);
   std::vector<P2<Jet3>> path(n), normal(n);  // follower centre / face point and face normal in the profile frame
-  std::vector<Jet3> face_point_jets;
   std::vector<double> theta(n), cam_rate(n), valve_rate(n);
+  std::vector<Jet3> motion(n);  // target motion L(theta) as jets
+  double motion_lo = 1e300, motion_hi = -1e300;
   for (int i = 0; i < n; ++i) {
     theta[i] = 2 * pi * i / n;
-    const Jet3 L = lift(Jet3::variable(theta[i]));
-    Status st = kin::solve(down, down_ws, L.value(), {3, false});
-    if (!st.ok()) {
-      st.message = "inverting the valve lift " + fmt(L.value()) + " mm through '" + cut.follower_node +
-                   "': " + st.message + "; if a dwell arc or idle curve lies between this cam and the valve, the "
-                   "valve lift does not determine the follower there";
-      st.where = "cam " + fmt(theta[i] * 180 / pi) + " deg";
-      return st;
+    motion[i] = lift(Jet3::variable(theta[i]));
+    motion_lo = std::min(motion_lo, motion[i].value());
+    motion_hi = std::max(motion_hi, motion[i].value());
+  }
+  // inversion: the follower's variables are functions F(L) of the target motion alone, so
+  // they are solved at levels across L's range (F and three derivatives, by implicit
+  // differentiation in the solver) and interpolated by septic hermite pieces in L, then
+  // composed with L(theta) (Faa di Bruno). levels run up from the rest (L = 0) for warm starts.
+  const kin::Node& fn = down.nodes[follower];
+  const int dof = fn.dof;
+  if (motion_hi - motion_lo < 1e-9) motion_hi = motion_lo + 1e-3;  // no motion: any small bracket
+  const int levels = kInversionLevels;
+  const double level_step = (motion_hi - motion_lo) / levels;
+  std::vector<double> inverse((levels + 1) * dof * 4);  // [level][dof][derivative]
+  {
+    // one continuous path: from the rest level (L nearest 0, the drawing) down to the
+    // lowest level, then up through all of them (warm starts from the neighbour)
+    const int rest = std::clamp(static_cast<int>(std::lround(-motion_lo / level_step)), 0, levels);
+    std::vector<int> order;
+    for (int q = rest; q >= 0; --q) order.push_back(q);
+    for (int q = 1; q <= levels; ++q) order.push_back(q);
+    for (int q : order) {
+      const double level = motion_lo + q * level_step;
+      Status st = kin::solve(down, down_ws, level, {3, false});
+      if (!st.ok()) {
+        int at = 0;  // the first cam angle whose target motion reaches this level
+        for (int i = 0; i < n; ++i)
+          if (std::abs(motion[i].value() - level) < std::abs(motion[at].value() - level)) at = i;
+        st.message = "inverting the valve lift " + fmt(level) + " mm through '" + cut.follower_node +
+                     "': " + st.message + "; if a dwell arc or idle curve lies between this cam and the valve, the "
+                     "valve lift does not determine the follower there";
+        st.where = "cam " + fmt(theta[at] * 180 / pi) + " deg";
+        return st;
+      }
+      for (int k = 0; k < dof; ++k)
+        for (int d = 0; d < 4; ++d)
+          inverse[(q * dof + k) * 4 + d] = down_ws.vars[fn.first_variable + k].derivative(d);
     }
-    std::vector<Jet3> vars(down.variables.size(), Jet3(0.0));
-    const kin::Node& fn = down.nodes[follower];
-    for (int k = 0; k < fn.dof; ++k) {
-      const Jet3& j = down_ws.vars[fn.first_variable + k];
-      const double d[4] = {j.derivative(0), j.derivative(1), j.derivative(2), j.derivative(3)};
+  }
+  // a rotational cam that is the only body upstream turns with the driver: no solve needed
+  const bool cam_is_lone_driver = up.variables.size() == 1 && cam == up.driver_node && up.driver_variable() == 0;
+  Jet3 driver_alone;
+  if (cam_is_lone_driver) {  // one solve fills the workspace's pivot positions for node_pose
+    const Status st = kin::solve(up, up_ws, 0.0, {3, false});
+    if (!st.ok()) return {st.code, st.message, "cam 0 deg"};
+  }
+  const double step_power[4] = {1.0, level_step, level_step * level_step, level_step * level_step * level_step};
+  std::vector<Jet3> vars(down.variables.size(), Jet3(0.0));
+  for (int i = 0; i < n; ++i) {
+    const Jet3& L = motion[i];
+    const double u = std::clamp((L.value() - motion_lo) / level_step, 0.0, static_cast<double>(levels));
+    const int q = std::min(levels - 1, static_cast<int>(u));
+    for (int k = 0; k < dof; ++k) {
+      // end data per unit of the local parameter t = u - q: d^j/dt^j = step^j d^j/dL^j
+      double e0[4], e1[4], d[4];
+      for (int j = 0; j < 4; ++j) {
+        e0[j] = inverse[(q * dof + k) * 4 + j] * step_power[j];
+        e1[j] = inverse[((q + 1) * dof + k) * 4 + j] * step_power[j];
+      }
+      Septic(e0, e1).eval(u - q, d);
+      for (int j = 1; j < 4; ++j) d[j] /= step_power[j];
       vars[fn.first_variable + k] = compose(d, L);  // follower(theta) = F(L(theta))
     }
     const auto fpose = kin::detail::node_pose(down, follower, vars.data(), down_ws.pivots.data());
-    st = kin::solve(up, up_ws, theta[i], {3, false});
-    if (!st.ok()) {
-      st.where = "cam " + fmt(theta[i] * 180 / pi) + " deg";
-      return st;
+    // the cam's motion: the driver itself (its angle is theta), or solved upstream
+    const Jet3* up_vars = &driver_alone;
+    driver_alone = Jet3::variable(theta[i]);
+    if (!cam_is_lone_driver) {
+      const Status st = kin::solve(up, up_ws, theta[i], {3, false});
+      if (!st.ok()) return {st.code, st.message, "cam " + fmt(theta[i] * 180 / pi) + " deg"};
+      up_vars = up_ws.vars.data();
     }
-    const auto cpose = kin::detail::node_pose(up, cam, up_ws.vars.data(), up_ws.pivots.data());
-    cam_rate[i] = up_ws.vars[up.nodes[cam].first_variable].derivative(1);  // [rad per rad of driver]
+    const auto cpose = kin::detail::node_pose(up, cam, up_vars, up_ws.pivots.data());
+    cam_rate[i] = up_vars[up.nodes[cam].first_variable].derivative(1);  // [rad per rad of driver]
     valve_rate[i] = L.derivative(1);
-    // global -> cam drawing -> profile frame
-    auto to_profile = [&](const kin::detail::V2<Jet3>& g) {
-      const Jet3 dx = g.x - cpose.tx, dy = g.y - cpose.ty;
-      const Jet3 lx = cpose.rx + cpose.c * dx + cpose.s * dy - ox;
-      const Jet3 ly = cpose.ry - cpose.s * dx + cpose.c * dy - oy;
-      return P2<Jet3>{co * lx + so * ly, -so * lx + co * ly};
-    };
+    auto to_profile = [&](const kin::detail::V2<Jet3>& g) { return global_to_profile(cpose, g); };
     auto rotate_to_profile = [&](const kin::detail::V2<Jet3>& v) {
       const Jet3 lx = cpose.c * v.x + cpose.s * v.y, ly = -cpose.s * v.x + cpose.c * v.y;
       return P2<Jet3>{co * lx + so * ly, -so * lx + co * ly};
@@ -394,9 +709,71 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
       normal[i] = rotate_to_profile(fpose.rotate(nn[0] / len, nn[1] / len));
     }
   }
-  if (options.cam == "swing")
-    return swing_profile(spec, up, cut, cam_surface, radius, roller, path, normal, theta, cam_rate, valve_rate, options,
-                         result);
+  if (options.cam == "swing") {
+    // the resting follower's centre over the first control's range (and 10 % beyond each
+    // end), at the driver angle in the middle of the longest stretch where the cam rests
+    std::vector<IdleCentre> idle_centres;
+    if (!up.controls.empty() && roller) {
+      double max_rate = 0.0;
+      for (double r : cam_rate) max_rate = std::max(max_rate, std::abs(r));
+      int best_start = -1, best_len = 0;
+      for (int i = 0; i < n; ++i) {
+        auto still = [&](int k) { return std::abs(cam_rate[(k + n) % n]) <= 1e-3 * max_rate; };
+        if (!still(i) || still(i - 1)) continue;
+        int len = 0;
+        while (len < n && still(i + len)) ++len;
+        if (len > best_len) best_len = len, best_start = i;
+      }
+      if (best_start >= 0) {
+        const double rest_theta = theta[(best_start + best_len / 2) % n];
+        const double rest_level = lift(rest_theta);
+        const auto& c0 = up.controls[0];
+        // control positions solved across the family; the centres are interpolated between
+        // them (quintic splines in the control) and the envelope taken 4 times as densely
+        constexpr int kIdleControls = 32;
+        const double lo = c0.min - 0.1 * (c0.max - c0.min), hi = c0.max + 0.1 * (c0.max - c0.min);
+        // from the synthesized position outwards on both sides, so each solve starts next to the last
+        std::vector<double> family;
+        for (int j = 0; j <= kIdleControls; ++j) family.push_back(lo + (hi - lo) * j / kIdleControls);
+        const auto split = std::lower_bound(family.begin(), family.end(), controls[0]) - family.begin();
+        std::vector<std::array<double, 3>> lower, upper;  // (control, x, y)
+        for (int side = 0; side < 2; ++side) {
+          std::vector<double> ctl = controls;
+          for (std::ptrdiff_t j = side == 0 ? split : split - 1; side == 0 ? j <= kIdleControls : j >= 0;
+               j += side == 0 ? 1 : -1) {
+            ctl[0] = family[static_cast<std::size_t>(j)];
+            up_ws.set_controls(ctl);
+            down_ws.set_controls(ctl);
+            if (!kin::solve(up, up_ws, rest_theta, {0, false}).ok() ||
+                !kin::solve(down, down_ws, rest_level, {0, false}).ok())
+              break;  // the family ends where the mechanism no longer assembles
+            const auto cpose = kin::detail::node_pose(up, cam, up_ws.vars.data(), up_ws.pivots.data());
+            const auto fpose = kin::detail::node_pose(down, follower, down_ws.vars.data(), down_ws.pivots.data());
+            const P2<Jet3> c =
+                global_to_profile(cpose, fpose.apply(follower_surface.origin_mm[0], follower_surface.origin_mm[1]));
+            (side == 0 ? upper : lower).push_back({ctl[0], c.x.value(), c.y.value()});
+          }
+        }
+        std::vector<std::array<double, 3>> solved(lower.rbegin(), lower.rend());
+        solved.insert(solved.end(), upper.begin(), upper.end());
+        if (solved.size() >= 6) {
+          std::vector<double> cs, xs, ys;
+          for (const auto& q : solved) cs.push_back(q[0]), xs.push_back(q[1]), ys.push_back(q[2]);
+          const Spline sx = Spline::interpolate(cs, xs), sy = Spline::interpolate(cs, ys);
+          const int dense = 4 * (static_cast<int>(cs.size()) - 1);
+          for (int j = 0; j <= dense; ++j) {
+            const double cv = cs.front() + (cs.back() - cs.front()) * j / dense;
+            double dx[2], dy[2];
+            sx.evaluate(cv, 1, dx);
+            sy.evaluate(cv, 1, dy);
+            idle_centres.push_back({dx[0], dy[0], dx[1], dy[1]});
+          }
+        }
+      }
+    }
+    return swing_profile(spec, up, cut, cam_surface, radius, roller, path, normal, theta, cam_rate, valve_rate,
+                         idle_centres, options, result);
+  }
 
   // orientation of the traced path: +1 counter-clockwise (shoelace area)
   double area = 0.0;
@@ -472,9 +849,11 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
   if (std::abs(std::abs(phi[n] - phi[0]) - 2 * pi) > 1e-6)
     return {StatusCode::undercut, "the synthesized profile does not wind once around the cam pivot", "whole revolution"};
 
-  // resample at uniform polar angles by quintic hermite interpolation in theta
+  // resample at polar angles chosen by resolution_angles, each point by quintic hermite
+  // interpolation in theta and newton on its polar angle
   const double h = 2 * pi / n;
-  const int m = options.points;
+  const std::vector<double> targets = resolution_angles(env, phi, h, 2 * pi / options.points, true);
+  const int m = static_cast<int>(targets.size());
   result.angle_deg.resize(m);
   result.radius_mm.resize(m);
   result.x_mm.resize(m);
@@ -482,21 +861,28 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
   result.radius_of_curvature_mm.resize(m);
   result.min_radius_of_curvature_mm = 1e300;
   result.min_concave_radius_mm = 1e300;
+  int hint = 0;
   for (int k = 0; k < m; ++k) {
-    const double target0 = 2 * pi * k / m;
+    const double target0 = targets[k];
     // bring the target into the traced range
     double target = target0 + 2 * pi * std::floor((std::min(phi[0], phi[n]) - target0) / (2 * pi) + 1.0);
     if (target > std::max(phi[0], phi[n])) target -= 2 * pi;
-    int lo = 0, hi = n;  // phi is monotone: phi[lo] .. phi[hi] brackets the target
-    while (hi - lo > 1) {
-      const int mid = (lo + hi) / 2;
-      ((phi[mid] - target) * sign <= 0 ? lo : hi) = mid;
+    // phi is monotone: phi[lo] .. phi[hi] brackets the target; the targets ascend, so the
+    // previous bracket is tried first
+    int lo = hint, hi = hint + 1;
+    if (!((phi[lo] - target) * sign <= 0 && (phi[hi] - target) * sign > 0)) {
+      lo = 0, hi = n;
+      while (hi - lo > 1) {
+        const int mid = (lo + hi) / 2;
+        ((phi[mid] - target) * sign <= 0 ? lo : hi) = mid;
+      }
     }
+    hint = lo;
     const PolarHit p = envelope_at_polar_angle(env[lo], env[hi % n], phi[lo], phi[hi], h, target);
     const double x = p.x, y = p.y, x1 = p.x1, y1 = p.y1, x2 = p.x2, y2 = p.y2;
     const double r = std::hypot(x, y);
     // curvature, convex positive: the profile runs counter-clockwise when sign > 0
-    const double kappa = sign * (x1 * y2 - y1 * x2) / std::pow(x1 * x1 + y1 * y1, 1.5);
+    const double kappa = sign * (x1 * y2 - y1 * x2) / curvature_denominator(x1 * x1 + y1 * y1);
     const double roc = std::abs(kappa) > 1e-12 ? 1.0 / kappa : 0.0;  // 0: flat
     result.angle_deg[k] = target0 * 180 / pi;
     result.radius_mm[k] = r;
@@ -517,8 +903,8 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
   if (result.min_radius_of_curvature_mm == 1e300) result.min_radius_of_curvature_mm = 0.0;
   result.concave_narrower_than_wheel =
       result.has_concave && options.wheel_radius_mm > 0 && result.min_concave_radius_mm < options.wheel_radius_mm;
-  result.base_radius_mm = *std::min_element(result.radius_mm.begin(), result.radius_mm.end());
-  result.max_radius_mm = *std::max_element(result.radius_mm.begin(), result.radius_mm.end());
+  result.base_radius_mm = extreme_radius(env, h, -1);
+  result.max_radius_mm = extreme_radius(env, h, +1);
   result.profile.name = cut.profile;
   result.profile.form = ProfileForm::polar;
   result.profile.angle_deg = result.angle_deg;

@@ -94,6 +94,14 @@ MechanismCut cut_mechanism(const DesignSpec& spec, const std::string& cam_kind, 
       k.lash_mm = 0.0;
       h.connections.push_back(k);
     }
+    // only the profiles this half uses (compile builds every listed profile)
+    std::erase_if(h.profiles, [&](const ProfileSpec& p) {
+      for (const auto& k : h.connections)
+        if ((k.surface_a.shape == SurfaceShape::profile && k.surface_a.profile == p.name) ||
+            (k.surface_b.shape == SurfaceShape::profile && k.surface_b.profile == p.name))
+          return false;
+      return true;
+    });
     return h;
   };
   cut.upstream = half(up_root);

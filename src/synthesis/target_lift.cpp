@@ -23,6 +23,19 @@ constexpr double kSpanRelTol = 1e-9;        // |span - 360| <= this * 360: exact
 constexpr double kWrapGapFactor = 1.5;      // wrap interval / median spacing above which the cycle is not covered
 constexpr double kInteriorGapFactor = 4.0;  // interior interval / median spacing above which it is a gap
 constexpr double kFineGridDeg = 0.5;        // [cam deg] largest step of the smoothing conversion grid
+// steps (interpolation only): an interval rising more than kStepFraction of the peak lift
+// with a slope more than kStepSlopeFactor times the slope on both sides of it
+constexpr double kStepFraction = 0.02;
+constexpr double kStepSlopeFactor = 5.0;
+// noise (interpolation only), over windows of 5 equally spaced rows above kNoiseMinLift of
+// the peak: median |4th difference| / largest |2nd difference|. Smooth data gives
+// (2 pi h / T)^2 * ~0.6 (a cycloid of duration T = 12 rows: 0.17); white noise alone gives
+// ~3.4 times its own 2nd differences. Above kNoiseRatio the acceleration of an exact
+// interpolant follows the noise. (Real tables in shared/data/real: clean 0.001 .. 0.29,
+// measured at 10 um resolution 0.5 .. 0.68.)
+constexpr double kNoiseRatio = 0.4;
+constexpr double kNoiseMinLift = 0.05;
+constexpr int kNoiseMinWindows = 8;
 constexpr int kDegree = 5;
 
 std::string fmt(double v, int digits = 6) {
@@ -63,6 +76,62 @@ struct Site {
   double lift;  // [mm]
   int row;      // index into the input, -1 for a filled zero-lift point
 };
+
+// clean tables only: an exact interpolant rings at a step and follows noise in its
+// acceleration, so both are rejected with the row, the values and the remedy
+template <class AtRow>
+void check_steps_and_noise(const std::vector<Site>& data, const AtRow& at_row) {
+  const std::size_t n = data.size();
+  double peak = 0.0;
+  for (const Site& s : data) peak = std::max(peak, s.lift);
+  if (!(peak > 0.0) || n < 5) return;
+  auto slope = [&](std::size_t i) { return (data[i + 1].lift - data[i].lift) / (data[i + 1].deg - data[i].deg); };
+  for (std::size_t i = 1; i + 2 < n; ++i) {
+    const double rise = data[i + 1].lift - data[i].lift;
+    const double side = std::max(std::abs(slope(i - 1)), std::abs(slope(i + 1)));
+    if (std::abs(rise) > kStepFraction * peak && std::abs(slope(i)) > kStepSlopeFactor * side) {
+      throw InputError(at_row(static_cast<std::size_t>(data[i + 1].row)) + ": lift " + fmt(data[i + 1].lift) +
+                       " mm at " + fmt(data[i + 1].deg) + " cam deg follows " + fmt(data[i].lift) + " mm at " +
+                       fmt(data[i].deg) + " cam deg: a step of " + fmt(rise, 3) + " mm (slope " +
+                       fmt(std::abs(slope(i)) / std::max(side, 1e-300), 3) +
+                       " times that on either side); an exact interpolant would ring around it. Give the rows of "
+                       "the transition, or smooth a measured table (camopt synthesize --smooth)");
+    }
+  }
+  // 2nd and 4th differences over windows of 5 equally spaced rows on the lift event
+  std::vector<double> fourth;
+  double largest_second = 0.0, worst_fourth = 0.0, worst_spacing = 1.0;
+  std::size_t worst = 0;
+  for (std::size_t i = 2; i + 2 < n; ++i) {
+    const double h = data[i + 1].deg - data[i].deg;
+    bool uniform = true, lifted = true;
+    for (std::size_t k = i - 2; k <= i + 2; ++k) {
+      if (k + 1 <= i + 2 && std::abs((data[k + 1].deg - data[k].deg) - h) > 1e-6 * h) uniform = false;
+      if (data[k].lift < kNoiseMinLift * peak) lifted = false;
+    }
+    if (!uniform || !lifted) continue;
+    const double second = data[i - 1].lift - 2 * data[i].lift + data[i + 1].lift;
+    const double d4 = data[i - 2].lift - 4 * data[i - 1].lift + 6 * data[i].lift - 4 * data[i + 1].lift + data[i + 2].lift;
+    largest_second = std::max(largest_second, std::abs(second));
+    fourth.push_back(std::abs(d4));
+    if (std::abs(d4) > worst_fourth) worst_fourth = std::abs(d4), worst = i, worst_spacing = h;
+  }
+  if (static_cast<int>(fourth.size()) < kNoiseMinWindows || !(largest_second > 0.0)) return;
+  std::nth_element(fourth.begin(), fourth.begin() + static_cast<std::ptrdiff_t>(fourth.size() / 2), fourth.end());
+  const double median_fourth = fourth[fourth.size() / 2];
+  const double ratio = median_fourth / largest_second;
+  if (ratio > kNoiseRatio) {
+    const Site& s = data[worst];
+    const double h2 = worst_spacing * worst_spacing;
+    throw InputError(at_row(static_cast<std::size_t>(s.row)) + ": lift " + fmt(s.lift) + " mm at " + fmt(s.deg) +
+                     " cam deg: the table is noisy: its 4th differences scatter by " + fmt(median_fourth, 3) +
+                     " mm (median) against a largest 2nd difference of " + fmt(largest_second, 3) + " mm (ratio " +
+                     fmt(ratio, 3) + " > " + fmt(kNoiseRatio) + "), so an exact interpolant's acceleration follows "
+                     "the noise (here a spike of about " + fmt(worst_fourth / h2, 3) + " mm/deg^2 against the "
+                     "table's peak " + fmt(largest_second / h2, 3) + " mm/deg^2); smooth it (camopt synthesize "
+                     "--smooth, least squares with the residual reported) or give a clean table");
+  }
+}
 
 }  // namespace
 
@@ -282,6 +351,9 @@ TargetLift fit_target_lift(std::span<const double> cam_deg, std::span<const doub
     throw InputError(where(file, 0) + ": a target lift table needs at least 6 points per cycle (has " +
                      std::to_string(sites.size()) + ")");
   }
+
+  // after the gap and closure rules, so a table with both hears about its ends first
+  if (!options.smooth) check_steps_and_noise(data, at_row);
 
   TargetLift out;
   out.closed_on_base_circle = closed;

@@ -666,6 +666,33 @@ TEST_CASE("synthesize rejects a partial target that ends off the base circle, wr
   CHECK((!fs::exists(out) || fs::is_empty(out)));
 }
 
+TEST_CASE("synthesize rejects a noisy target for interpolation, naming the row and --smooth; --smooth takes it",
+          "[cli][synthesize]") {
+  TempDir tmp;
+  const fs::path target = tmp / "target.csv", out = tmp / "out";
+  // 9 mm cycloidal rise and fall over 240 cam deg, rows 1 deg apart, +-0.01 mm alternating on the event
+  std::string text = "cam_deg,lift_mm\n";
+  for (int i = 0; i < 360; ++i) {
+    const auto unit = [](double x) { return x - std::sin(2 * M_PI * x) / (2 * M_PI); };
+    double y = i < 120 ? 9 * unit(i / 120.0) : i < 240 ? 9 * (1 - unit((i - 120) / 120.0)) : 0.0;
+    if (y > 0.05) y += i % 2 ? 0.01 : -0.01;
+    text += std::to_string(i) + "," + std::to_string(y) + "\n";
+  }
+  write_text(target, text);
+  const std::string design = (fs::path(CAMOPT_SOURCE_DIR) / "designs" / "roller_finger_follower.toml").string();
+  const auto r = run_camopt({"synthesize", target.string(), "--design", design, "--out", out.string()});
+  INFO(r.all());
+  CHECK(r.exit_code == cli_input_error);
+  CHECK(contains(r.err, "target.csv:"));
+  CHECK(contains(r.err, "the table is noisy"));
+  CHECK(contains(r.err, "--smooth"));
+  CHECK((!fs::exists(out) || fs::is_empty(out)));
+  const auto s = run_camopt({"synthesize", target.string(), "--design", design, "--out", out.string(), "--smooth"});
+  INFO(s.all());
+  CHECK(s.exit_code == cli_ok);
+  CHECK(contains(read_file(out / "report.json"), "residual_rms_mm"));
+}
+
 TEST_CASE("synthesize reports an undercut with its angle and exit 4, writing nothing", "[cli][synthesize]") {
   TempDir tmp;
   const fs::path target = tmp / "target.csv", out = tmp / "out";

@@ -202,7 +202,6 @@ TEST_CASE("target lift: input errors name the file, the row and the rule", "[syn
     lift.push_back(2.0 * cycloidal_rise_fall(1.2 * i) / 9.0);
     lines.push_back(i + 2);
   }
-  for (int i = 0; i <= 100; ++i) lift[static_cast<std::size_t>(i)] = i < 50 ? lift[static_cast<std::size_t>(i)] : 2.0;
   TargetLiftOptions opt;
   opt.source = "open.csv";
 
@@ -224,8 +223,7 @@ TEST_CASE("target lift: input errors name the file, the row and the rule", "[syn
     CHECK_THAT(e, Contains("open.csv:42: lift -0.2 mm at 40 cam deg: lift must be >= 0 (base circle)"));
     lift[40] = 0.5;
     lift[0] = -5e-4;  // 0.5 um below zero: exported rounding, clamped
-    lift[100] = 0.0;
-    for (int i = 60; i <= 100; ++i) lift[static_cast<std::size_t>(i)] = 0.0;
+    for (int i = 51; i <= 100; ++i) lift[static_cast<std::size_t>(i)] = lift[static_cast<std::size_t>(100 - i)];
     const TargetLift t = fit_target_lift(deg, lift, lines, opt);
     CHECK(t.lift_at(0.0) == Approx(0.0).margin(kExactAbs));
   }
@@ -239,6 +237,81 @@ TEST_CASE("target lift: input errors name the file, the row and the rule", "[syn
     const std::string e = error_of(d2, l2, {}, opt);
     CHECK_THAT(e, Contains("gap from 10 to 30 cam deg"));
   }
+}
+
+TEST_CASE("target lift: a step inside a table meant for interpolation names its row and suggests --smooth",
+          "[synthesis][target_lift][errors]") {
+  std::vector<double> deg, lift;
+  std::vector<int> lines;
+  for (int i = 0; i < 360; ++i) {
+    deg.push_back(i);
+    lift.push_back(cycloidal_rise_fall(i) + (i >= 60 && i < 100 ? 1.0 : 0.0));  // +1 mm over 60 .. 99 deg
+    lines.push_back(i + 2);
+  }
+  TargetLiftOptions opt;
+  opt.source = "step.csv";
+  const std::string e = error_of(deg, lift, lines, opt);
+  CHECK_THAT(e, Contains("step.csv:62: lift 5.5 mm at 60 cam deg follows 4.35003 mm at 59 cam deg"));
+  CHECK_THAT(e, Contains("a step of 1.15 mm"));
+  CHECK_THAT(e, Contains("--smooth"));
+  // the same table without the step is clean; with smoothing the step is a measurement
+  opt.smooth = true;
+  CHECK_NOTHROW(fit_target_lift(deg, lift, lines, opt));
+  opt.smooth = false;
+  for (int i = 60; i < 100; ++i) lift[static_cast<std::size_t>(i)] -= 1.0;
+  CHECK_NOTHROW(fit_target_lift(deg, lift, lines, opt));
+}
+
+TEST_CASE("target lift: noise in a table meant for interpolation names the worst row and suggests --smooth",
+          "[synthesis][target_lift][errors]") {
+  std::mt19937 gen(kSeed);
+  std::vector<double> deg, lift, clean;
+  std::vector<int> lines;
+  for (int i = 0; i < 360; ++i) {
+    deg.push_back(i);
+    clean.push_back(cycloidal_rise_fall(i));
+    // noise on the event only (lift > 5 sigma), so no row goes below the base circle
+    lift.push_back(clean.back() + (clean.back() > 5 * kNoiseSigma ? kNoiseSigma * normal(gen) : 0.0));
+    lines.push_back(i + 2);
+  }
+  TargetLiftOptions opt;
+  opt.source = "noisy.csv";
+  const std::string e = error_of(deg, lift, lines, opt);
+  INFO(e);
+  CHECK_THAT(e, Contains("noisy.csv:"));
+  CHECK_THAT(e, Contains("the table is noisy"));
+  CHECK_THAT(e, Contains("mm/deg^2"));
+  CHECK_THAT(e, Contains("--smooth"));
+  // the line named is the row whose value is quoted
+  const int line = std::stoi(e.substr(e.find(':') + 1));
+  const std::size_t row = static_cast<std::size_t>(line - 2);
+  REQUIRE(row < lift.size());
+  CHECK_THAT(e, Contains("at " + std::to_string(static_cast<int>(deg[row])) + " cam deg"));
+  opt.smooth = true;
+  CHECK_NOTHROW(fit_target_lift(deg, lift, lines, opt));
+  // clean tables pass, down to a coarse 10 deg table of the same law (ratio about 0.16)
+  opt.smooth = false;
+  CHECK_NOTHROW(fit_target_lift(deg, clean, lines, opt));
+  std::vector<double> coarse_deg, coarse;
+  for (int i = 0; i < 36; ++i) coarse_deg.push_back(10.0 * i), coarse.push_back(cycloidal_rise_fall(10.0 * i));
+  CHECK_NOTHROW(fit_target_lift(coarse_deg, coarse, {}, opt));
+}
+
+TEST_CASE("target lift: a measured table at 10 um resolution is noisy for interpolation (real ICESym data)",
+          "[synthesis][target_lift][errors][real]") {
+  const camopt::io::CsvTable csv =
+      camopt::io::read_csv(std::string(CAMOPT_SHARED_DATA_DIR) + "/icesym_boscarol/Lv_I-bounous.csv");
+  std::vector<double> deg = csv.column("crank_angle_deg");
+  const std::vector<double>& lift = csv.column("valve_lift_mm");
+  for (double& d : deg) d /= 2.0;  // crank -> cam
+  TargetLiftOptions opt;
+  opt.source = "Lv_I-bounous.csv";
+  opt.closure_tolerance_mm = 0.1;
+  const std::string e = error_of(deg, lift, csv.lines, opt);
+  CHECK_THAT(e, Contains("Lv_I-bounous.csv:"));
+  CHECK_THAT(e, Contains("the table is noisy"));
+  opt.smooth = true;
+  CHECK_NOTHROW(fit_target_lift(deg, lift, csv.lines, opt));
 }
 
 TEST_CASE("target lift: smoothing recovers a noisy cycloidal rise-fall", "[synthesis][target_lift][smooth]") {

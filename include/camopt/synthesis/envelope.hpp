@@ -12,8 +12,9 @@
 // 3. envelope: the follower surface is taken into the profile frame of the cam node; a
 //    roller or pad gives the offset of its centre path (p = c - r nu), a flat face the
 //    envelope of its lines (F = (x - q).n = 0, dF/dtheta = 0: p = q + t (q'.n)/(t.n'));
-// 4. the envelope, sampled with its first two derivatives, is resampled at uniform polar
-//    angles by quintic Hermite interpolation in theta, giving the polar table.
+// 4. the envelope, sampled with its first two derivatives, is resampled by quintic Hermite
+//    interpolation in theta at polar angles no further apart than the resolution in polar
+//    angle, cam angle or tangent turn, giving the polar table.
 #include <string>
 #include <vector>
 
@@ -26,8 +27,14 @@ namespace camopt::synthesis {
 struct SynthesisOptions {
   std::string cam = "rotational";  // "rotational": the driver's profile; "swing": a profile on another node
   std::vector<double> controls;    // every control [deg or mm]; empty = defaults
-  int points = 720;                // polar points of the synthesized profile
-  int samples = 2880;              // envelope samples per revolution of the driver
+  // resolution of the profile table: neighbouring points are at most 360 / points deg
+  // apart in polar angle, in cam angle and in turn of the tangent (so a sharp nose or a
+  // short swing-cam stretch gets more points than a uniform polar table would give it)
+  int points = 1440;
+  // envelope samples per revolution of the driver (>= points); raised to a multiple of the
+  // target's knot count when its knots are uniform from 0, so no sample interval straddles
+  // a knot of the target
+  int samples = 1440;
   double wheel_radius_mm = 0.0;    // grinding wheel radius; concave radii must be >= it (0: no check)
   std::string target_node;         // node whose motion is the target (empty: the valve, design.output_node)
 };
