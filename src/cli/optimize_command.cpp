@@ -25,7 +25,7 @@ constexpr double kPi = std::numbers::pi;
 struct OptimizeOptions {
   std::string design, constraints, solver = "ipopt", out_dir;
   bool verify = false;
-  int points = 720;
+  int points = 1440;
   int max_iterations = 3000;
   int starts = 6;
 };
@@ -155,9 +155,9 @@ void run_optimize(const OptimizeOptions& o) {
     l2.push_back(m.acc);
     l3.push_back(m.jerk);
   }
-  for (int i = 0; i < 3600; ++i) {
-    knots.push_back(2 * kPi * i / 3600);
-    values.push_back(lift.evaluate(coef, 0.1 * i).lift);
+  for (int i = 0; i < 1440; ++i) {  // quintic interpolation of the lift at 0.25 deg
+    knots.push_back(2 * kPi * i / 1440);
+    values.push_back(l0[static_cast<std::size_t>(i)]);
   }
   const PeriodicSpline lift_spline = PeriodicSpline::interpolate(knots, values, 2 * kPi);
   out.stage("lift.csv", io::format_csv({"cam_deg", "lift_mm", "vel_mm_per_deg", "acc_mm_per_deg2", "jerk_mm_per_deg3"},
@@ -166,7 +166,7 @@ void run_optimize(const OptimizeOptions& o) {
   // the cam for it, as synthesize delivers it
   synthesis::SynthesisOptions so_syn;
   so_syn.points = o.points;
-  so_syn.samples = std::max(2880, 4 * o.points);
+  so_syn.samples = o.points;
   so_syn.controls = problem.contact().controls();
   so_syn.wheel_radius_mm = set.limits.grinding_wheel_radius_mm.value_or(0.0);
   synthesis::SynthesisResult res;
@@ -230,7 +230,7 @@ void setup_optimize(CLI::App& app) {
   cmd->add_option("--solver", opts->solver, "ipopt, slsqp, mma, cobyla or global (multi-start slsqp)")
       ->capture_default_str();
   cmd->add_option("--out", opts->out_dir, "output directory")->required();
-  cmd->add_option("--points", opts->points, "polar points of the synthesized profile")
+  cmd->add_option("--points", opts->points, "profile resolution [count per revolution] (see synthesize --points)")
       ->check(CLI::Range(36, 100000))
       ->capture_default_str();
   cmd->add_option("--max-iterations", opts->max_iterations, "iteration (ipopt) or evaluation (nlopt) limit")
