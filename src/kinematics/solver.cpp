@@ -500,22 +500,41 @@ Status Kernel::differentiate(Workspace::Block& b, double driver) {
 // ---- one-equation form of a curve-circle contact (Workspace::Block::OffsetContact) ----
 
 // the circle centre that touches the curve at parameter u: C = p(u) + offset n(u), n the
-// curve's outward unit normal (right of its counter-clockwise tangent); also the unit
-// tangent's value [global]
+// curve's outward unit normal (right of its counter-clockwise tangent)
 template <class T>
-V2<T> offset_centre(const Mechanism& m, const Surface& s, double offset, const detail::Pose<T>& pose, const T& u,
-                    V2<double>& tangent) {
+V2<T> offset_centre(const Mechanism& m, const Surface& s, double offset, const detail::Pose<T>& pose, const T& u) {
   using std::sqrt;
   const CurvePoint<T> c = m.profiles[s.profile].point(u, false);
-  const T len = sqrt(c.dx * c.dx + c.dy * c.dy);
-  const T k = offset / len;
+  const T k = offset / sqrt(c.dx * c.dx + c.dy * c.dy);
   const T qx = c.x + k * c.dy, qy = c.y - k * c.dx;
   const double co = s.cos_orient, so = s.sin_orient;
-  const double tx = value_of(c.dx) / value_of(len), ty = value_of(c.dy) / value_of(len);
-  const double pc = value_of(pose.c), ps = value_of(pose.s);
-  const double gx = co * tx - so * ty, gy = so * tx + co * ty;
-  tangent = {pc * gx - ps * gy, ps * gx + pc * gy};
   return pose.apply(s.origin.x() + co * qx - so * qy, s.origin.y() + so * qx + co * qy);
+}
+
+// the same centre in values, with dC/du and the curve's unit tangent [global], and the
+// centre in the curve body's drawing frame: the newton iteration needs nothing more
+struct OffsetCentre {
+  V2<double> centre, centre_u, tangent, local;
+};
+OffsetCentre offset_centre_value(const Mechanism& m, const Surface& s, double offset, const detail::Pose<double>& pose,
+                                 double u) {
+  const CurvePoint<double> c = m.profiles[s.profile].point(u, true);
+  const double len = std::sqrt(c.dx * c.dx + c.dy * c.dy);
+  const V2<double> t{c.dx / len, c.dy / len};
+  // d t / du = (c'' - t (t . c'')) / |c'|, n = (t_y, -t_x)
+  const double along = t.x * c.ddx + t.y * c.ddy;
+  const V2<double> dt{(c.ddx - t.x * along) / len, (c.ddy - t.y * along) / len};
+  const V2<double> q{c.x + offset * t.y, c.y - offset * t.x};
+  const V2<double> q_u{c.dx + offset * dt.y, c.dy - offset * dt.x};
+  const double co = s.cos_orient, so = s.sin_orient;
+  auto orient = [&](const V2<double>& v) { return V2<double>{co * v.x - so * v.y, so * v.x + co * v.y}; };
+  OffsetCentre out;
+  const V2<double> local = orient(q), local_u = orient(q_u), tangent = orient(t);
+  out.local = {s.origin.x() + local.x, s.origin.y() + local.y};
+  out.centre = pose.apply(out.local.x, out.local.y);
+  out.centre_u = pose.rotate(local_u.x, local_u.y);
+  out.tangent = pose.rotate(tangent.x, tangent.y);
+  return out;
 }
 
 // the one equation [mm]: the centre at its distance from the unknown body's pivot
@@ -535,13 +554,10 @@ template <class To, int N>
 detail::Pose<To> convert_pose(const detail::Pose<Jet<N>>& p) {
   detail::Pose<To> out;
   auto conv = [](const Jet<N>& x) {
-    if constexpr (std::is_same_v<To, Jet<2>>) {
-      return truncate<2>(x);
-    } else {
-      To d(x.value());
-      d.d[0] = x.c[1];  // direction 0: the driver
-      return d;
-    }
+    if constexpr (std::is_same_v<To, double>)
+      return x.value();
+    else
+      return truncate<To::order>(x);
   };
   out.tx = conv(p.tx);
   out.ty = conv(p.ty);
@@ -557,7 +573,6 @@ detail::Pose<To> convert_pose(const detail::Pose<Jet<N>>& p) {
 // in closed form from the centre. solved = false (values untouched) leaves the block to
 // the general solver.
 Status Kernel::solve_offset_contact(Workspace::Block& b, double driver, bool& solved) {
-  using D = detail::Dual<2>;  // direction 0: driver (unknown rates zero), 1: u
   const auto& oc = b.offset;
   const Connection& c = m_.connections[oc.connection];
   const Surface& curve = oc.curve_on_a ? c.surface_a : c.surface_b;
@@ -568,36 +583,39 @@ Status Kernel::solve_offset_contact(Workspace::Block& b, double driver, bool& so
   const auto& pose3 = detail::CachedPoses<Jet3>{m_, ws_.vars.data(), ws_.pivots.data(), ws_.poses3, ws_.point_id,
                                                 b.solving}
                           .get(oc.known_node);
-  const auto pose1 = convert_pose<D>(pose3);
+  const auto pose0 = convert_pose<double>(pose3);
+  const bool rotational = node.kind == NodeKind::rotational;
+  // d g / d centre (a unit vector for the rotational arm, the travel's normal otherwise)
+  auto gradient = [&](const V2<double>& centre) {
+    if (!rotational) return V2<double>{-node.direction.y(), node.direction.x()};
+    const double dx = centre.x - pivot.x(), dy = centre.y - pivot.y(), dist = std::sqrt(dx * dx + dy * dy);
+    return V2<double>{dx / dist, dy / dist};
+  };
   double u = ws_.values[oc.curve_variable];
-  V2<D> centre;
-  V2<double> tangent;
-  D g;
+  OffsetCentre at;
+  double g = 0.0, gu = 0.0;
   bool converged = false;
   constexpr int max_iterations = 6;
   for (int it = 0; it < max_iterations; ++it) {
-    D ud(u);
-    ud.d[1] = 1.0;
-    centre = offset_centre(m_, curve, oc.centre_offset, pose1, ud, tangent);
-    g = offset_residual(oc, node, pivot, centre);
-    if (!std::isfinite(g.v) || !std::isfinite(g.d[1]) || g.d[1] == 0.0) break;
-    if (std::abs(g.v) <= tolerance()) {
+    at = offset_centre_value(m_, curve, oc.centre_offset, pose0, u);
+    g = offset_residual(oc, node, pivot, at.centre);
+    gu = detail::dot(gradient(at.centre), at.centre_u);
+    if (!std::isfinite(g) || !std::isfinite(gu) || gu == 0.0) break;
+    if (std::abs(g) <= tolerance()) {
       converged = true;
       break;
     }
     ++ws_.stats.newton_iterations;
-    u -= g.v / g.d[1];
+    u -= g / gu;
   }
   if (!converged) return Status::success();
-  const double gu = g.d[1];
   // the block's 2 x 2 jacobian of (tangency, closure) in (displacement, u), for its
   // condition: d/dq = (X_q . t, X_q . n), d/du = (-C_u . t, 0) with n = (t_y, -t_x)
   if (order > 0) {
-    const V2<double> cv{centre.x.v, centre.y.v};
-    const V2<double> xq = node.kind == NodeKind::rotational ? V2<double>{-(cv.y - pivot.y()), cv.x - pivot.x()}
-                                                            : V2<double>{node.direction.x(), node.direction.y()};
-    const V2<double> n{tangent.y, -tangent.x};
-    const double a = detail::dot(xq, tangent), bb = -(centre.x.d[1] * tangent.x + centre.y.d[1] * tangent.y);
+    const V2<double> xq = rotational ? V2<double>{-(at.centre.y - pivot.y()), at.centre.x - pivot.x()}
+                                     : V2<double>{node.direction.x(), node.direction.y()};
+    const V2<double> n{at.tangent.y, -at.tangent.x};
+    const double a = detail::dot(xq, at.tangent), bb = -detail::dot(at.centre_u, at.tangent);
     const double cc = detail::dot(xq, n);
     const double det = -bb * cc;
     // |J|_1 |J^-1|_1, J^-1 = [[0, -b], [-c, a]] / det
@@ -610,31 +628,33 @@ Status Kernel::solve_offset_contact(Workspace::Block& b, double driver, bool& so
                   "): a pressure angle reached 90 deg or a linkage is at toggle",
               driver_text(m_, driver)};
   }
+  const V2<double> grad = gradient(at.centre);
   // taylor coefficients of u and of the centre
-  Jet3 uj(u), cx(centre.x.v), cy(centre.y.v);
+  Jet3 uj(u), cx(at.centre.x), cy(at.centre.y);
   if (order >= 1) {
-    uj.c[1] = -g.d[0] / gu;
-    cx.c[1] = centre.x.d[0] + centre.x.d[1] * uj.c[1];
-    cy.c[1] = centre.y.d[0] + centre.y.d[1] * uj.c[1];
+    // the centre's rate with u held: the known body's motion alone
+    const auto moving = convert_pose<Jet<1>>(pose3).apply(at.local.x, at.local.y);
+    const V2<double> centre_t{moving.x.c[1], moving.y.c[1]};
+    uj.c[1] = -detail::dot(grad, centre_t) / gu;
+    cx.c[1] = centre_t.x + at.centre_u.x * uj.c[1];
+    cy.c[1] = centre_t.y + at.centre_u.y * uj.c[1];
   }
   if (order >= 2) {
     const auto pose2 = convert_pose<Jet<2>>(pose3);
     Jet<2> u2(u);
     u2.c[1] = uj.c[1];
-    V2<double> unused;
-    const auto c2 = offset_centre(m_, curve, oc.centre_offset, pose2, u2, unused);
+    const auto c2 = offset_centre(m_, curve, oc.centre_offset, pose2, u2);
     uj.c[2] = -offset_residual(oc, node, pivot, c2).c[2] / gu;
-    cx.c[2] = c2.x.c[2] + centre.x.d[1] * uj.c[2];
-    cy.c[2] = c2.y.c[2] + centre.y.d[1] * uj.c[2];
+    cx.c[2] = c2.x.c[2] + at.centre_u.x * uj.c[2];
+    cy.c[2] = c2.y.c[2] + at.centre_u.y * uj.c[2];
   }
   if (order >= 3) {
     Jet3 u3 = uj;
     u3.c[3] = 0.0;
-    V2<double> unused;
-    const auto c3 = offset_centre(m_, curve, oc.centre_offset, pose3, u3, unused);
+    const auto c3 = offset_centre(m_, curve, oc.centre_offset, pose3, u3);
     uj.c[3] = -offset_residual(oc, node, pivot, c3).c[3] / gu;
-    cx.c[3] = c3.x.c[3] + centre.x.d[1] * uj.c[3];
-    cy.c[3] = c3.y.c[3] + centre.y.d[1] * uj.c[3];
+    cx.c[3] = c3.x.c[3] + at.centre_u.x * uj.c[3];
+    cy.c[3] = c3.y.c[3] + at.centre_u.y * uj.c[3];
   }
   // the body's displacement from its circle centre
   Jet3 q;

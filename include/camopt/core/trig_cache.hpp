@@ -14,7 +14,9 @@ inline void memo_sin_cos(double x, double& s, double& c) noexcept {
     double x, s, c;
   };
   constexpr double nan = std::numeric_limits<double>::quiet_NaN();  // never equal: empty
-  thread_local Entry entries[4] = {{nan, 0, 0}, {nan, 0, 0}, {nan, 0, 0}, {nan, 0, 0}};
+  constexpr unsigned size = 8;
+  thread_local Entry entries[size] = {{nan, 0, 0}, {nan, 0, 0}, {nan, 0, 0}, {nan, 0, 0},
+                                      {nan, 0, 0}, {nan, 0, 0}, {nan, 0, 0}, {nan, 0, 0}};
   thread_local unsigned next = 0;
   for (const Entry& e : entries)
     if (e.x == x) {
@@ -25,7 +27,7 @@ inline void memo_sin_cos(double x, double& s, double& c) noexcept {
   s = std::sin(x);
   c = std::cos(x);
   entries[next] = {x, s, c};
-  next = (next + 1) & 3u;
+  next = (next + 1) % size;
 }
 
 inline void sin_cos(double x, double& s, double& c) noexcept { memo_sin_cos(x, s, c); }
