@@ -216,7 +216,6 @@ TEST_CASE("subcommands not built yet exit 5 and write nothing", "[cli]") {
   };
   const std::vector<Case> cases = {
       {"optimize", {"optimize", design, "--constraints", "{constraints}", "--solver", "ipopt", "--out", "{out}"}},
-      {"dynamics rigid", {"dynamics", design, "--rpm", "3000", "--out", "{out}"}},
       {"dynamics flexible", {"dynamics", design, "--model", "flexible", "--rpm", "1000:7000:7", "--out", "{out}"}},
       {"bench", {"bench", "--out", "{out}"}},
   };
