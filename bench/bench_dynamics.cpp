@@ -3,9 +3,10 @@
 //  - mode (a), rigid inverse dynamics, at 1 and 0.5 deg: run time, and the error of the
 //    peak contact forces, peak cam torque and separation speeds against a 0.05 deg run
 //    (the only approximation of mode (a) is the angle grid; each point is exact);
-//  - mode (b), stiff contacts with CVODE, at the default tolerances (rtol 1e-6) and looser
-//    ones: run time and max contact-force error over the cycle against a tight run
-//    (rtol 1e-10), relative to the peak force.
+//  - mode (b), stiff contacts with CVODE, at the default tolerances (rtol 1e-8) and looser
+//    ones (path table 0.25 deg): run time, max contact-force error over the cycle and error
+//    of the peak forces against a tight run (rtol 1e-10, table 0.05 deg), relative to the
+//    peak force.
 // usage: bench_dynamics [--repeat N] [--csv FILE]
 #include <algorithm>
 #include <chrono>
@@ -111,28 +112,45 @@ int main(int argc, char** argv) {
   }
 
   // ---- mode (b) ----
-  auto run_b = [&](double rtol, double atol, dynamics::CompliantResult& r) {
+  auto run_b = [&](double rtol, double atol, dynamics::CompliantResult& r, double table_step = 0.25) {
     dynamics::CompliantOptions opt;
     opt.relative_tolerance = rtol;
     opt.absolute_tolerance = atol;
+    opt.table_step_deg = table_step;
     check(dynamics::run_compliant(mech, model, controls, kRpm, 0, 360, 1, opt, r));
   };
   dynamics::CompliantResult tight;
-  run_b(1e-10, 1e-12, tight);
+  run_b(1e-10, 1e-12, tight, 0.05);
   double peak = 0;
   for (double f : tight.force) peak = std::max(peak, std::abs(f));
   std::printf("\nmode (b) stiff contacts (CVODE BDF), same cycle, output every 1 cam deg; %zu events in the tight run\n",
               tight.events.size());
-  std::printf("%-20s %-12s %-24s %-8s %-8s\n", "rtol / atol_mm", "ms/cycle", "max force err / peak", "steps", "rhs");
-  for (const auto& [rtol, atol] : std::vector<std::pair<double, double>>{{1e-4, 1e-6}, {1e-5, 1e-7}, {1e-6, 1e-8}}) {
+  std::printf("%-28s %-12s %-24s %-22s %-8s %-8s %-8s\n", "rtol / atol_mm / table_deg", "ms/cycle", "max force err / peak",
+              "peak force err / peak", "steps", "rhs", "events");
+  struct Setting {
+    double rtol, atol, table;
+  };
+  for (const auto& [rtol, atol, table] :
+       std::vector<Setting>{{1e-6, 1e-8, 0.25}, {1e-7, 1e-9, 0.25}, {1e-8, 1e-10, 0.25}, {1e-8, 1e-10, 0.1}, {1e-8, 1e-10, 0.05}}) {
     dynamics::CompliantResult r;
-    const double t = seconds_of([&] { run_b(rtol, atol, r); }, repeat);
-    double err = 0;
+    const double t = seconds_of([&] { run_b(rtol, atol, r, table); }, repeat);
+    double err = 0, peak_err = 0;
     for (std::size_t i = 0; i < r.force.size(); ++i) err = std::max(err, std::abs(r.force[i] - tight.force[i]));
-    std::printf("%-20s %-12.3f %-24.3g %-8ld %-8ld\n", (num(rtol) + " / " + num(atol)).c_str(), t * 1e3, err / peak,
-                r.steps, r.rhs_evaluations);
-    rows.push_back("b,rtol " + num(rtol) + " atol " + num(atol) + "," + num(t * 1e3) + ",max contact force err / peak," +
+    for (int c = 0; c < r.connections; ++c) {
+      double pr = 0, pt = 0;
+      for (std::size_t i = 0; i < r.cam_deg.size(); ++i) {
+        pr = std::max(pr, r.force[i * r.connections + c]);
+        pt = std::max(pt, tight.force[i * r.connections + c]);
+      }
+      peak_err = std::max(peak_err, std::abs(pr - pt) / peak);
+    }
+    std::printf("%-28s %-12.3f %-24.3g %-22.3g %-8ld %-8ld %-8zu\n",
+                (num(rtol) + " / " + num(atol) + " / " + num(table)).c_str(), t * 1e3,
+                err / peak, peak_err, r.steps, r.rhs_evaluations, r.events.size());
+    rows.push_back("b,rtol " + num(rtol) + " atol " + num(atol) + " table " + num(table) + " deg," + num(t * 1e3) + ",max contact force err / peak," +
                    num(err / peak) + "," + std::to_string(r.steps) + "," + std::to_string(r.rhs_evaluations));
+    rows.push_back("b,rtol " + num(rtol) + " atol " + num(atol) + " table " + num(table) + " deg," + num(t * 1e3) + ",peak contact force err / peak," +
+                   num(peak_err) + "," + std::to_string(r.steps) + "," + std::to_string(r.rhs_evaluations));
   }
   if (!csv_path.empty()) {
     std::ofstream f(csv_path);

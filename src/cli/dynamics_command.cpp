@@ -1,10 +1,12 @@
 // camopt dynamics: rigid (issue #6) and flexible (issue #7) valvetrain dynamics.
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
 #include <nlohmann/json.hpp>
 
+#include "camopt/dynamics/compliant.hpp"
 #include "camopt/dynamics/hertz.hpp"
 #include "camopt/dynamics/rigid.hpp"
 #include "camopt/io/atomic_file.hpp"
@@ -19,7 +21,7 @@ namespace camopt::cli {
 namespace {
 
 struct DynamicsOptions {
-  std::string design, model = "rigid", rpm, out_dir, control;
+  std::string design, model = "rigid", contacts = "rigid", rpm, out_dir, control;
   double step_deg = 0.0;  // 0: the design's step
 };
 
@@ -36,48 +38,79 @@ struct Extremes {
   }
 };
 
-void run_rigid(const DynamicsOptions& o) {
-  const DesignSpec spec = io::load_design(o.design);
-  const kin::Mechanism mech = kin::compile(spec);
-  for (const auto& note : kin::check_drawing(mech)) info(o.design + ": warning: " + note);
-  const dynamics::Model model = dynamics::compile_dynamics(mech);
-  const std::vector<double> rpms = parse_range("--rpm", o.rpm);
-  for (double r : rpms)
-    if (!(r > 0)) throw InputError("--rpm: value " + std::to_string(r) + " must be > 0");
-  const double start = spec.driver.start_deg, stop = spec.driver.stop_deg;
-  const double step = o.step_deg > 0 ? o.step_deg : spec.driver.step_deg;
-  if (step > stop - start)
-    throw InputError("--step: value " + std::to_string(step) + " exceeds the driver range " +
-                     std::to_string(stop - start));
+// what both modes read from the design and the options
+struct Setup {
+  DesignSpec spec;
+  kin::Mechanism mech;
+  dynamics::Model model;
+  std::vector<double> rpms, control_values;
+  std::vector<std::vector<double>> positions;  // every control, per control position
+  double start = 0, stop = 0, step = 0;
+  std::string control_unit;
+};
 
+Setup make_setup(const DynamicsOptions& o) {
+  Setup su;
+  su.spec = io::load_design(o.design);
+  su.mech = kin::compile(su.spec);
+  for (const auto& note : kin::check_drawing(su.mech)) info(o.design + ": warning: " + note);
+  su.model = dynamics::compile_dynamics(su.mech);
+  su.rpms = parse_range("--rpm", o.rpm);
+  for (double r : su.rpms)
+    if (!(r > 0)) throw InputError("--rpm: value " + std::to_string(r) + " must be > 0");
+  su.start = su.spec.driver.start_deg;
+  su.stop = su.spec.driver.stop_deg;
+  su.step = o.step_deg > 0 ? o.step_deg : su.spec.driver.step_deg;
+  if (su.step > su.stop - su.start)
+    throw InputError("--step: value " + std::to_string(su.step) + " exceeds the driver range " +
+                     std::to_string(su.stop - su.start));
   // control positions: the first control swept, the others at their defaults
+  const kin::Mechanism& mech = su.mech;
   std::vector<double> defaults;
   for (const auto& c : mech.controls) defaults.push_back(c.default_value);
-  std::vector<double> control_values;
   if (!o.control.empty()) {
     if (mech.controls.empty()) throw InputError("--control: design '" + o.design + "' has no [[control]]");
     const auto& c0 = mech.controls[0];
-    control_values = parse_range("--control", o.control);
-    for (double v : control_values)
+    su.control_values = parse_range("--control", o.control);
+    for (double v : su.control_values)
       if (v < c0.min - 1e-12 || v > c0.max + 1e-12)
         throw InputError("--control: value " + std::to_string(v) + " is outside control '" + c0.name + "' range [" +
                          std::to_string(c0.min) + ", " + std::to_string(c0.max) + "]");
   } else {
-    control_values.push_back(mech.controls.empty() ? 0.0 : mech.controls[0].default_value);
+    su.control_values.push_back(mech.controls.empty() ? 0.0 : mech.controls[0].default_value);
   }
-  const std::string control_unit = mech.controls.empty() || mech.controls[0].is_angle ? "deg" : "mm";
+  for (double v : su.control_values) {
+    auto pos = defaults;
+    if (!pos.empty()) pos[0] = v;
+    su.positions.push_back(pos);
+  }
+  su.control_unit = mech.controls.empty() || mech.controls[0].is_angle ? "deg" : "mm";
+  return su;
+}
+
+// a numerical failure at one control position, named
+[[noreturn]] void fail_at(const Setup& su, Status st, std::size_t position) {
+  if (!su.mech.controls.empty())
+    st.where += ", control " + su.mech.controls[0].name + " = " + std::to_string(su.control_values[position]);
+  throw NumericalError(st);
+}
+
+void run_rigid(const DynamicsOptions& o) {
+  const Setup su = make_setup(o);
+  const DesignSpec& spec = su.spec;
+  const kin::Mechanism& mech = su.mech;
+  const dynamics::Model& model = su.model;
+  const std::vector<double>& rpms = su.rpms;
+  const std::vector<double>& control_values = su.control_values;
+  const std::string& control_unit = su.control_unit;
+  const double step = su.step;
 
   const auto t0 = std::chrono::steady_clock::now();
   std::vector<dynamics::RigidSweep> sweeps(control_values.size());
   Progress progress("dynamics", static_cast<long>(control_values.size()));
   for (std::size_t p = 0; p < control_values.size(); ++p) {
-    auto pos = defaults;
-    if (!pos.empty()) pos[0] = control_values[p];
-    Status st = dynamics::rigid_sweep(mech, model, pos, start, stop, step, sweeps[p]);
-    if (!st.ok()) {
-      if (!mech.controls.empty()) st.where += ", control " + mech.controls[0].name + " = " + std::to_string(control_values[p]);
-      throw NumericalError(st);
-    }
+    const Status st = dynamics::rigid_sweep(mech, model, su.positions[p], su.start, su.stop, step, sweeps[p]);
+    if (!st.ok()) fail_at(su, st, p);
     progress.advance();
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -318,6 +351,127 @@ void run_rigid(const DynamicsOptions& o) {
        o.out_dir + "/dynamics.csv, summary.json");
 }
 
+// mode (b): stiff separable contacts integrated in time, one run per (rpm, control)
+void run_compliant_contacts(const DynamicsOptions& o) {
+  const Setup su = make_setup(o);
+  const kin::Mechanism& mech = su.mech;
+  const dynamics::Model& model = su.model;
+  const std::size_t nc = mech.connections.size();
+  const auto t0 = std::chrono::steady_clock::now();
+  std::vector<dynamics::RigidSweep> rigid(su.positions.size());
+  for (std::size_t p = 0; p < su.positions.size(); ++p) {
+    const Status st = dynamics::rigid_sweep(mech, model, su.positions[p], su.start, su.stop, su.step, rigid[p]);
+    if (!st.ok()) fail_at(su, st, p);
+  }
+  struct Run {
+    double rpm;
+    std::size_t position;
+    dynamics::CompliantResult result;
+  };
+  std::vector<Run> runs;
+  Progress progress("dynamics", static_cast<long>(su.rpms.size() * su.positions.size()));
+  for (double rpm : su.rpms)
+    for (std::size_t p = 0; p < su.positions.size(); ++p) {
+      Run r{rpm, p, {}};
+      const Status st = dynamics::run_compliant(mech, model, su.positions[p], rpm, su.start, su.stop, su.step,
+                                                dynamics::CompliantOptions{}, r.result);
+      if (!st.ok()) fail_at(su, st, p);
+      runs.push_back(std::move(r));
+      progress.advance();
+    }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+  // ---- dynamics.csv ----
+  std::vector<std::string> header;
+  std::vector<std::vector<double>> cols;
+  auto add_column = [&](std::string name, auto&& value) {
+    header.push_back(std::move(name));
+    std::vector<double> col;
+    for (const Run& r : runs) {
+      const double w = dynamics::cam_speed_rad_per_s(r.rpm, model.crank_per_cam);
+      for (std::size_t i = 0; i < r.result.cam_deg.size(); ++i) col.push_back(value(r, rigid[r.position], i, w));
+    }
+    cols.push_back(std::move(col));
+  };
+  using Sweep = dynamics::RigidSweep;
+  add_column("rpm", [](const Run& r, const Sweep&, std::size_t, double) { return r.rpm; });
+  add_column("control_" + su.control_unit,
+             [&](const Run& r, const Sweep&, std::size_t, double) { return su.control_values[r.position]; });
+  add_column("cam_deg", [](const Run& r, const Sweep&, std::size_t i, double) { return r.result.cam_deg[i]; });
+  add_column("crank_deg", [&](const Run& r, const Sweep&, std::size_t i, double) {
+    return r.result.cam_deg[i] * model.crank_per_cam;
+  });
+  add_column(mech.nodes[mech.output_node].kind == NodeKind::translational ? "lift_mm" : "lift_deg",
+             [](const Run&, const Sweep& a, std::size_t i, double) { return a.output[i]; });
+  for (std::size_t c = 0; c < nc; ++c) {
+    const auto& conn = mech.connections[c];
+    const int ci = static_cast<int>(c);
+    const bool contact = conn.kind == ConnectionKind::contact;
+    const std::string n = (contact ? "contact_" : "link_") + conn.name + "_";
+    add_column(n + "force_N", [nc, c](const Run& r, const Sweep&, std::size_t i, double) {
+      return r.result.force[i * nc + c];
+    });
+    add_column(n + "rigid_force_N", [ci](const Run&, const Sweep& a, std::size_t i, double w) {
+      return a.force_at(i, ci, w);
+    });
+    if (contact && model.contacts[c].has_hertz)
+      add_column(n + "hertz_MPa", [&, nc, c](const Run& r, const Sweep& a, std::size_t i, double) {
+        const auto& cs = a.contact[i * nc + c];
+        return dynamics::hertz_line(r.result.force[i * nc + c], model.contacts[c].width, model.contacts[c].e_star,
+                                    cs.curvature_a + cs.curvature_b)
+            .max_pressure;
+      });
+  }
+  for (std::size_t r = 0; r < model.free_variables.size(); ++r) {
+    const auto& var = mech.variables[model.free_variables[r]];
+    std::string name = var.name;
+    std::replace(name.begin(), name.end(), '.', '_');
+    const double scale = var.is_angle ? 180.0 / M_PI : 1.0;
+    add_column("node_" + name + "_deviation_" + (var.is_angle ? "deg" : "mm"),
+               [r, scale](const Run& run, const Sweep&, std::size_t i, double) {
+                 return run.result.deviation[i * run.result.rows + r] * scale;
+               });
+  }
+
+  // ---- summary.json ----
+  nlohmann::json summary;
+  summary["design"] = su.spec.name;
+  summary["design_file"] = o.design;
+  summary["model"] = "rigid";
+  summary["mode"] = "stiff separable contacts, CVODE (b)";
+  summary["step_cam_deg"] = su.step;
+  summary["run_time_s"] = seconds;
+  nlohmann::json results = nlohmann::json::array();
+  for (const Run& r : runs) {
+    nlohmann::json j;
+    j["rpm"] = r.rpm;
+    j["control_" + su.control_unit] = su.control_values[r.position];
+    j["integrator_steps"] = r.result.steps;
+    j["rhs_evaluations"] = r.result.rhs_evaluations;
+    for (std::size_t c = 0; c < nc; ++c) {
+      Extremes f;
+      for (std::size_t i = 0; i < r.result.cam_deg.size(); ++i) f.add(r.result.force[i * nc + c], r.result.cam_deg[i]);
+      j["connections"][mech.connections[c].name] = {{"max_force_N", f.max},
+                                                    {"max_force_at_cam_deg", f.max_at},
+                                                    {"min_force_N", f.min},
+                                                    {"min_force_at_cam_deg", f.min_at},
+                                                    {"stiffness_N_per_mm", r.result.stiffness[c]}};
+    }
+    nlohmann::json events = nlohmann::json::array();
+    for (const auto& e : r.result.events)
+      events.push_back({{"contact", e.contact}, {"cam_deg", e.cam_deg}, {"event", e.opens ? "opens" : "closes"}});
+    j["events"] = events;
+    results.push_back(j);
+  }
+  summary["results"] = results;
+  io::OutputTransaction out(o.out_dir);
+  out.stage("dynamics.csv", io::format_csv(header, cols));
+  out.stage("summary.json", summary.dump(2) + "\n");
+  out.commit();
+  info("dynamics (rigid, compliant contacts): " + std::to_string(runs.size()) + " run(s) in " +
+       std::to_string(seconds * 1e3) + " ms -> " + o.out_dir + "/dynamics.csv, summary.json");
+}
+
 }  // namespace
 
 void setup_dynamics(CLI::App& app) {
@@ -333,9 +487,16 @@ void setup_dynamics(CLI::App& app) {
                   "control positions of the design's first control [deg or mm]: a value, a list or START:STOP:COUNT");
   cmd->add_option("--step", opts->step_deg, "cam angle step [cam deg] (default: the design's driver.step_deg)")
       ->check(CLI::PositiveNumber);
+  cmd->add_option("--contacts", opts->contacts,
+                  "rigid: kinematically constrained inverse dynamics (mode a, exact rpm^2 scaling); compliant: "
+                  "stiff separable Hertz contacts integrated in time (mode b)")
+      ->check(CLI::IsMember({"rigid", "compliant"}));
   cmd->callback([opts] {
     if (opts->model == "flexible") throw NotBuilt{"dynamics --model flexible is not built yet (issue #7)"};
-    run_rigid(*opts);
+    if (opts->contacts == "compliant")
+      run_compliant_contacts(*opts);
+    else
+      run_rigid(*opts);
   });
 }
 

@@ -237,7 +237,8 @@ Status solve_rigid(const kin::Mechanism& mech, const Model& model, RigidWorkspac
 
   // drive torque: inertia minus applied minus connection loads on the driver variable
   const int dv = mech.driver_variable();
-  ws.torque = ws.loads.row(dv) - ws.g.row(dv) * ws.force;
+  ws.torque = ws.loads.row(dv);
+  ws.torque.noalias() -= ws.g.row(dv) * ws.force;
 
   // pivot / guide reactions: R = m a_cg - sum connection forces - applied forces
   ws.reaction.setZero();

@@ -68,3 +68,23 @@ TEST_CASE("camopt dynamics: missing mass is an input error naming the field; fle
                              "--rpm", "3000", "--out", out.string()});
   CHECK(f.exit_code == cli_not_built);
 }
+
+TEST_CASE("camopt dynamics --contacts compliant integrates mode (b) and lists its events", "[dynamics][cli]") {
+  TempDir tmp;
+  const fs::path out = tmp / "out";
+  const auto r = run_camopt({"dynamics", (source_dir() / "designs/bucket_tappet.toml").string(), "--rpm", "2000",
+                             "--contacts", "compliant", "--step", "2", "--out", out.string()});
+  INFO(r.command << "\n" << r.all());
+  REQUIRE(r.exit_code == cli_ok);
+  const auto lines = split_lines(read_file(out / "dynamics.csv"));
+  REQUIRE(lines.size() == 1 + 181);
+  for (const char* column : {"contact_cam_tappet_force_N", "contact_cam_tappet_rigid_force_N",
+                             "contact_cam_tappet_hertz_MPa", "node_tappet_deviation_mm"})
+    CHECK(has(lines[0], column));
+  const auto j = nlohmann::json::parse(read_file(out / "summary.json"));
+  REQUIRE(j["results"].size() == 1);
+  CHECK(j["results"][0]["events"].is_array());
+  // 2000 rpm is well below this design's separation speed (3728 rpm): the contact stays closed
+  CHECK(j["results"][0]["events"].empty());
+  CHECK(j["results"][0]["connections"]["cam_tappet"]["min_force_N"].get<double>() > 0.0);
+}
