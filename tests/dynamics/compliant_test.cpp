@@ -131,3 +131,36 @@ TEST_CASE("compliant (b): a contact without materials or width is an input error
   CHECK_THROWS_WITH(dynamics::run_compliant(mech, model, {}, 3000, 0, 360, 1, {}, r),
                     Catch::Contains("connection 'cam_tappet': the compliant contact model needs materials and width_mm"));
 }
+
+TEST_CASE("compliant (b): a four-bar's link force approaches mode (a) as the link stiffens", "[dynamics][compliant]") {
+  // designs/four_bar.toml geometry with a massive rocker (no contacts: links are bilateral springs)
+  DesignSpec d = design("four_bar", "crank", "rocker");
+  d.driver.crank_per_cam = 1;
+  d.nodes = {rotational("crank", {0, 0}), rotational("rocker", {60, 0})};
+  d.nodes[1].mass_kg = 0.06;
+  d.nodes[1].cg_mm = Vec2{68.3333, 23.5702};
+  d.nodes[1].inertia_kg_mm2 = 12.5;
+  d.connections = {link("coupler", "crank", {17.0370, 10.4757}, "rocker", {76.6667, 47.1405})};
+  d.connections[0].length_mm = 70;
+  const kin::Mechanism mech = kin::compile(d);
+  const dynamics::Model model = dynamics::compile_dynamics(mech);
+  dynamics::RigidSweep a;
+  REQUIRE(dynamics::rigid_sweep(mech, model, {}, 0, 360, 1, a).ok());
+  const double rpm = 3000, w = dynamics::cam_speed_rad_per_s(rpm, 1.0);
+  double previous = INFINITY, peak = 0;
+  for (std::size_t i = 0; i < a.points(); ++i) peak = std::max(peak, std::abs(a.force_at(i, 0, w)));
+  for (const double k : {1e4, 1e6}) {
+    dynamics::CompliantOptions opt;
+    opt.link_stiffness = k;
+    dynamics::CompliantResult b;
+    const Status st = dynamics::run_compliant(mech, model, {}, rpm, 0, 360, 1, opt, b);
+    INFO(st.str());
+    REQUIRE(st.ok());
+    double worst = 0;
+    for (std::size_t i = 0; i < a.points(); ++i) worst = std::max(worst, std::abs(b.force[i] - a.force_at(i, 0, w)));
+    INFO("link stiffness " << k << " N/mm: worst " << worst << " N of peak " << peak << " N");
+    CHECK(worst < 0.2 * previous);
+    previous = worst;
+  }
+  CHECK(previous < 1e-2 * peak);
+}
