@@ -11,6 +11,7 @@
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <memory>
 #include <numbers>
 #include <sstream>
@@ -394,7 +395,9 @@ Status run_compliant(const kin::Mechanism& mech, const Model& model, const std::
       if (flag < 0) {
         std::string state;
         for (int r = 0; r < n; ++r) state += (r ? ", " : "") + fmt(NV_Ith_S(s.y, r));
-        const std::string why = CVodeGetReturnFlagName(flag);
+        char* flag_name = CVodeGetReturnFlagName(flag);  // malloc'd by SUNDIALS
+        const std::string why = flag_name ? flag_name : std::to_string(flag);
+        std::free(flag_name);
         return {StatusCode::integrator_failure, "CVODE failed: " + why,
                 "t = " + fmt(t) + " s, cam " + fmt(start_deg + t * p.omega / kDeg) + " deg, state [dq; dq/dt] = [" +
                     state + "]"};
