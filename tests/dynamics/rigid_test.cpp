@@ -181,12 +181,52 @@ TEST_CASE("rigid (a): separation speed is exact from the rpm^2 split", "[dynamic
   }
   CHECK(min_below > 0.0);
   CHECK(std::abs(min_at) < 1e-9 * c.preload);
+  // spring margin: one spring loading one contact fully, so the margin is the contact force
+  // (the spring load that could go before the tappet lifts off); zero at the separation speed
+  double min_margin = INFINITY;
+  for (std::size_t i = 0; i < s.points(); ++i) {
+    const double margin = dynamics::spring_margin(s, m.model, i, 0, w);
+    CHECK(margin == Approx(s.force_at(i, 0, w)).margin(1e-9 * c.preload));
+    min_margin = std::min(min_margin, margin);
+  }
+  CHECK(std::abs(min_margin) < 1e-9 * c.preload);
   // a quantity at two speeds is A + B w^2 exactly
   const std::size_t i = s.points() / 3;
   const double w1 = 100, w2 = 400, w3 = 250;
   const double f1 = s.force_at(i, 0, w1), f2 = s.force_at(i, 0, w2);
   const double b = (f2 - f1) / (w2 * w2 - w1 * w1);
   CHECK(s.force_at(i, 0, w3) == Approx(f1 + b * (w3 * w3 - w1 * w1)).epsilon(1e-12));
+}
+
+TEST_CASE("rigid (a): spring margin is the load a spring can lose before a contact it loads opens",
+          "[dynamics][rigid]") {
+  // rocker arm: the valve spring loads the pad and, through the rocker, the cam roller
+  DesignSpec d = load("rocker_arm.toml");
+  const Compiled m(d);
+  const auto s = sweep_of(m, 1.0);
+  const double w = dynamics::cam_speed_rad_per_s(9000, 2.0);
+  std::size_t at = 0;
+  double fraction = INFINITY;
+  for (std::size_t i = 0; i < s.points(); ++i) {
+    const double f = dynamics::spring_margin(s, m.model, i, 0, w) / s.spring_load[i];
+    if (f < fraction) fraction = f, at = i;
+  }
+  REQUIRE(fraction > 0.0);
+  REQUIRE(fraction < 1.0);
+  // scale the spring law by (1 - margin / load): at that angle a contact force reaches zero
+  for (auto& sp : d.springs) {
+    sp.rate_N_per_mm *= 1 - fraction;
+    sp.preload_N *= 1 - fraction;
+  }
+  const Compiled weak(d);
+  const auto s2 = sweep_of(weak, 1.0);
+  double min_force = INFINITY, peak = 0;
+  for (int c = 0; c < s2.connections; ++c) {
+    min_force = std::min(min_force, s2.force_at(at, c, w));
+    peak = std::max(peak, std::abs(s.force_at(at, c, w)));
+  }
+  INFO("min margin fraction " << fraction << " at cam " << s.cam_deg[at] << " deg");
+  CHECK(std::abs(min_force) < 1e-9 * peak);
 }
 
 TEST_CASE("rigid (a): four-bar with a massive rocker against a Newton-Euler balance", "[dynamics][rigid]") {
