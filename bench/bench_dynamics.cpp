@@ -3,8 +3,8 @@
 //  - mode (a), rigid inverse dynamics, at 1 and 0.5 deg: run time, and the error of the
 //    peak contact forces, peak cam torque and separation speeds against a 0.05 deg run
 //    (the only approximation of mode (a) is the angle grid; each point is exact);
-//  - mode (b), stiff contacts with CVODE, at the default tolerances (rtol 1e-8) and looser
-//    ones (path table 0.25 deg): run time, max contact-force error over the cycle and error
+//  - mode (b), stiff contacts with CVODE, at the default tolerances (rtol 1e-6, path table
+//    0.25 deg) and tighter ones: run time, max contact-force error over the cycle and error
 //    of the peak forces against a tight run (rtol 1e-10, table 0.05 deg), relative to the
 //    peak force.
 // usage: bench_dynamics [--repeat N] [--csv FILE]

@@ -16,6 +16,8 @@ constexpr double kDeg = kPi / 180.0;
 constexpr double kMilli = 1e-3;
 // a balance whose reciprocal condition estimate falls below this is a toggle position
 constexpr double kSingularRcond = 1e-13;
+// a sliding speed below this times the mechanism size [mm per rad] is round-off
+constexpr double kStillSliding = 1e-9;
 
 std::string fmt(double v) {
   std::ostringstream s;
@@ -196,7 +198,10 @@ Status solve_rigid(const kin::Mechanism& mech, const Model& model, RigidWorkspac
         add_gradient(mech, ws, ws.g_tangent, conn.node_b, p, t, 1.0, c);
         add_gradient(mech, ws, ws.g_tangent, conn.node_a, p, t, -1.0, c);
         // Coulomb friction on b opposes b's sliding relative to a: (v_b - v_a).t = -sliding
-        ws.slide_sign[c] = cs.sliding > 0 ? 1.0 : cs.sliding < 0 ? -1.0 : 0.0;
+        // below round-off (a stationary follower on the base circle) the contact sticks: no
+        // friction direction
+        const double still = kStillSliding * mech.length_scale;
+        ws.slide_sign[c] = cs.sliding > still ? 1.0 : cs.sliding < -still ? -1.0 : 0.0;
         if (cs.open) break;  // column replaced below
         const double mu = cd.rolling ? 0.0 : cd.friction;
         ws.g.col(c) = ws.g_normal.col(c) + (mu * ws.slide_sign[c]) * ws.g_tangent.col(c);

@@ -35,8 +35,8 @@ struct CompliantOptions {
   double reference_force = 0.0;  // F_ref for the stiffness [N]; 0: 500 N
   double table_step_deg = 0.25;  // the kinematic path is tabulated on this cam-angle grid by a
                                  // monotone sweep, then interpolated (Catmull-Rom) [deg]
-  double relative_tolerance = 1e-8;
-  double absolute_tolerance = 1e-10;  // on deviations [mm or rad]; rates: x 1e4 [per s]
+  double relative_tolerance = 1e-6;
+  double absolute_tolerance = 1e-8;  // on deviations [mm or rad]; rates: x 1e4 [per s]
   long max_steps = 200000;
 };
 
