@@ -229,6 +229,16 @@ TEST_CASE("rigid (a): spring margin is the load a spring can lose before a conta
   CHECK(std::abs(min_force) < 1e-9 * peak);
 }
 
+TEST_CASE("rigid (a): a follower at rest on the base circle feels no friction", "[dynamics][rigid]") {
+  // rocker arm, pad on the valve with mu 0.08: on the base circle nothing slides, so the
+  // forces are the preload's, the same at every angle (no sign of round-off sliding)
+  const Compiled m(load("rocker_arm.toml"));
+  const auto s = sweep_of(m, 1.0);
+  const double w = dynamics::cam_speed_rad_per_s(6000, 2.0);
+  for (int c = 0; c < s.connections; ++c)
+    for (std::size_t i = 1; i <= 80; ++i) CHECK(s.force_at(i, c, w) == Approx(s.force_at(0, c, w)).epsilon(1e-9));
+}
+
 TEST_CASE("rigid (a): four-bar with a massive rocker against a Newton-Euler balance", "[dynamics][rigid]") {
   // designs/four_bar.toml geometry: ground 60, crank 20, coupler 70, rocker 50
   const oracles::FourBar f{{0, 0}, {60, 0}, 20, 70, 50, 1};
