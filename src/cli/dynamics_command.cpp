@@ -1,25 +1,503 @@
 // camopt dynamics: rigid (issue #6) and flexible (issue #7) valvetrain dynamics.
 #include <CLI/CLI.hpp>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <nlohmann/json.hpp>
 
+#include "camopt/dynamics/compliant.hpp"
+#include "camopt/dynamics/hertz.hpp"
+#include "camopt/dynamics/rigid.hpp"
+#include "camopt/io/atomic_file.hpp"
+#include "camopt/io/csv.hpp"
+#include "camopt/io/design_file.hpp"
+#include "camopt/kinematics/drawing_check.hpp"
 #include "cli_common.hpp"
+#include "range_option.hpp"
 
 namespace camopt::cli {
 
 namespace {
+
 struct DynamicsOptions {
-  std::string design, model = "rigid", rpm, out_dir;
+  std::string design, model = "rigid", contacts = "rigid", rpm, out_dir, control;
+  double step_deg = 0.0;  // 0: the design's step
 };
+
+// json number, or null for +-inf (a separation speed that never happens)
+nlohmann::json finite_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+
+// the extremes of one column over a sweep
+struct Extremes {
+  double max = -std::numeric_limits<double>::infinity(), min = std::numeric_limits<double>::infinity();
+  double max_at = 0, min_at = 0;
+  void add(double v, double at) {
+    if (v > max) max = v, max_at = at;
+    if (v < min) min = v, min_at = at;
+  }
+};
+
+// what both modes read from the design and the options
+struct Setup {
+  DesignSpec spec;
+  kin::Mechanism mech;
+  dynamics::Model model;
+  std::vector<double> rpms, control_values;
+  std::vector<std::vector<double>> positions;  // every control, per control position
+  double start = 0, stop = 0, step = 0;
+  std::string control_unit;
+};
+
+Setup make_setup(const DynamicsOptions& o) {
+  Setup su;
+  su.spec = io::load_design(o.design);
+  su.mech = kin::compile(su.spec);
+  for (const auto& note : kin::check_drawing(su.mech)) info(o.design + ": warning: " + note);
+  su.model = dynamics::compile_dynamics(su.mech);
+  su.rpms = parse_range("--rpm", o.rpm);
+  for (double r : su.rpms)
+    if (!(r > 0)) throw InputError("--rpm: value " + std::to_string(r) + " must be > 0");
+  su.start = su.spec.driver.start_deg;
+  su.stop = su.spec.driver.stop_deg;
+  su.step = o.step_deg > 0 ? o.step_deg : su.spec.driver.step_deg;
+  if (su.step > su.stop - su.start)
+    throw InputError("--step: value " + std::to_string(su.step) + " exceeds the driver range " +
+                     std::to_string(su.stop - su.start));
+  // control positions: the first control swept, the others at their defaults
+  const kin::Mechanism& mech = su.mech;
+  std::vector<double> defaults;
+  for (const auto& c : mech.controls) defaults.push_back(c.default_value);
+  if (!o.control.empty()) {
+    if (mech.controls.empty()) throw InputError("--control: design '" + o.design + "' has no [[control]]");
+    const auto& c0 = mech.controls[0];
+    su.control_values = parse_range("--control", o.control);
+    for (double v : su.control_values)
+      if (v < c0.min - 1e-12 || v > c0.max + 1e-12)
+        throw InputError("--control: value " + std::to_string(v) + " is outside control '" + c0.name + "' range [" +
+                         std::to_string(c0.min) + ", " + std::to_string(c0.max) + "]");
+  } else {
+    su.control_values.push_back(mech.controls.empty() ? 0.0 : mech.controls[0].default_value);
+  }
+  for (double v : su.control_values) {
+    auto pos = defaults;
+    if (!pos.empty()) pos[0] = v;
+    su.positions.push_back(pos);
+  }
+  su.control_unit = mech.controls.empty() || mech.controls[0].is_angle ? "deg" : "mm";
+  return su;
+}
+
+// a numerical failure at one control position, named
+[[noreturn]] void fail_at(const Setup& su, Status st, std::size_t position) {
+  if (!su.mech.controls.empty())
+    st.where += ", control " + su.mech.controls[0].name + " = " + std::to_string(su.control_values[position]);
+  throw NumericalError(st);
+}
+
+void run_rigid(const DynamicsOptions& o) {
+  const Setup su = make_setup(o);
+  const DesignSpec& spec = su.spec;
+  const kin::Mechanism& mech = su.mech;
+  const dynamics::Model& model = su.model;
+  const std::vector<double>& rpms = su.rpms;
+  const std::vector<double>& control_values = su.control_values;
+  const std::string& control_unit = su.control_unit;
+  const double step = su.step;
+
+  const auto t0 = std::chrono::steady_clock::now();
+  std::vector<dynamics::RigidSweep> sweeps(control_values.size());
+  Progress progress("dynamics", static_cast<long>(control_values.size()));
+  for (std::size_t p = 0; p < control_values.size(); ++p) {
+    const Status st = dynamics::rigid_sweep(mech, model, su.positions[p], su.start, su.stop, step, sweeps[p]);
+    if (!st.ok()) fail_at(su, st, p);
+    progress.advance();
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+  // ---- dynamics.csv (long format: rpm, control, cam angle) ----
+  const std::size_t nc = mech.connections.size(), np = sweeps[0].points();
+  const std::size_t rows = rpms.size() * control_values.size() * np;
+  std::vector<std::string> header;
+  std::vector<std::vector<double>> cols;
+  // a column filled by value(sweep, point, omega)
+  auto add_column = [&](std::string name, auto&& value) {
+    header.push_back(std::move(name));
+    std::vector<double> col;
+    col.reserve(rows);
+    for (double rpm : rpms) {
+      const double w = dynamics::cam_speed_rad_per_s(rpm, model.crank_per_cam);
+      for (std::size_t p = 0; p < sweeps.size(); ++p)
+        for (std::size_t i = 0; i < np; ++i) col.push_back(value(sweeps[p], i, w, rpm, p));
+    }
+    cols.push_back(std::move(col));
+  };
+  using Sweep = dynamics::RigidSweep;
+  add_column("rpm", [](const Sweep&, std::size_t, double, double rpm, std::size_t) { return rpm; });
+  add_column("control_" + control_unit,
+             [&](const Sweep&, std::size_t, double, double, std::size_t p) { return control_values[p]; });
+  add_column("cam_deg", [](const Sweep& s, std::size_t i, double, double, std::size_t) { return s.cam_deg[i]; });
+  add_column("crank_deg", [&](const Sweep& s, std::size_t i, double, double, std::size_t) {
+    return s.cam_deg[i] * model.crank_per_cam;
+  });
+  const kin::Node& out_node = mech.nodes[mech.output_node];
+  add_column(out_node.kind == NodeKind::translational ? "lift_mm" : "lift_deg",
+             [](const Sweep& s, std::size_t i, double, double, std::size_t) { return s.output[i]; });
+  auto hertz_at = [&](const Sweep& s, std::size_t i, int c, double w) {
+    const auto& cs = s.contact[i * nc + c];
+    const auto& cd = model.contacts[c];
+    return dynamics::hertz_line(s.force_at(i, c, w), cd.width, cd.e_star, cs.curvature_a + cs.curvature_b);
+  };
+  for (std::size_t c = 0; c < nc; ++c) {
+    const auto& conn = mech.connections[c];
+    const int ci = static_cast<int>(c);
+    switch (conn.kind) {
+      case ConnectionKind::contact: {
+        const std::string n = "contact_" + conn.name + "_";
+        add_column(n + "force_N", [ci](const Sweep& s, std::size_t i, double w, double, std::size_t) {
+          return s.force_at(i, ci, w);
+        });
+        if (model.contacts[c].has_hertz) {
+          add_column(n + "hertz_MPa", [&, ci](const Sweep& s, std::size_t i, double w, double, std::size_t) {
+            return hertz_at(s, i, ci, w).max_pressure;
+          });
+          add_column(n + "half_width_mm", [&, ci](const Sweep& s, std::size_t i, double w, double, std::size_t) {
+            return hertz_at(s, i, ci, w).half_width;
+          });
+        }
+        // [mm per rad] * [rad/s] -> [m/s]
+        add_column(n + "sliding_m_per_s", [nc, ci](const Sweep& s, std::size_t i, double w, double, std::size_t) {
+          return s.contact[i * nc + ci].sliding * w * 1e-3;
+        });
+        add_column(n + "entrainment_m_per_s", [nc, ci](const Sweep& s, std::size_t i, double w, double, std::size_t) {
+          return s.contact[i * nc + ci].entrainment * w * 1e-3;
+        });
+        add_column(n + "gap_mm", [nc, ci](const Sweep& s, std::size_t i, double, double, std::size_t) {
+          return s.contact[i * nc + ci].gap;
+        });
+        break;
+      }
+      case ConnectionKind::link:
+      case ConnectionKind::crank_slider:
+      case ConnectionKind::rack_pinion:
+        add_column("link_" + conn.name + "_force_N", [ci](const Sweep& s, std::size_t i, double w, double, std::size_t) {
+          return s.force_at(i, ci, w);
+        });
+        break;
+      case ConnectionKind::gear:
+      case ConnectionKind::variable_gear:
+        add_column("gear_" + conn.name + "_torque_Nm", [ci](const Sweep& s, std::size_t i, double w, double,
+                                                             std::size_t) { return s.force_at(i, ci, w) * 1e-3; });
+        break;
+    }
+  }
+  add_column("cam_torque_Nm", [](const Sweep& s, std::size_t i, double w, double, std::size_t) {
+    return s.torque_at(i, w) * 1e-3;
+  });
+  for (std::size_t k = 0; k < model.springs.size(); ++k) {
+    const auto& sp = model.springs[k];
+    const bool torsion = sp.kind == SpringKind::torsion;
+    const double scale = torsion ? 1e-3 : 1.0;  // N mm -> N m
+    const std::string unit = torsion ? "Nm" : "N";
+    const int si = static_cast<int>(k);
+    add_column("spring_" + sp.name + "_load_" + unit, [si, scale](const Sweep& s, std::size_t i, double, double,
+                                                                  std::size_t) {
+      return s.spring_load[i * s.springs + si] * scale;
+    });
+    add_column("spring_" + sp.name + "_margin_" + unit, [&, si, scale](const Sweep& s, std::size_t i, double w, double,
+                                                                       std::size_t) {
+      return dynamics::spring_margin(s, model, i, si, w) * scale;
+    });
+  }
+  if (!model.gas_forces.empty())
+    add_column("gas_force_N", [](const Sweep& s, std::size_t i, double, double, std::size_t) { return s.gas_force[i]; });
+  for (std::size_t n = 1; n < mech.nodes.size(); ++n) {
+    const auto& node = mech.nodes[n];
+    if (node.kind == NodeKind::floating) continue;  // held by its connections only
+    const int ni = static_cast<int>(n);
+    const std::string pre = "node_" + node.name + "_";
+    if (node.kind == NodeKind::rotational) {
+      add_column(pre + "reaction_x_N", [ni](const Sweep& s, std::size_t i, double w, double, std::size_t) {
+        return s.reaction_at(i, ni, 0, w);
+      });
+      add_column(pre + "reaction_y_N", [ni](const Sweep& s, std::size_t i, double w, double, std::size_t) {
+        return s.reaction_at(i, ni, 1, w);
+      });
+      add_column(pre + "reaction_N", [ni](const Sweep& s, std::size_t i, double w, double, std::size_t) {
+        return std::hypot(s.reaction_at(i, ni, 0, w), s.reaction_at(i, ni, 1, w));
+      });
+    } else {
+      // the guide's reaction across the line of travel, along z x direction
+      const Eigen::Vector2d across(-node.direction.y(), node.direction.x());
+      add_column(pre + "guide_N", [ni, across](const Sweep& s, std::size_t i, double w, double, std::size_t) {
+        return across.x() * s.reaction_at(i, ni, 0, w) + across.y() * s.reaction_at(i, ni, 1, w);
+      });
+    }
+  }
+
+  // ---- summary.json ----
+  nlohmann::json summary;
+  summary["design"] = spec.name;
+  summary["design_file"] = o.design;
+  summary["model"] = "rigid";
+  summary["mode"] = "kinematically constrained inverse dynamics (a)";
+  summary["step_cam_deg"] = step;
+  summary["points_per_position"] = np;
+  summary["run_time_s"] = seconds;
+  nlohmann::json separation = nlohmann::json::array();
+  for (std::size_t p = 0; p < sweeps.size(); ++p) {
+    nlohmann::json j;
+    j["control_" + control_unit] = control_values[p];
+    for (std::size_t c = 0; c < nc; ++c) {
+      if (!model.contacts[c].is_contact) continue;
+      const auto sep = dynamics::separation_speed(sweeps[p], model, static_cast<int>(c));
+      j["contacts"][mech.connections[c].name] = {{"separation_rpm", finite_or_null(sep.engine_rpm)},
+                                                 {"at_cam_deg", std::isfinite(sep.engine_rpm) ? nlohmann::json(sep.cam_deg)
+                                                                                              : nlohmann::json(nullptr)}};
+    }
+    separation.push_back(j);
+  }
+  summary["separation"] = separation;
+  nlohmann::json results = nlohmann::json::array();
+  for (double rpm : rpms) {
+    const double w = dynamics::cam_speed_rad_per_s(rpm, model.crank_per_cam);
+    for (std::size_t p = 0; p < sweeps.size(); ++p) {
+      const Sweep& s = sweeps[p];
+      nlohmann::json j;
+      j["rpm"] = rpm;
+      j["control_" + control_unit] = control_values[p];
+      Extremes torque;
+      double torque_mean = 0.0;
+      for (std::size_t i = 0; i < np; ++i) {
+        const double t = s.torque_at(i, w) * 1e-3;
+        torque.add(t, s.cam_deg[i]);
+        torque_mean += t / static_cast<double>(np);
+      }
+      j["max_cam_torque_Nm"] = torque.max;
+      j["max_cam_torque_at_cam_deg"] = torque.max_at;
+      j["min_cam_torque_Nm"] = torque.min;
+      j["min_cam_torque_at_cam_deg"] = torque.min_at;
+      j["mean_cam_torque_Nm"] = torque_mean;
+      bool separates = false;
+      for (std::size_t c = 0; c < nc; ++c) {
+        const int ci = static_cast<int>(c);
+        const auto& conn = mech.connections[c];
+        Extremes f, hz;
+        double max_sliding = 0.0;
+        for (std::size_t i = 0; i < np; ++i) {
+          const bool open = conn.kind == ConnectionKind::contact && s.contact[i * nc + c].open;
+          if (open) continue;
+          f.add(s.force_at(i, ci, w), s.cam_deg[i]);
+          if (model.contacts[c].has_hertz) hz.add(hertz_at(s, i, ci, w).max_pressure, s.cam_deg[i]);
+          if (conn.kind == ConnectionKind::contact)
+            max_sliding = std::max(max_sliding, std::abs(s.contact[i * nc + c].sliding * w * 1e-3));
+        }
+        nlohmann::json cj;
+        const double scale = conn.kind == ConnectionKind::gear || conn.kind == ConnectionKind::variable_gear ? 1e-3 : 1.0;
+        const std::string unit = scale != 1.0 ? "Nm" : "N";
+        if (std::isfinite(f.max)) {
+          cj["max_force_" + unit] = f.max * scale;
+          cj["max_force_at_cam_deg"] = f.max_at;
+          cj["min_force_" + unit] = f.min * scale;
+          cj["min_force_at_cam_deg"] = f.min_at;
+        }
+        if (conn.kind == ConnectionKind::contact) {
+          if (std::isfinite(hz.max)) {
+            cj["max_hertz_MPa"] = hz.max;
+            cj["max_hertz_at_cam_deg"] = hz.max_at;
+          }
+          cj["max_sliding_m_per_s"] = max_sliding;
+          cj["separates"] = std::isfinite(f.min) && f.min < 0.0;
+          separates |= std::isfinite(f.min) && f.min < 0.0;
+        }
+        j["connections"][conn.name] = cj;
+      }
+      j["any_contact_separates"] = separates;
+      for (std::size_t k = 0; k < model.springs.size(); ++k) {
+        const auto& sp = model.springs[k];
+        const double scale = sp.kind == SpringKind::torsion ? 1e-3 : 1.0;
+        const std::string unit = sp.kind == SpringKind::torsion ? "Nm" : "N";
+        Extremes margin, fraction;
+        for (std::size_t i = 0; i < np; ++i) {
+          const double m = dynamics::spring_margin(s, model, i, static_cast<int>(k), w);
+          const double load = s.spring_load[i * s.springs + k];
+          margin.add(m * scale, s.cam_deg[i]);
+          if (load != 0.0) fraction.add(m / load, s.cam_deg[i]);
+        }
+        j["springs"][sp.name] = {{"min_margin_" + unit, margin.min},
+                                 {"min_margin_at_cam_deg", margin.min_at},
+                                 {"min_margin_fraction", finite_or_null(fraction.min)},
+                                 {"min_margin_fraction_at_cam_deg", fraction.min_at}};
+      }
+      for (std::size_t n = 1; n < mech.nodes.size(); ++n) {
+        if (mech.nodes[n].kind != NodeKind::rotational) continue;
+        Extremes r;
+        for (std::size_t i = 0; i < np; ++i)
+          r.add(std::hypot(s.reaction_at(i, static_cast<int>(n), 0, w), s.reaction_at(i, static_cast<int>(n), 1, w)),
+                s.cam_deg[i]);
+        j["pivot_reactions"][mech.nodes[n].name] = {{"max_N", r.max}, {"max_at_cam_deg", r.max_at}};
+      }
+      results.push_back(j);
+    }
+  }
+  summary["results"] = results;
+
+  io::OutputTransaction out(o.out_dir);
+  out.stage("dynamics.csv", io::format_csv(header, cols));
+  out.stage("summary.json", summary.dump(2) + "\n");
+  out.commit();
+  info("dynamics (rigid): " + std::to_string(control_values.size()) + " position(s) x " + std::to_string(np) +
+       " points in " + std::to_string(seconds * 1e3) + " ms, " + std::to_string(rpms.size()) + " speed(s) -> " +
+       o.out_dir + "/dynamics.csv, summary.json");
+}
+
+// mode (b): stiff separable contacts integrated in time, one run per (rpm, control)
+void run_compliant_contacts(const DynamicsOptions& o) {
+  const Setup su = make_setup(o);
+  const kin::Mechanism& mech = su.mech;
+  const dynamics::Model& model = su.model;
+  const std::size_t nc = mech.connections.size();
+  const auto t0 = std::chrono::steady_clock::now();
+  std::vector<dynamics::RigidSweep> rigid(su.positions.size());
+  for (std::size_t p = 0; p < su.positions.size(); ++p) {
+    const Status st = dynamics::rigid_sweep(mech, model, su.positions[p], su.start, su.stop, su.step, rigid[p]);
+    if (!st.ok()) fail_at(su, st, p);
+  }
+  struct Run {
+    double rpm;
+    std::size_t position;
+    dynamics::CompliantResult result;
+  };
+  std::vector<Run> runs;
+  Progress progress("dynamics", static_cast<long>(su.rpms.size() * su.positions.size()));
+  for (double rpm : su.rpms)
+    for (std::size_t p = 0; p < su.positions.size(); ++p) {
+      Run r{rpm, p, {}};
+      const Status st = dynamics::run_compliant(mech, model, su.positions[p], rpm, su.start, su.stop, su.step,
+                                                dynamics::CompliantOptions{}, r.result);
+      if (!st.ok()) fail_at(su, st, p);
+      runs.push_back(std::move(r));
+      progress.advance();
+    }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+  // ---- dynamics.csv ----
+  std::vector<std::string> header;
+  std::vector<std::vector<double>> cols;
+  auto add_column = [&](std::string name, auto&& value) {
+    header.push_back(std::move(name));
+    std::vector<double> col;
+    for (const Run& r : runs) {
+      const double w = dynamics::cam_speed_rad_per_s(r.rpm, model.crank_per_cam);
+      for (std::size_t i = 0; i < r.result.cam_deg.size(); ++i) col.push_back(value(r, rigid[r.position], i, w));
+    }
+    cols.push_back(std::move(col));
+  };
+  using Sweep = dynamics::RigidSweep;
+  add_column("rpm", [](const Run& r, const Sweep&, std::size_t, double) { return r.rpm; });
+  add_column("control_" + su.control_unit,
+             [&](const Run& r, const Sweep&, std::size_t, double) { return su.control_values[r.position]; });
+  add_column("cam_deg", [](const Run& r, const Sweep&, std::size_t i, double) { return r.result.cam_deg[i]; });
+  add_column("crank_deg", [&](const Run& r, const Sweep&, std::size_t i, double) {
+    return r.result.cam_deg[i] * model.crank_per_cam;
+  });
+  add_column(mech.nodes[mech.output_node].kind == NodeKind::translational ? "lift_mm" : "lift_deg",
+             [](const Run&, const Sweep& a, std::size_t i, double) { return a.output[i]; });
+  for (std::size_t c = 0; c < nc; ++c) {
+    const auto& conn = mech.connections[c];
+    const int ci = static_cast<int>(c);
+    const bool contact = conn.kind == ConnectionKind::contact;
+    const std::string n = (contact ? "contact_" : "link_") + conn.name + "_";
+    add_column(n + "force_N", [nc, c](const Run& r, const Sweep&, std::size_t i, double) {
+      return r.result.force[i * nc + c];
+    });
+    add_column(n + "rigid_force_N", [ci](const Run&, const Sweep& a, std::size_t i, double w) {
+      return a.force_at(i, ci, w);
+    });
+    if (contact && model.contacts[c].has_hertz)
+      add_column(n + "hertz_MPa", [&, nc, c](const Run& r, const Sweep& a, std::size_t i, double) {
+        const auto& cs = a.contact[i * nc + c];
+        return dynamics::hertz_line(r.result.force[i * nc + c], model.contacts[c].width, model.contacts[c].e_star,
+                                    cs.curvature_a + cs.curvature_b)
+            .max_pressure;
+      });
+  }
+  for (std::size_t r = 0; r < model.free_variables.size(); ++r) {
+    const auto& var = mech.variables[model.free_variables[r]];
+    std::string name = var.name;
+    std::replace(name.begin(), name.end(), '.', '_');
+    const double scale = var.is_angle ? 180.0 / M_PI : 1.0;
+    add_column("node_" + name + "_deviation_" + (var.is_angle ? "deg" : "mm"),
+               [r, scale](const Run& run, const Sweep&, std::size_t i, double) {
+                 return run.result.deviation[i * run.result.rows + r] * scale;
+               });
+  }
+
+  // ---- summary.json ----
+  nlohmann::json summary;
+  summary["design"] = su.spec.name;
+  summary["design_file"] = o.design;
+  summary["model"] = "rigid";
+  summary["mode"] = "stiff separable contacts, CVODE (b)";
+  summary["step_cam_deg"] = su.step;
+  summary["run_time_s"] = seconds;
+  nlohmann::json results = nlohmann::json::array();
+  for (const Run& r : runs) {
+    nlohmann::json j;
+    j["rpm"] = r.rpm;
+    j["control_" + su.control_unit] = su.control_values[r.position];
+    j["integrator_steps"] = r.result.steps;
+    j["rhs_evaluations"] = r.result.rhs_evaluations;
+    for (std::size_t c = 0; c < nc; ++c) {
+      Extremes f;
+      for (std::size_t i = 0; i < r.result.cam_deg.size(); ++i) f.add(r.result.force[i * nc + c], r.result.cam_deg[i]);
+      j["connections"][mech.connections[c].name] = {{"max_force_N", f.max},
+                                                    {"max_force_at_cam_deg", f.max_at},
+                                                    {"min_force_N", f.min},
+                                                    {"min_force_at_cam_deg", f.min_at},
+                                                    {"stiffness_N_per_mm", r.result.stiffness[c]}};
+    }
+    nlohmann::json events = nlohmann::json::array();
+    for (const auto& e : r.result.events)
+      events.push_back({{"contact", e.contact}, {"cam_deg", e.cam_deg}, {"event", e.opens ? "opens" : "closes"}});
+    j["events"] = events;
+    results.push_back(j);
+  }
+  summary["results"] = results;
+  io::OutputTransaction out(o.out_dir);
+  out.stage("dynamics.csv", io::format_csv(header, cols));
+  out.stage("summary.json", summary.dump(2) + "\n");
+  out.commit();
+  info("dynamics (rigid, compliant contacts): " + std::to_string(runs.size()) + " run(s) in " +
+       std::to_string(seconds * 1e3) + " ms -> " + o.out_dir + "/dynamics.csv, summary.json");
+}
+
 }  // namespace
 
 void setup_dynamics(CLI::App& app) {
   auto opts = std::make_shared<DynamicsOptions>();
-  auto* cmd = app.add_subcommand("dynamics", "rigid or flexible valvetrain dynamics (not built yet)");
+  auto* cmd = app.add_subcommand("dynamics", "valvetrain dynamics: contact forces, cam torque, Hertz stress, spring "
+                                             "margin and separation speed (rigid; flexible not built yet)");
   cmd->add_option("design", opts->design, "design file (TOML)")->required();
   cmd->add_option("--model", opts->model, "rigid or flexible")->check(CLI::IsMember({"rigid", "flexible"}));
   cmd->add_option("--rpm", opts->rpm, "engine speed [rpm, crankshaft]: a value, a list a,b,c or START:STOP:COUNT")
       ->required();
-  cmd->add_option("--out", opts->out_dir, "output directory")->required();
-  cmd->callback([opts] { throw NotBuilt{"dynamics is not built yet (issues #6 rigid, #7 flexible)"}; });
+  cmd->add_option("--out", opts->out_dir, "output directory (dynamics.csv, summary.json)")->required();
+  cmd->add_option("--control", opts->control,
+                  "control positions of the design's first control [deg or mm]: a value, a list or START:STOP:COUNT");
+  cmd->add_option("--step", opts->step_deg, "cam angle step [cam deg] (default: the design's driver.step_deg)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--contacts", opts->contacts,
+                  "rigid: kinematically constrained inverse dynamics (mode a, exact rpm^2 scaling); compliant: "
+                  "stiff separable Hertz contacts integrated in time (mode b)")
+      ->check(CLI::IsMember({"rigid", "compliant"}));
+  cmd->callback([opts] {
+    if (opts->model == "flexible") throw NotBuilt{"dynamics --model flexible is not built yet (issue #7)"};
+    if (opts->contacts == "compliant")
+      run_compliant_contacts(*opts);
+    else
+      run_rigid(*opts);
+  });
 }
 
 }  // namespace camopt::cli

@@ -1,0 +1,84 @@
+#pragma once
+// the dynamics data of a compiled mechanism, validated once: body inertias, springs, gas
+// forces and per-contact materials. Built by compile_dynamics(mech) from mech.spec; bad or
+// missing data needed by the models throws InputError naming the field.
+//
+// units inside: lengths [mm], masses [kg], inertias [kg mm^2], forces [N], torques [N mm],
+// Young's moduli [N/mm^2 = MPa].
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "camopt/kinematics/mechanism.hpp"
+
+namespace camopt::dynamics {
+
+// mass properties of one node (a rigid body)
+struct BodyInertia {
+  double mass = 0.0;     // [kg], node mass plus 1/3 of every spring mass on it
+  double inertia = 0.0;  // about the centre of gravity [kg mm^2]
+  Eigen::Vector2d cg{0, 0};  // centre of gravity in the drawing [mm]
+};
+
+// a valve spring (compression, on a translational node) or a torsion spring (rotational
+// node); the load opposes positive displacement of the node
+struct Spring {
+  std::string name;
+  SpringKind kind = SpringKind::compression;
+  int node = -1;
+  double rate = 0.0;     // compression [N/mm]; torsion [N mm/rad]
+  double preload = 0.0;  // compression [N]; torsion [N mm]
+  std::vector<double> table_x, table_f;  // progressive law [mm] -> [N] (empty: linear)
+
+  // load at node displacement x [mm or rad]: force [N] or torque [N mm]
+  double load(double x) const;
+  // d(load)/dx [N/mm or N mm/rad]
+  double stiffness(double x) const;
+};
+
+// cylinder gas force against a valve's opening, from a table against crank angle
+struct GasForce {
+  int node = -1;
+  std::vector<double> crank_deg, force;  // [crank deg], [N]
+  double period_deg = 720.0;             // one engine cycle [crank deg]
+  // force at a crank angle: the table wrapped into one cycle from its first angle,
+  // linear between points, 0 outside the table's span [N]
+  double at(double crank_angle_deg) const;
+};
+
+// per connection: what the contact models need
+struct ContactData {
+  bool is_contact = false;
+  bool has_hertz = false;     // materials and width given
+  double e_star = 0.0;        // contact modulus E* [N/mm^2]: 1/E* = (1-nu_a^2)/E_a + (1-nu_b^2)/E_b
+  double width = 0.0;         // line contact length L [mm]
+  double friction = 0.0;      // Coulomb coefficient [-]
+  bool rolling = false;       // a free roller: no sliding, no friction
+  double damping = -1.0;      // design damping [N s/mm]; < 0 when not given
+  int held_node = -1;         // lash contact: the node held at rest while the gap is open
+};
+
+struct Model {
+  std::vector<BodyInertia> bodies;     // per node (ground and the driver included)
+  std::vector<Spring> springs;
+  std::vector<GasForce> gas_forces;
+  std::vector<ContactData> contacts;   // per connection
+  double crank_per_cam = 2.0;
+  // every node variable that is free (not the driver, not set by a control): its row in
+  // the force balance; -1 otherwise. indexed by variable
+  std::vector<int> row_of_variable;
+  std::vector<int> free_variables;     // row -> variable
+};
+
+// validate the dynamics data of mech.spec for the rigid models and build the model.
+// Required: a rotational driver; every moving node (not the driver, not set by a control)
+// needs mass_kg (translational, floating, or rotational with cg_mm) and inertia_kg_mm2
+// (rotational, floating). Without cg_mm the centre of gravity is the pivot (rotational),
+// the origin (translational) or the centroid of the body's features, the kinematic
+// reference point (floating). Positive masses, inertias, rates, widths and moduli.
+Model compile_dynamics(const kin::Mechanism& mech);
+
+// contact modulus E* [N/mm^2] of two materials (Johnson, Contact Mechanics, 1985, eq. 4.22)
+double contact_modulus(double e_a, double nu_a, double e_b, double nu_b);
+
+}  // namespace camopt::dynamics

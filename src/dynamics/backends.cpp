@@ -1,1 +1,0 @@
-namespace camopt::dynamics { int backends_placeholder() { return 0; } }

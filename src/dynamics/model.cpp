@@ -1,0 +1,243 @@
+// validation of the dynamics data and the force laws of springs and gas forces
+#include "camopt/dynamics/model.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <sstream>
+
+namespace camopt::dynamics {
+
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+std::string num(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+void require_positive(const SourceRef& where, const std::string& what, double v) {
+  if (!(v > 0.0) || !std::isfinite(v)) throw InputError(where, what + ": value " + num(v) + " must be > 0");
+}
+
+// linear interpolation in a strictly increasing table, linear extrapolation from the end segments
+double interpolate(const std::vector<double>& x, const std::vector<double>& y, double at, double* slope) {
+  const std::size_t n = x.size();
+  std::size_t i = std::upper_bound(x.begin(), x.end(), at) - x.begin();
+  i = std::clamp<std::size_t>(i, 1, n - 1);
+  const double s = (y[i] - y[i - 1]) / (x[i] - x[i - 1]);
+  if (slope) *slope = s;
+  return y[i - 1] + s * (at - x[i - 1]);
+}
+
+void require_table(const SourceRef& where, const std::string& what, const std::vector<double>& x,
+                   const std::vector<double>& y, std::size_t min_points) {
+  if (x.size() < min_points || x.size() != y.size())
+    throw InputError(where, what + ": needs at least " + std::to_string(min_points) +
+                                " points and arrays of the same length (got " + std::to_string(x.size()) + " and " +
+                                std::to_string(y.size()) + ")");
+  for (std::size_t i = 1; i < x.size(); ++i)
+    if (!(x[i] > x[i - 1]))
+      throw InputError(where, what + ": abscissa value " + num(x[i]) + " at index " + std::to_string(i) +
+                                  " is not greater than the previous " + num(x[i - 1]));
+}
+
+}  // namespace
+
+double Spring::load(double x) const {
+  if (table_x.empty()) return preload + rate * x;
+  return interpolate(table_x, table_f, x, nullptr);
+}
+
+double Spring::stiffness(double x) const {
+  if (table_x.empty()) return rate;
+  double s = 0.0;
+  interpolate(table_x, table_f, x, &s);
+  return s;
+}
+
+double GasForce::at(double crank_angle_deg) const {
+  const double first = crank_deg.front();
+  double x = std::fmod(crank_angle_deg - first, period_deg);
+  if (x < 0) x += period_deg;
+  x += first;
+  if (x > crank_deg.back()) return 0.0;
+  return interpolate(crank_deg, force, x, nullptr);
+}
+
+double contact_modulus(double e_a, double nu_a, double e_b, double nu_b) {
+  return 1.0 / ((1.0 - nu_a * nu_a) / e_a + (1.0 - nu_b * nu_b) / e_b);
+}
+
+Model compile_dynamics(const kin::Mechanism& mech) {
+  const DesignSpec& spec = mech.spec;
+  Model model;
+  model.crank_per_cam = spec.driver.crank_per_cam;
+  require_positive(spec.driver.where, "driver.crank_per_cam", model.crank_per_cam);
+  if (!mech.driver_is_angle())
+    throw InputError(spec.driver.where, "driver.node: the dynamics models need a rotational driver (node '" +
+                                            mech.nodes[mech.driver_node].name + "' is translational)");
+
+  // bodies
+  model.bodies.resize(mech.nodes.size());
+  for (const NodeSpec& ns : spec.nodes) {
+    const int n = mech.node_index(ns.name);
+    CAMOPT_ASSERT(n > 0);
+    const kin::Node& node = mech.nodes[n];
+    BodyInertia& b = model.bodies[n];
+    b.cg = node.kind == NodeKind::rotational ? node.pivot : node.kind == NodeKind::translational
+                                                                ? Eigen::Vector2d(ns.origin_mm[0], ns.origin_mm[1])
+                                                                : node.reference;
+    const std::string who = "node '" + ns.name + "'";
+    if (ns.mass_kg) require_positive(ns.where, who + ": mass_kg", *ns.mass_kg);
+    if (ns.inertia_kg_mm2) require_positive(ns.where, who + ": inertia_kg_mm2", *ns.inertia_kg_mm2);
+    b.mass = ns.mass_kg.value_or(0.0);
+    b.inertia = ns.inertia_kg_mm2.value_or(0.0);
+    if (ns.cg_mm) b.cg = {(*ns.cg_mm)[0], (*ns.cg_mm)[1]};
+    const bool moving = n != mech.driver_node && node.control < 0;
+    if (!moving) continue;
+    auto missing = [&](const char* key, const char* why) {
+      throw InputError(ns.where, who + ": " + key + " is required by the rigid dynamics model (" + why + ")");
+    };
+    switch (node.kind) {
+      case NodeKind::translational:
+        if (!ns.mass_kg) missing("mass_kg", "a moving translational node");
+        break;
+      case NodeKind::rotational:
+        if (!ns.inertia_kg_mm2) missing("inertia_kg_mm2", "a moving rotational node");
+        if (ns.cg_mm && !ns.mass_kg) missing("mass_kg", "a rotational node with cg_mm");
+        break;
+      case NodeKind::floating:
+        if (!ns.mass_kg) missing("mass_kg", "a floating node");
+        if (!ns.inertia_kg_mm2) missing("inertia_kg_mm2", "a floating node");
+        break;
+    }
+  }
+
+  // springs
+  for (const SpringSpec& ss : spec.springs) {
+    Spring s;
+    s.name = ss.name;
+    s.kind = ss.kind;
+    s.node = mech.node_index(ss.node);
+    const std::string who = "spring '" + ss.name + "'";
+    if (s.node <= 0) throw InputError(ss.where, who + ": node '" + ss.node + "' does not exist");
+    const NodeKind kind = mech.nodes[s.node].kind;
+    if (ss.kind == SpringKind::compression) {
+      if (kind != NodeKind::translational)
+        throw InputError(ss.where, who + ": a compression spring needs a translational node ('" + ss.node + "' is " +
+                                       to_string(kind) + ")");
+      if (!ss.table_displacement_mm.empty() || !ss.table_force_N.empty()) {
+        require_table(ss.where, who + ": table", ss.table_displacement_mm, ss.table_force_N, 2);
+        for (std::size_t i = 1; i < ss.table_force_N.size(); ++i)
+          if (!(ss.table_force_N[i] > ss.table_force_N[i - 1]))
+            throw InputError(ss.where, who + ": table.force_N value " + num(ss.table_force_N[i]) + " at index " +
+                                           std::to_string(i) + " must be greater than the previous (a spring stiffens)");
+        s.table_x = ss.table_displacement_mm;
+        s.table_f = ss.table_force_N;
+      } else {
+        require_positive(ss.where, who + ": rate_N_per_mm", ss.rate_N_per_mm);
+        if (ss.preload_N < 0)
+          throw InputError(ss.where, who + ": preload_N: value " + num(ss.preload_N) + " must be >= 0");
+        s.rate = ss.rate_N_per_mm;
+        s.preload = ss.preload_N;
+      }
+    } else {
+      if (kind != NodeKind::rotational)
+        throw InputError(ss.where, who + ": a torsion spring needs a rotational node ('" + ss.node + "' is " +
+                                       to_string(kind) + ")");
+      require_positive(ss.where, who + ": rate_Nmm_per_deg", ss.rate_Nmm_per_deg);
+      s.rate = ss.rate_Nmm_per_deg / kDeg;  // [N mm/rad]
+      s.preload = ss.preload_Nmm;
+    }
+    if (ss.mass_kg) {
+      require_positive(ss.where, who + ": mass_kg", *ss.mass_kg);
+      model.bodies[s.node].mass += *ss.mass_kg / 3.0;  // effective moving mass of a uniform coil
+    }
+    model.springs.push_back(std::move(s));
+  }
+
+  // gas forces
+  for (const GasForceSpec& gs : spec.gas_forces) {
+    GasForce g;
+    g.node = mech.node_index(gs.node);
+    if (g.node <= 0 || mech.nodes[g.node].kind != NodeKind::translational)
+      throw InputError(gs.where, "gas_force.node: '" + gs.node + "' is not a translational node");
+    require_table(gs.where, "gas_force (node '" + gs.node + "')", gs.crank_angle_deg, gs.force_N, 2);
+    g.crank_deg = gs.crank_angle_deg;
+    g.force = gs.force_N;
+    g.period_deg = 360.0 * model.crank_per_cam;
+    model.gas_forces.push_back(std::move(g));
+  }
+
+  // contacts
+  model.contacts.resize(mech.connections.size());
+  for (std::size_t ci = 0; ci < mech.connections.size(); ++ci) {
+    const kin::Connection& c = mech.connections[ci];
+    if (c.kind != ConnectionKind::contact) continue;
+    const ConnectionSpec* cs = nullptr;
+    for (const auto& s : spec.connections)
+      if (s.name == c.name) cs = &s;
+    CAMOPT_ASSERT(cs != nullptr);
+    ContactData& d = model.contacts[ci];
+    const std::string who = "connection '" + c.name + "'";
+    d.is_contact = true;
+    d.rolling = (c.surface_a.kind == kin::SurfaceKind::point && c.surface_a.roller) ||
+                (c.surface_b.kind == kin::SurfaceKind::point && c.surface_b.roller);
+    if (cs->friction_coefficient) {
+      if (!(*cs->friction_coefficient >= 0))
+        throw InputError(cs->where, who + ": friction_coefficient: value " + num(*cs->friction_coefficient) +
+                                        " must be >= 0");
+      d.friction = *cs->friction_coefficient;
+    }
+    if (cs->contact_damping_N_s_per_mm) d.damping = *cs->contact_damping_N_s_per_mm;
+    const MaterialSpec* ma = nullptr;
+    const MaterialSpec* mb = nullptr;
+    for (const auto& m : spec.materials) {
+      if (m.name == cs->material_a) ma = &m;
+      if (m.name == cs->material_b) mb = &m;
+    }
+    if (!cs->material_a.empty() && !ma)
+      throw InputError(cs->where, who + ": materials: '" + cs->material_a + "' is not a [[material]]");
+    if (!cs->material_b.empty() && !mb)
+      throw InputError(cs->where, who + ": materials: '" + cs->material_b + "' is not a [[material]]");
+    if (ma && mb && cs->width_mm) {
+      require_positive(cs->where, who + ": width_mm", *cs->width_mm);
+      for (const MaterialSpec* m : {ma, mb}) {
+        require_positive(m->where, "material '" + m->name + "': youngs_modulus_GPa", m->youngs_modulus_GPa);
+        if (!(m->poisson_ratio >= 0.0 && m->poisson_ratio < 0.5))
+          throw InputError(m->where, "material '" + m->name + "': poisson_ratio: value " + num(m->poisson_ratio) +
+                                         " must be in [0, 0.5)");
+      }
+      d.has_hertz = true;
+      d.width = *cs->width_mm;
+      d.e_star = contact_modulus(ma->youngs_modulus_GPa * 1e3, ma->poisson_ratio, mb->youngs_modulus_GPa * 1e3,
+                                 mb->poisson_ratio);
+    }
+    if (c.one_sided)
+      for (const kin::SolveStep& step : mech.plan)
+        if (step.one_sided && std::find(step.connections.begin(), step.connections.end(), static_cast<int>(ci)) !=
+                                  step.connections.end())
+          d.held_node = step.output_node;
+  }
+
+  // free node variables: the rows of the force balance
+  model.row_of_variable.assign(mech.variables.size(), -1);
+  for (std::size_t n = 1; n < mech.nodes.size(); ++n) {
+    const kin::Node& node = mech.nodes[n];
+    if (static_cast<int>(n) == mech.driver_node || node.control >= 0 || node.first_variable < 0) continue;
+    for (int k = 0; k < node.dof; ++k) {
+      model.row_of_variable[node.first_variable + k] = static_cast<int>(model.free_variables.size());
+      model.free_variables.push_back(node.first_variable + k);
+    }
+  }
+  if (model.free_variables.size() != mech.connections.size())
+    throw InputError(spec.file + ": the rigid dynamics model needs as many connections (" +
+                     std::to_string(mech.connections.size()) + ") as free node coordinates (" +
+                     std::to_string(model.free_variables.size()) + ")");
+  return model;
+}
+
+}  // namespace camopt::dynamics

@@ -1,0 +1,168 @@
+// mode (b), stiff separable contacts integrated by CVODE: it converges to mode (a) as the
+// contact stiffness grows, finds contact opening / closing events above the separation
+// speed, and reports an integrator failure with its time and state.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <string>
+
+#include "camopt/dynamics/compliant.hpp"
+#include "camopt/dynamics/rigid.hpp"
+#include "kinematics/kinematics_test_support.hpp"
+
+using namespace camopt;
+using namespace camopt::kin_test;
+
+namespace {
+
+// direct-acting valve: eccentric disc (R 18, e 4) on a flat tappet, spring 40 N/mm, 250 N
+DesignSpec valve() {
+  const oracles::EccentricFlatFollower o{18, 4, -90 * deg};
+  const double h = o.face_height(0)[0];
+  DesignSpec d = design("direct_valve", "cam", "tappet");
+  d.nodes = {rotational("cam", {0, 0}), translational("tappet", {0, h}, {0, 1})};
+  d.nodes[1].mass_kg = 0.07;
+  d.profiles = {eccentric_profile("disc", 18, 4)};
+  ConnectionSpec k = contact("cam_tappet", profile_surface("cam", "disc", {0, 0}, -90),
+                             line_surface("tappet", {0, h}, {0, -1}));
+  k.material_a = k.material_b = "steel";
+  k.width_mm = 8;
+  d.connections = {k};
+  MaterialSpec steel;
+  steel.name = "steel";
+  steel.youngs_modulus_GPa = 210;
+  steel.poisson_ratio = 0.3;
+  d.materials = {steel};
+  SpringSpec s;
+  s.name = "valve_spring";
+  s.node = "tappet";
+  s.rate_N_per_mm = 40;
+  s.preload_N = 250;
+  d.springs = {s};
+  return d;
+}
+
+// largest |mode (b) - mode (a)| contact force over the cycle [N], and the peak of mode (a)
+std::pair<double, double> force_error(const kin::Mechanism& mech, const dynamics::Model& model, double rpm,
+                                      double scale) {
+  dynamics::RigidSweep a;
+  REQUIRE(dynamics::rigid_sweep(mech, model, {}, 0, 360, 1, a).ok());
+  dynamics::CompliantOptions opt;
+  opt.stiffness_scale = scale;
+  opt.relative_tolerance = 1e-8;
+  opt.absolute_tolerance = 1e-10;
+  dynamics::CompliantResult b;
+  const Status st = dynamics::run_compliant(mech, model, {}, rpm, 0, 360, 1, opt, b);
+  INFO(st.str());
+  REQUIRE(st.ok());
+  const double w = dynamics::cam_speed_rad_per_s(rpm, 2.0);
+  double worst = 0.0, peak = 0.0;
+  for (std::size_t i = 0; i < a.points(); ++i) {
+    worst = std::max(worst, std::abs(b.force[i] - a.force_at(i, 0, w)));
+    peak = std::max(peak, std::abs(a.force_at(i, 0, w)));
+  }
+  return {worst, peak};
+}
+
+}  // namespace
+
+TEST_CASE("compliant (b): converges to the rigid mode (a) as the contact stiffness grows", "[dynamics][compliant]") {
+  const kin::Mechanism mech = kin::compile(valve());
+  const dynamics::Model model = dynamics::compile_dynamics(mech);
+  double previous = INFINITY;
+  for (const double scale : {0.01, 0.1, 1.0, 10.0}) {
+    const auto [worst, peak] = force_error(mech, model, 3000, scale);
+    INFO("stiffness x " << scale << ": worst force error " << worst << " N of peak " << peak << " N");
+    CHECK(worst < 0.15 * previous);  // first order in 1/k: x0.1 per decade
+    previous = worst;
+  }
+  CHECK(previous < 2e-5 * 563.0);  // stiffness x10: 0.01 N of a 563 N peak
+}
+
+TEST_CASE("compliant (b): separation and impact events above the separation speed", "[dynamics][compliant]") {
+  const kin::Mechanism mech = kin::compile(valve());
+  const dynamics::Model model = dynamics::compile_dynamics(mech);
+  dynamics::RigidSweep a;
+  REQUIRE(dynamics::rigid_sweep(mech, model, {}, 0, 360, 1, a).ok());
+  const double separation = dynamics::separation_speed(a, model, 0).engine_rpm;
+  REQUIRE(std::isfinite(separation));
+  dynamics::CompliantResult below, above;
+  REQUIRE(dynamics::run_compliant(mech, model, {}, 0.8 * separation, 0, 360, 1, {}, below).ok());
+  CHECK(below.events.empty());
+  REQUIRE(dynamics::run_compliant(mech, model, {}, 1.1 * separation, 0, 360, 1, {}, above).ok());
+  std::string events;
+  for (const auto& e : above.events)
+    events += e.contact + (e.opens ? " opens at " : " closes at ") + std::to_string(e.cam_deg) + "\n";
+  INFO("separation " << separation << " rpm; events at 1.1x:\n" << events);
+  REQUIRE(above.events.size() >= 2);
+  CHECK(above.events.front().contact == "cam_tappet");
+  CHECK(above.events.front().opens);
+  // the first opening lies where mode (a) first predicts a negative force at that speed
+  const double w = dynamics::cam_speed_rad_per_s(1.1 * separation, 2.0);
+  double first_negative = -1;
+  for (std::size_t i = 0; i < a.points() && first_negative < 0; ++i)
+    if (a.force_at(i, 0, w) < 0) first_negative = a.cam_deg[i];
+  CHECK(above.events.front().cam_deg == Approx(first_negative).margin(3.0));
+  bool closes = false;
+  for (const auto& e : above.events) closes |= !e.opens;
+  CHECK(closes);
+}
+
+TEST_CASE("compliant (b): an integrator failure names the time and the state", "[dynamics][compliant]") {
+  const kin::Mechanism mech = kin::compile(valve());
+  const dynamics::Model model = dynamics::compile_dynamics(mech);
+  dynamics::CompliantOptions opt;
+  opt.max_steps = 3;
+  dynamics::CompliantResult r;
+  const Status st = dynamics::run_compliant(mech, model, {}, 6000, 0, 360, 1, opt, r);
+  REQUIRE_FALSE(st.ok());
+  CHECK(st.code == StatusCode::integrator_failure);
+  CHECK_THAT(st.message, Catch::Contains("CV_TOO_MUCH_WORK"));
+  CHECK_THAT(st.where, Catch::Contains("t = "));
+  CHECK_THAT(st.where, Catch::Contains("cam "));
+  CHECK_THAT(st.where, Catch::Contains("state [dq; dq/dt] = ["));
+}
+
+TEST_CASE("compliant (b): a contact without materials or width is an input error", "[dynamics][compliant]") {
+  DesignSpec d = valve();
+  d.connections[0].width_mm.reset();
+  const kin::Mechanism mech = kin::compile(d);
+  const dynamics::Model model = dynamics::compile_dynamics(mech);
+  dynamics::CompliantResult r;
+  CHECK_THROWS_WITH(dynamics::run_compliant(mech, model, {}, 3000, 0, 360, 1, {}, r),
+                    Catch::Contains("connection 'cam_tappet': the compliant contact model needs materials and width_mm"));
+}
+
+TEST_CASE("compliant (b): a four-bar's link force approaches mode (a) as the link stiffens", "[dynamics][compliant]") {
+  // designs/four_bar.toml geometry with a massive rocker (no contacts: links are bilateral springs)
+  DesignSpec d = design("four_bar", "crank", "rocker");
+  d.driver.crank_per_cam = 1;
+  d.nodes = {rotational("crank", {0, 0}), rotational("rocker", {60, 0})};
+  d.nodes[1].mass_kg = 0.06;
+  d.nodes[1].cg_mm = Vec2{68.3333, 23.5702};
+  d.nodes[1].inertia_kg_mm2 = 12.5;
+  d.connections = {link("coupler", "crank", {17.0370, 10.4757}, "rocker", {76.6667, 47.1405})};
+  d.connections[0].length_mm = 70;
+  const kin::Mechanism mech = kin::compile(d);
+  const dynamics::Model model = dynamics::compile_dynamics(mech);
+  dynamics::RigidSweep a;
+  REQUIRE(dynamics::rigid_sweep(mech, model, {}, 0, 360, 1, a).ok());
+  const double rpm = 3000, w = dynamics::cam_speed_rad_per_s(rpm, 1.0);
+  double previous = INFINITY, peak = 0;
+  for (std::size_t i = 0; i < a.points(); ++i) peak = std::max(peak, std::abs(a.force_at(i, 0, w)));
+  for (const double k : {1e4, 1e6}) {
+    dynamics::CompliantOptions opt;  // tight: the model error is measured, not the integrator's
+    opt.link_stiffness = k;
+    opt.relative_tolerance = 1e-9;
+    opt.absolute_tolerance = 1e-12;
+    dynamics::CompliantResult b;
+    const Status st = dynamics::run_compliant(mech, model, {}, rpm, 0, 360, 1, opt, b);
+    INFO(st.str());
+    REQUIRE(st.ok());
+    double worst = 0;
+    for (std::size_t i = 0; i < a.points(); ++i) worst = std::max(worst, std::abs(b.force[i] - a.force_at(i, 0, w)));
+    INFO("link stiffness " << k << " N/mm: worst " << worst << " N of peak " << peak << " N");
+    CHECK(worst < 0.2 * previous);
+    previous = worst;
+  }
+  CHECK(previous < 1e-2 * peak);
+}
