@@ -336,6 +336,58 @@ TEST_CASE("rigid (a): offset slider-crank with a massive slider against a Newton
   guide.check(kForceRel);
 }
 
+TEST_CASE("rigid (a): gear and rack-pinion transmit the spring loads, torque by virtual work",
+          "[dynamics][rigid]") {
+  // a crank drives a wheel through a gear (ratio -0.5, torsion spring on the wheel) and a
+  // rack (pitch radius 12 mm, compression spring on the rack); constant speed: no inertia
+  DesignSpec d = design("gears", "crank", "rack");
+  d.driver.crank_per_cam = 1;
+  d.nodes = {rotational("crank", {0, 0}), rotational("wheel", {0, 120}), translational("rack", {0, -12}, {1, 0})};
+  d.nodes[1].inertia_kg_mm2 = 50;
+  d.nodes[2].mass_kg = 0.2;
+  ConnectionSpec gear;
+  gear.name = "timing";
+  gear.kind = ConnectionKind::gear;
+  gear.node_a = "crank";
+  gear.node_b = "wheel";
+  gear.ratio = -0.5;
+  ConnectionSpec mesh;
+  mesh.name = "mesh";
+  mesh.kind = ConnectionKind::rack_pinion;
+  mesh.node_a = "crank";
+  mesh.node_b = "rack";
+  mesh.pitch_radius_mm = 12;
+  d.connections = {gear, mesh};
+  SpringSpec ws;
+  ws.name = "wheel_spring";
+  ws.kind = SpringKind::torsion;
+  ws.node = "wheel";
+  ws.rate_Nmm_per_deg = 3;
+  ws.preload_Nmm = 400;
+  SpringSpec rs;
+  rs.name = "rack_spring";
+  rs.node = "rack";
+  rs.rate_N_per_mm = 2;
+  rs.preload_N = 30;
+  d.springs = {ws, rs};
+  const Compiled m(d);
+  dynamics::RigidSweep s;
+  REQUIRE(dynamics::rigid_sweep(m.mech, m.model, {}, 0, 180, 1, s).ok());
+  const double w = dynamics::cam_speed_rad_per_s(1000, 1.0);
+  ScalarCompare gear_torque("gear torque on the wheel"), rack_force("rack force"), torque("crank torque");
+  for (std::size_t i = 0; i < s.points(); ++i) {
+    const double t = s.cam_deg[i] * deg;
+    const double wheel = 400 + 3 * (-0.5 * s.cam_deg[i]);  // [N mm]
+    const double rack = 30 + 2 * 12 * t;                    // [N]
+    gear_torque.add(t, s.force_at(i, 0, w), wheel);
+    rack_force.add(t, s.force_at(i, 1, w), rack);
+    torque.add(t, s.torque_at(i, w), -0.5 * wheel + 12 * rack);
+  }
+  gear_torque.check(kForceRel);
+  rack_force.check(kForceRel);
+  torque.check(kForceRel);
+}
+
 TEST_CASE("rigid (a): power balance, drive power = d(kinetic + spring energy)/dt + friction loss",
           "[dynamics][rigid]") {
   // the CVVL with and without lash; the Valvetronic (a floating lever held by three
