@@ -5,6 +5,8 @@
 #include <nlohmann/json.hpp>
 #include <numbers>
 
+#include "camopt/dynamics/model.hpp"
+#include "camopt/dynamics/rigid.hpp"
 #include "camopt/io/atomic_file.hpp"
 #include "camopt/io/constraint_file.hpp"
 #include "camopt/io/csv.hpp"
@@ -205,7 +207,46 @@ void run_optimize(const OptimizeOptions& o) {
         {"min_cam_radius_of_curvature_mm", s.min_cam_radius_mm},
         {"max_roller_speed_rpm", s.max_roller_speed * 180.0 / kPi * rpm_scale},
         {"duration_at_1mm_deg", s.duration_at_1mm}};
-    report["verify"]["dynamics"] = "not run: rigid and flexible dynamics are not built yet (issues #6, #7)";
+    // rigid (kinematically constrained) dynamics at the set's speed: the designed contact's
+    // force, its separation speed and the cam torque; flexible dynamics is issue #7
+    try {
+      const dynamics::Model model = dynamics::compile_dynamics(mech);
+      dynamics::RigidSweep rs;
+      st = dynamics::rigid_sweep(mech, model, so_syn.controls, 0.0, 360.0, 0.5, rs);
+      if (!st.ok()) throw NumericalError(st);
+      int conn = -1;
+      for (int c = 0; c < static_cast<int>(made.connections.size()); ++c)
+        if (made.connections[static_cast<std::size_t>(c)].name == res.connection) conn = c;
+      const double omega = problem.cam_speed_rad_per_s();
+      double fmax = -1e300, fmin = 1e300, fmin_at = 0, tmax = 0;
+      for (std::size_t i = 0; i < rs.points(); ++i) {
+        const double f = rs.force_at(i, conn, omega);
+        fmax = std::max(fmax, f);
+        if (f < fmin) {
+          fmin = f;
+          fmin_at = rs.cam_deg[i];
+        }
+        tmax = std::max(tmax, std::abs(rs.torque_at(i, omega)));
+      }
+      const dynamics::Separation sep = dynamics::separation_speed(rs, model, conn);
+      nlohmann::json dyn = {{"model", "rigid, kinematically constrained"},
+                            {"rpm", set.rpm},
+                            {"contact", res.connection},
+                            {"max_contact_force_N", fmax},
+                            {"min_contact_force_N", fmin},
+                            {"min_contact_force_at_cam_deg", fmin_at},
+                            {"max_cam_torque_Nm", tmax * 1e-3}};
+      if (std::isfinite(sep.engine_rpm)) {
+        dyn["separation_speed_rpm"] = sep.engine_rpm;
+        dyn["separation_at_cam_deg"] = sep.cam_deg;
+      } else {
+        dyn["separation_speed_rpm"] = "none";
+      }
+      report["verify"]["rigid_dynamics"] = dyn;
+    } catch (const InputError& e) {
+      report["verify"]["rigid_dynamics"] = std::string("not run: the design lacks dynamics data: ") + e.what();
+    }
+    report["verify"]["flexible_dynamics"] = "not run: flexible dynamics is not built yet (issue #7)";
     info("optimize --verify: kinematic lift matches the optimised lift to " + std::to_string(rt.max_error_mm) +
          " mm; max pressure angle " + std::to_string(s.max_pressure_angle_deg) + " deg");
   }
@@ -237,7 +278,7 @@ void setup_optimize(CLI::App& app) {
       ->check(CLI::Range(1, 1000000))
       ->capture_default_str();
   cmd->add_option("--starts", opts->starts, "global: number of starts")->check(CLI::Range(1, 1000))->capture_default_str();
-  cmd->add_flag("--verify", opts->verify, "run the optimised design through the kinematic solver and report it");
+  cmd->add_flag("--verify", opts->verify, "run the optimised design through kinematics and rigid dynamics and report both");
   cmd->callback([opts] { run_optimize(*opts); });
 }
 

@@ -46,6 +46,12 @@ TEST_CASE("optimize: the passenger-car intake set converges, every constraint ho
         Approx(report["constraints"]["pressure_angle_max"]["worst"].get<double>()).margin(0.05));
   CHECK(k["max_acceleration_mm_per_deg2"].get<double>() <= 0.020 * (1 + 1e-6));
   CHECK(k["min_acceleration_mm_per_deg2"].get<double>() >= -0.011 * (1 + 1e-6));
+  // rigid dynamics of the delivered design at the set's 6500 rpm: forces scale exactly as
+  // A + B rpm^2, so a positive minimum force there means separation only above 6500 rpm
+  const auto& dyn = report["verify"]["rigid_dynamics"];
+  REQUIRE(dyn.is_object());
+  CHECK(dyn["min_contact_force_N"].get<double>() > 0.0);
+  CHECK(dyn["separation_speed_rpm"].get<double>() > 6500.0);
 }
 
 TEST_CASE("optimize: bad input names the field and exits 3 without output", "[cli][opt]") {
