@@ -1212,21 +1212,25 @@ void Workspace::reset() {
 void Workspace::set_controls(std::span<const double> values_in) {
   CAMOPT_ASSERT(values_in.size() == controls_.size());
   std::copy(values_in.begin(), values_in.end(), controls_.begin());
+  pivots_stale = true;
   reset();
 }
 
 Status solve(const Mechanism& mech, Workspace& ws, double driver, const Request& request) {
   CAMOPT_ASSERT(request.derivative_order >= 0 && request.derivative_order <= 3);
   CAMOPT_ASSERT(!request.contacts || request.derivative_order >= 1);
-  // pivots moved by controls
-  for (std::size_t i = 0; i < mech.nodes.size(); ++i) {
-    const Node& n = mech.nodes[i];
-    ws.pivots[i] = n.pivot;
-    if (n.pivot_control >= 0) {
-      const double a = n.pivot_gain * ws.controls()[n.pivot_control];
-      const Eigen::Vector2d r = n.pivot - n.pivot_about;
-      ws.pivots[i] = n.pivot_about + Eigen::Vector2d(std::cos(a) * r.x() - std::sin(a) * r.y(),
-                                                     std::sin(a) * r.x() + std::cos(a) * r.y());
+  // pivots moved by controls (recomputed when the controls change)
+  if (ws.pivots_stale) {
+    ws.pivots_stale = false;
+    for (std::size_t i = 0; i < mech.nodes.size(); ++i) {
+      const Node& n = mech.nodes[i];
+      ws.pivots[i] = n.pivot;
+      if (n.pivot_control >= 0) {
+        const double a = n.pivot_gain * ws.controls()[n.pivot_control];
+        const Eigen::Vector2d r = n.pivot - n.pivot_about;
+        ws.pivots[i] = n.pivot_about + Eigen::Vector2d(std::cos(a) * r.x() - std::sin(a) * r.y(),
+                                                       std::sin(a) * r.x() + std::cos(a) * r.y());
+      }
     }
   }
   Kernel kernel(mech, ws, request);
