@@ -908,17 +908,20 @@ Status Kernel::run(double driver) {
   ++ws_.point_id;  // every cached pose is stale
   // predictor for the warm start: taylor series from the last point, else extrapolation
   if (ws_.history >= 1) {
-    const double h = driver - ws_.prev_driver;
+    const double h = driver - ws_.prev_driver, step = ws_.prev_driver - ws_.prev2_driver;
+    const bool two = ws_.history >= 2 && step != 0.0;
+    // quartic term from the change of the cubic coefficient: d c_3 / dt = 4 c_4
+    const double quartic = two && ws_.prev_order == 3 && ws_.prev2_order == 3 ? h * h * h * h / (4.0 * step) : 0.0;
+    const double linear = two ? h / step : 0.0;  // without jets: linear extrapolation
+    const int order = ws_.prev_order;
     for (int v = 0; v < nv; ++v) {
+      const Jet3& j = ws_.prev_jets[v];
       double x = ws_.prev_values[v];
-      if (ws_.prev_order >= 1) {
-        double hp = h;
-        for (int k = 1; k <= ws_.prev_order; ++k, hp *= h) x += ws_.prev_jets[v].c[k] * hp;
-        // quartic term from the change of the cubic coefficient: d c_3 / dt = 4 c_4
-        if (ws_.prev_order == 3 && ws_.history >= 2 && ws_.prev2_order == 3 && ws_.prev_driver != ws_.prev2_driver)
-          x += (ws_.prev_jets[v].c[3] - ws_.prev2_jets[v].c[3]) / (4.0 * (ws_.prev_driver - ws_.prev2_driver)) * hp;
-      } else if (ws_.history >= 2 && ws_.prev_driver != ws_.prev2_driver) {
-        x += (ws_.prev_values[v] - ws_.prev2_values[v]) * h / (ws_.prev_driver - ws_.prev2_driver);
+      if (order >= 1) {
+        x += h * (j.c[1] + h * ((order >= 2 ? j.c[2] : 0.0) + h * (order >= 3 ? j.c[3] : 0.0)));
+        x += (j.c[3] - ws_.prev2_jets[v].c[3]) * quartic;
+      } else {
+        x += (ws_.prev_values[v] - ws_.prev2_values[v]) * linear;
       }
       ws_.values[v] = x;
     }
@@ -1153,7 +1156,7 @@ void Kernel::contact_outputs(int step_index) {
       dir = material_velocity(fpose, to_local(fpose, trace_x, trace_y));
       if (std::hypot(dir.x, dir.y) < 1e-9 * m_.length_scale) dir = {0.0, 0.0};
     }
-    const double dn = std::hypot(dir.x, dir.y);
+    const double dn = std::sqrt(dir.x * dir.x + dir.y * dir.y);  // [mm] scale: no overflow
     // atan2 keeps full precision near 0 and 90 deg (acos of a dot product does not)
     const double along = std::abs(dir.x * out.normal_x + dir.y * out.normal_y);
     const double across = std::abs(dir.x * out.normal_y - dir.y * out.normal_x);
@@ -1209,21 +1212,25 @@ void Workspace::reset() {
 void Workspace::set_controls(std::span<const double> values_in) {
   CAMOPT_ASSERT(values_in.size() == controls_.size());
   std::copy(values_in.begin(), values_in.end(), controls_.begin());
+  pivots_stale = true;
   reset();
 }
 
 Status solve(const Mechanism& mech, Workspace& ws, double driver, const Request& request) {
   CAMOPT_ASSERT(request.derivative_order >= 0 && request.derivative_order <= 3);
   CAMOPT_ASSERT(!request.contacts || request.derivative_order >= 1);
-  // pivots moved by controls
-  for (std::size_t i = 0; i < mech.nodes.size(); ++i) {
-    const Node& n = mech.nodes[i];
-    ws.pivots[i] = n.pivot;
-    if (n.pivot_control >= 0) {
-      const double a = n.pivot_gain * ws.controls()[n.pivot_control];
-      const Eigen::Vector2d r = n.pivot - n.pivot_about;
-      ws.pivots[i] = n.pivot_about + Eigen::Vector2d(std::cos(a) * r.x() - std::sin(a) * r.y(),
-                                                     std::sin(a) * r.x() + std::cos(a) * r.y());
+  // pivots moved by controls (recomputed when the controls change)
+  if (ws.pivots_stale) {
+    ws.pivots_stale = false;
+    for (std::size_t i = 0; i < mech.nodes.size(); ++i) {
+      const Node& n = mech.nodes[i];
+      ws.pivots[i] = n.pivot;
+      if (n.pivot_control >= 0) {
+        const double a = n.pivot_gain * ws.controls()[n.pivot_control];
+        const Eigen::Vector2d r = n.pivot - n.pivot_about;
+        ws.pivots[i] = n.pivot_about + Eigen::Vector2d(std::cos(a) * r.x() - std::sin(a) * r.y(),
+                                                       std::sin(a) * r.x() + std::cos(a) * r.y());
+      }
     }
   }
   Kernel kernel(mech, ws, request);

@@ -108,6 +108,7 @@ class Workspace {
     return std::get<M - 2>(dual_vars);
   }
   std::vector<Eigen::Vector2d> pivots;
+  bool pivots_stale = true;  // set_controls moved them: place them again on the next solve
   detail::PoseCache<double> poses0;
   detail::PoseCache<Jet<2>> poses2;
   detail::PoseCache<Jet3> poses3;
