@@ -1,5 +1,7 @@
 #include "camopt/core/error.hpp"
 
+#include <sstream>
+
 namespace camopt {
 
 std::string SourceRef::str() const {
@@ -37,6 +39,13 @@ void assertion_failed(const char* expr, const char* file, int line, const char* 
   std::fprintf(stderr, "camopt internal error: assertion '%s' failed at %s:%d%s%s\n", expr, file, line,
                msg ? ": " : "", msg ? msg : "");
   std::abort();
+}
+
+std::string format_value(double value, int digits) {
+  std::ostringstream s;
+  s.precision(digits);
+  s << value;
+  return s.str();
 }
 
 }  // namespace camopt

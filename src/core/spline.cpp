@@ -90,12 +90,7 @@ void basis_derivatives(const double* U, int span, double u, int nd, double ders[
   }
 }
 
-std::string fmt(double v) {
-  std::ostringstream os;
-  os.precision(17);
-  os << v;
-  return os.str();
-}
+std::string fmt(double v) { return format_value(v, 17); }
 
 // size, finiteness and strict monotonicity of the data (programmer misuse -> throw)
 void check_data(const char* who, std::span<const double> x, std::span<const double> y,

@@ -31,12 +31,7 @@ double value_of(const detail::Dual<M>& x) {
   return x.value();
 }
 
-std::string fmt(double v) {
-  std::ostringstream os;
-  os.precision(6);
-  os << v;
-  return os.str();
-}
+std::string fmt(double v) { return format_value(v, 6); }
 
 std::string driver_text(const Mechanism& m, double driver) {
   return m.driver_is_angle() ? "driver " + fmt(driver * 180.0 / pi) + " deg" : "driver " + fmt(driver) + " mm";

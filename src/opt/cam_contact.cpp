@@ -39,12 +39,7 @@ G angle_between(const V& normal, const V& direction) {
   return atan2(abs(cross(direction, normal)), abs(dot(direction, normal)));
 }
 
-std::string fmt(double v) {
-  std::ostringstream s;
-  s.precision(6);
-  s << v;
-  return s.str();
-}
+std::string fmt(double v) { return format_value(v, 6); }
 
 }  // namespace
 

@@ -10,12 +10,7 @@ namespace camopt::opt {
 
 namespace {
 
-std::string num(double v) {
-  std::ostringstream s;
-  s.precision(10);
-  s << v;
-  return s.str();
-}
+std::string num(double v) { return format_value(v, 10); }
 
 bool finite_non_negative(double v) { return std::isfinite(v) && v >= 0.0; }
 
@@ -67,11 +62,12 @@ AccelerationSplineLift AccelerationSplineLift::compile(const EventSpec& spec) {
   const int n = spec.coefficients;
   m.t_acc_ = synthesis::clamped_uniform_knots(n, m.p_, m.theta_a_, m.theta_b_);
   const int nv = n - 2;
+  m.acc_coef_.assign(nv, std::vector<double>(n, 0.0));
   m.vel_coef_.resize(nv);
   m.lift_coef_.resize(nv);
   m.jerk_coef_.resize(nv);
   for (int j = 0; j < nv; ++j) {
-    std::vector<double> unit(n, 0.0);
+    auto& unit = m.acc_coef_[j];
     unit[j + 1] = 1.0;
     synthesis::bspline_integral(m.t_acc_, unit, m.p_, m.t_vel_, m.vel_coef_[j]);
     synthesis::bspline_integral(m.t_vel_, m.vel_coef_[j], m.p_ + 1, m.t_lift_, m.lift_coef_[j]);
@@ -115,17 +111,13 @@ void AccelerationSplineLift::rows(double cam_deg, std::array<double, 4>& constan
   }
   const double vo = opening_.velocity();
   constant = {opening_.height_mm() + vo * (th - theta_a_), vo, 0.0, 0.0};
-  const int n = spec_.coefficients;
-  std::vector<double> unit(static_cast<std::size_t>(n), 0.0);
   // only the p+1 basis functions whose support holds th have nonzero acceleration/jerk
   for (int j = 0; j < variables(); ++j) {
     r(0, j) = synthesis::bspline_value(t_lift_, lift_coef_[j], p_ + 2, th);
     r(1, j) = synthesis::bspline_value(t_vel_, vel_coef_[j], p_ + 1, th);
     const double lo = t_acc_[j + 1], hi = t_acc_[j + 1 + p_ + 1];
     if (th >= lo && th <= hi) {
-      unit[j + 1] = 1.0;
-      r(2, j) = synthesis::bspline_value(t_acc_, unit, p_, th);
-      unit[j + 1] = 0.0;
+      r(2, j) = synthesis::bspline_value(t_acc_, acc_coef_[j], p_, th);
       r(3, j) = synthesis::bspline_value(t_jerk_, jerk_coef_[j], p_ - 1, th);
     }
   }

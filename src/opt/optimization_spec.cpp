@@ -12,12 +12,7 @@ constexpr std::array<Quantity, 8> kQuantities = {Quantity::acceleration,   Quant
                                                  Quantity::pressure_angle, Quantity::hertz_stress, Quantity::roller_speed,
                                                  Quantity::sliding_speed,  Quantity::curvature};
 
-std::string num(double v) {
-  std::ostringstream s;
-  s.precision(10);
-  s << v;
-  return s.str();
-}
+std::string num(double v) { return format_value(v, 10); }
 
 void require_positive(const std::optional<double>& v, const char* field, const char* unit) {
   if (v && !(std::isfinite(*v) && *v > 0.0))

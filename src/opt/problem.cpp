@@ -14,12 +14,7 @@ namespace {
 
 constexpr double kDegPerRad = 180.0 / std::numbers::pi;
 
-std::string num(double v) {
-  std::ostringstream s;
-  s.precision(8);
-  s << v;
-  return s.str();
-}
+std::string num(double v) { return format_value(v, 8); }
 
 const MaterialSpec* find_material(const DesignSpec& d, const std::string& name) {
   for (const auto& m : d.materials)
@@ -394,6 +389,15 @@ Status CamProblem::evaluate(std::span<const double> u, Evaluation& e, bool gradi
       have_contact = true;
       return Status::success();
     };
+    // p0^2 = F E* / (pi L R*) [MPa^2] (Johnson, Contact Mechanics, eq. 4.45) with the valve
+    // force F_v = preload + rate L + m a (a = L'' omega^2) taken to the contact by virtual work
+    auto hertz_p0_squared = [&]() {
+      const double w = omega_ * omega_ * 1e-3;  // [mm/rad^2] -> [m/s^2]
+      Grad3 fv(spec_.load->spring_preload_N + spec_.load->spring_rate_N_per_mm * mo[0] +
+               spec_.load->moving_mass_kg * mo[2] * r2 * w);
+      fv.d = {spec_.load->spring_rate_N_per_mm, 0.0, spec_.load->moving_mass_kg * w};
+      return fv * cq.force_ratio * cq.inverse_radius_sum * (e_star_MPa_ / (std::numbers::pi * width_mm_));
+    };
     // gradient row of a contact quantity
     auto chain = [&](const Grad3& q, double scale) {
       return ((q.d[0] * gp.rows.row(0) + q.d[1] * r1 * gp.rows.row(1) + q.d[2] * r2 * gp.rows.row(2)) * scale).eval();
@@ -454,13 +458,7 @@ Status CamProblem::evaluate(std::span<const double> u, Evaluation& e, bool gradi
               case Quantity::roller_speed: v = cq.roller_speed * cq.roller_speed; break;
               case Quantity::sliding_speed: v = cq.sliding * cq.sliding; break;
               case Quantity::curvature: v = roller_like ? cq.pitch_curvature : 1.0 / cq.cam_radius; break;
-              default: {  // hertz: p0^2 ~ F / R*
-                const double w = omega_ * omega_ * 1e-3;
-                Grad3 fv(spec_.load->spring_preload_N + spec_.load->spring_rate_N_per_mm * mo[0] +
-                         spec_.load->moving_mass_kg * mo[2] * r2 * w);
-                fv.d = {spec_.load->spring_rate_N_per_mm, 0.0, spec_.load->moving_mass_kg * w};
-                v = fv * cq.force_ratio * cq.inverse_radius_sum * (e_star_MPa_ / (std::numbers::pi * width_mm_));
-              }
+              default: v = hertz_p0_squared(); break;
             }
             set_contact(v / peak_scale_, v.v);
             e.g(ri) -= t;
@@ -500,12 +498,7 @@ Status CamProblem::evaluate(std::span<const double> u, Evaluation& e, bool gradi
               break;
             }
             case ConstraintKind::hertz_stress: {
-              const double w = omega_ * omega_ * 1e-3;
-              Grad3 fv(spec_.load->spring_preload_N + spec_.load->spring_rate_N_per_mm * mo[0] +
-                       spec_.load->moving_mass_kg * mo[2] * r2 * w);
-              fv.d = {spec_.load->spring_rate_N_per_mm, 0.0, spec_.load->moving_mass_kg * w};
-              // p0^2 = F E* / (pi L R*) (Johnson, Contact Mechanics, eq. 4.45) [MPa^2]
-              const Grad3 p2 = fv * cq.force_ratio * cq.inverse_radius_sum * (e_star_MPa_ / (std::numbers::pi * width_mm_));
+              const Grad3 p2 = hertz_p0_squared();
               const double s2 = *lim.max_hertz_stress_MPa * *lim.max_hertz_stress_MPa;
               set_contact((p2 - s2) / s2, std::sqrt(std::max(0.0, p2.v)));
               break;

@@ -29,12 +29,7 @@ constexpr int kInversionLevels = 64;
 using Jet3 = Jet<3>;
 using Jet2 = Jet<2>;
 
-std::string fmt(double v) {
-  std::ostringstream os;
-  os.precision(6);
-  os << v;
-  return os.str();
-}
+std::string fmt(double v) { return format_value(v, 6); }
 
 // d/dt of a jet, one order lower
 Jet2 derivative_of(const Jet3& x) {

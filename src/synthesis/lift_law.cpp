@@ -14,12 +14,7 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-std::string num(double v) {
-  std::ostringstream s;
-  s.precision(10);
-  s << v;
-  return s.str();
-}
+std::string num(double v) { return format_value(v, 10); }
 
 // p(x) and its first `orders` derivatives by horner sums; a[m] is the coefficient of x^m
 template <std::size_t M>

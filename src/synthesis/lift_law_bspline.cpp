@@ -12,12 +12,7 @@ namespace camopt::synthesis {
 
 namespace {
 
-std::string num(double v) {
-  std::ostringstream s;
-  s.precision(10);
-  s << v;
-  return s.str();
-}
+std::string num(double v) { return format_value(v, 10); }
 
 }  // namespace
 

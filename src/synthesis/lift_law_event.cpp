@@ -22,12 +22,7 @@ constexpr double kCycleDeg = 360.0;
 constexpr double kMonotonicTol = 1e-9;
 constexpr int kMonotonicSamples = 4000;
 
-std::string num(double v) {
-  std::ostringstream s;
-  s.precision(10);
-  s << v;
-  return s.str();
-}
+std::string num(double v) { return format_value(v, 10); }
 
 bool finite_positive(double v) { return std::isfinite(v) && v > 0.0; }
 bool finite_non_negative(double v) { return std::isfinite(v) && v >= 0.0; }

@@ -62,6 +62,9 @@ class NumericalError : public std::runtime_error {
   Status status_;
 };
 
+// a number for a message: the shortest of %g-style output with `digits` significant digits
+std::string format_value(double value, int digits = 10);
+
 [[noreturn]] void assertion_failed(const char* expr, const char* file, int line, const char* msg);
 
 }  // namespace camopt

@@ -73,8 +73,9 @@ class AccelerationSplineLift {
   double theta_a_ = 0.0, theta_b_ = 0.0;
   int p_ = 3;
   std::vector<double> t_acc_, t_vel_, t_lift_, t_jerk_;  // knots of acceleration, velocity, lift, jerk
-  // per variable j: the coefficients of its basis function's velocity, lift and jerk splines
-  std::vector<std::vector<double>> vel_coef_, lift_coef_, jerk_coef_;
+  // per variable j: the coefficients of its basis function's acceleration (a unit vector),
+  // velocity, lift and jerk splines
+  std::vector<std::vector<double>> acc_coef_, vel_coef_, lift_coef_, jerk_coef_;
   Eigen::Matrix<double, 2, Eigen::Dynamic> closure_a_;
   Eigen::Vector2d closure_b_ = Eigen::Vector2d::Zero();
 };
