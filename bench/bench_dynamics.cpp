@@ -18,31 +18,18 @@
 #include <string>
 #include <vector>
 
+#include "bench_support.hpp"
 #include "camopt/dynamics/compliant.hpp"
 #include "camopt/dynamics/rigid.hpp"
 #include "camopt/io/design_file.hpp"
 
 using namespace camopt;
+using camopt::bench::num;
+using camopt::bench::seconds_of;
 
 namespace {
 
 constexpr double kRpm = 6000.0;
-
-std::string num(double v) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.4g", v);
-  return buffer;
-}
-
-double seconds_of(const std::function<void()>& f, int repeat) {
-  double best = 1e300;
-  for (int r = 0; r < repeat; ++r) {
-    const auto t0 = std::chrono::steady_clock::now();
-    f();
-    best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-  }
-  return best;
-}
 
 void check(const Status& st) {
   if (!st.ok()) {

@@ -15,32 +15,18 @@
 #include <string>
 #include <vector>
 
+#include "bench_support.hpp"
 #include "camopt/io/design_file.hpp"
 #include "camopt/kinematics/sweep.hpp"
 #include "oracles/oracles.hpp"
 
 using namespace camopt;
+using camopt::bench::num;
+using camopt::bench::seconds_of;
 
 namespace {
 
 constexpr double deg = M_PI / 180.0;
-
-// compact number for the csv (std::to_string prints 6 fixed decimals: 1e-14 -> 0.000000)
-std::string num(double v) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.4g", v);
-  return buffer;
-}
-
-double seconds_of(const std::function<void()>& f, int repeat) {
-  double best = 1e300;
-  for (int r = 0; r < repeat; ++r) {
-    const auto t0 = std::chrono::steady_clock::now();
-    f();
-    best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-  }
-  return best;
-}
 
 kin::SweepResult run(const kin::Mechanism& m, int order, bool contacts, double step, const std::vector<double>& controls,
                      int threads) {
