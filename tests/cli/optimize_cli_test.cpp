@@ -65,7 +65,8 @@ TEST_CASE("optimize: bad input names the field and exits 3 without output", "[cl
       {with_line(base, "max_pressure_angle_deg", "max_pressure_angle_deg = 95"), "max_pressure_angle_deg"},
       {with_line(base, "max_seating_velocity_m_per_s", "max_seating_velocity_m_per_s = 0.05"),
        "seating velocity"},
-      {with_line(base, "coefficients", "coefficent = 24"), "coefficent"},
+      {with_line(base, "coefficients", "coefficent = 24"), "set.toml:19:1: event: unknown key 'coefficent'"},
+      {with_line(base, "rpm", "rpm = -5"), "set.toml:10:7: set.rpm: value -5 must be >= 0"},
       {with_line(base, "area_weight", "area_weight = 0"), "objective"},
   };
   for (const auto& c : cases) {
