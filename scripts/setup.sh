@@ -78,28 +78,9 @@ esac
 jobs="$(nproc)"
 
 # --- packages: apt only when something is missing ---------------------------------------
-command -v dpkg-query >/dev/null 2>&1 ||
-  die "dpkg-query not found: this script supports Debian 12; install by hand: ${PACKAGES[*]}"
-missing=()
-for pkg in "${PACKAGES[@]}"; do
-  status="$(dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null || true)"
-  [[ "$status" == "install ok installed" ]] || missing+=("$pkg")
-done
-if ((${#missing[@]} == 0)); then
-  echo "== packages: nothing missing (${#PACKAGES[@]} installed)"
-else
-  if ((EUID == 0)); then
-    as_root=()
-  elif command -v sudo >/dev/null 2>&1; then
-    as_root=(sudo)
-  else
-    die "missing packages and not root, no sudo to install them; as root run:
-  apt-get update && apt-get install -y --no-install-recommends ${missing[*]}"
-  fi
-  echo "== installing: ${missing[*]}"
-  "${as_root[@]}" env DEBIAN_FRONTEND=noninteractive apt-get update
-  "${as_root[@]}" env DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends "${missing[@]}"
-fi
+# shellcheck source=scripts/packages.sh
+source "$REPO/scripts/packages.sh"
+ensure_packages "${PACKAGES[@]}"
 
 # --- configure: only without a cache or when an option changed --------------------------
 cache="$build_dir/CMakeCache.txt"

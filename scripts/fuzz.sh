@@ -1,0 +1,80 @@
+#!/usr/bin/env bash
+# Fuzz the input readers with libFuzzer (clang, ASan + UBSan): build tests/fuzz/fuzz_* in
+# build-fuzz, then run each target for a time budget from the seeds of tests/fuzz/seeds.txt
+# plus every earlier crash (tests/fuzz/regressions/<target>/). A crash leaves its input in
+# build-fuzz/crashes/<target>/ and fails the run: copy it to tests/fuzz/regressions/<target>/
+# (the normal test suite replays it), then fix the reader.
+set -euo pipefail
+
+usage() {
+  cat <<EOF2
+usage: scripts/fuzz.sh [--seconds N] [--build-dir DIR] [TARGET...]
+
+  --seconds N     time budget per target (default 60)
+  --build-dir DIR clang build directory (default: build-fuzz)
+  TARGET          target_lift_csv, design_toml, constraint_toml (default: all)
+EOF2
+}
+die() {
+  echo "fuzz.sh: error: $*" >&2
+  exit 1
+}
+
+REPO="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+seconds=60
+build_dir="build-fuzz"
+targets=()
+while (($# > 0)); do
+  case "$1" in
+    --seconds)
+      (($# >= 2)) || die "--seconds needs a number"
+      seconds="$2"
+      shift 2
+      ;;
+    --build-dir)
+      (($# >= 2)) || die "--build-dir needs a directory"
+      build_dir="$2"
+      shift 2
+      ;;
+    -h | --help) usage; exit 0 ;;
+    -*) usage >&2; die "unknown option '$1'" ;;
+    *) targets+=("$1"); shift ;;
+  esac
+done
+[[ "$seconds" =~ ^[1-9][0-9]*$ ]] || die "--seconds must be a positive integer, got '$seconds'"
+[[ "$build_dir" = /* ]] || build_dir="$REPO/$build_dir"
+((${#targets[@]} > 0)) || targets=(target_lift_csv design_toml constraint_toml)
+
+# shellcheck source=scripts/packages.sh
+source "$REPO/scripts/packages.sh"
+ensure_packages build-essential cmake ninja-build pkg-config clang libclang-rt-14-dev libeigen3-dev \
+  libnlopt-cxx-dev coinor-libipopt-dev libsundials-dev libcli11-dev libtomlplusplus-dev nlohmann-json3-dev
+
+if [[ ! -f "$build_dir/CMakeCache.txt" ]]; then
+  CC=clang CXX=clang++ cmake -S "$REPO" -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    -DCAMOPT_BUILD_FUZZ=ON -DCAMOPT_BUILD_TESTS=OFF
+fi
+cmake --build "$build_dir" --parallel "$(nproc)" --target "${targets[@]/#/fuzz_}"
+
+status=0
+for target in "${targets[@]}"; do
+  corpus="$build_dir/corpus/$target"
+  crashes="$build_dir/crashes/$target"
+  mkdir -p "$corpus" "$crashes"
+  # seeds: the listed directories, then the crash regressions
+  while read -r name dir extension; do
+    [[ -z "$name" || "$name" == \#* || "$name" != "$target" ]] && continue
+    cp -f "$REPO/$dir"/*"$extension" "$corpus"/
+  done <"$REPO/tests/fuzz/seeds.txt"
+  if compgen -G "$REPO/tests/fuzz/regressions/$target/*" >/dev/null; then
+    cp -f "$REPO/tests/fuzz/regressions/$target"/* "$corpus"/
+  fi
+  echo "== fuzzing $target for $seconds s (corpus $(find "$corpus" -type f | wc -l) files)"
+  # libFuzzer resolves relative profile paths of designs against the source tree (fuzz_entry.cpp)
+  if ! (cd "$REPO" && "$build_dir/tests/fuzz/fuzz_$target" "$corpus" -max_total_time="$seconds" -max_len=16384 \
+    -timeout=20 -rss_limit_mb=4096 -print_final_stats=1 -artifact_prefix="$crashes/" 2>&1 | tail -n 25); then
+    echo "== $target: FAILED; crash inputs in $crashes/ (copy them to tests/fuzz/regressions/$target/)"
+    status=1
+  fi
+done
+exit "$status"

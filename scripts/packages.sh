@@ -1,0 +1,24 @@
+# sourced by scripts/setup.sh and scripts/fuzz.sh: install the Debian 12 packages that are
+# missing (apt only when something is missing; as root or through sudo)
+ensure_packages() {
+  command -v dpkg-query >/dev/null 2>&1 ||
+    die "dpkg-query not found: this script supports Debian 12; install by hand: $*"
+  local missing=() pkg status
+  for pkg in "$@"; do
+    status="$(dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null || true)"
+    [[ "$status" == "install ok installed" ]] || missing+=("$pkg")
+  done
+  if ((${#missing[@]} == 0)); then
+    echo "== packages: nothing missing ($# installed)"
+    return 0
+  fi
+  local as_root=()
+  if ((EUID != 0)); then
+    command -v sudo >/dev/null 2>&1 || die "missing packages and not root, no sudo to install them; as root run:
+  apt-get update && apt-get install -y --no-install-recommends ${missing[*]}"
+    as_root=(sudo)
+  fi
+  echo "== installing: ${missing[*]}"
+  "${as_root[@]}" env DEBIAN_FRONTEND=noninteractive apt-get update
+  "${as_root[@]}" env DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends "${missing[@]}"
+}

@@ -1,0 +1,12 @@
+// libFuzzer harness: camopt::fuzz::design_toml (see fuzz_entry.hpp); built with -DCAMOPT_BUILD_FUZZ=ON
+// by clang, run by scripts/fuzz.sh
+#include <cstddef>
+#include <cstdint>
+#include <string_view>
+
+#include "fuzz_entry.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  (void)camopt::fuzz::design_toml(std::string_view(reinterpret_cast<const char*>(data), size));
+  return 0;
+}
