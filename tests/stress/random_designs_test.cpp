@@ -15,46 +15,6 @@ using kin_test::Placement;
 using kin_test::SweepCompare;
 using oracles::Motion;
 
-Eigen::Vector2d polar(double r, double a) { return {r * std::cos(a), r * std::sin(a)}; }
-
-double uniform(std::mt19937_64& rng, double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng); }
-
-Placement random_placement(std::mt19937_64& rng, double size) {
-  return {uniform(rng, -kin_test::pi, kin_test::pi), {uniform(rng, -2 * size, 2 * size), uniform(rng, -2 * size, 2 * size)}};
-}
-
-std::string header(const std::string& name, const std::string& driver, const std::string& output) {
-  return "schema = 1\n[design]\nname = \"" + name + "\"\noutput_node = \"" + output + "\"\n[driver]\nnode = \"" + driver +
-         "\"\ncrank_per_cam = 1\n";
-}
-
-std::string rotational_node(const std::string& name, const Eigen::Vector2d& pivot) {
-  return "[[node]]\nname = \"" + name + "\"\ntype = \"rotational\"\npivot_mm = " + point(pivot.x(), pivot.y()) + "\n";
-}
-
-std::string translational_node(const std::string& name, const Eigen::Vector2d& origin, const Eigen::Vector2d& dir) {
-  return "[[node]]\nname = \"" + name + "\"\ntype = \"translational\"\norigin_mm = " + point(origin.x(), origin.y()) +
-         "\ndirection = " + point(dir.x(), dir.y()) + "\n";
-}
-
-std::string pin_connection(const std::string& name, const std::string& type, const std::string& node_a,
-                           const Eigen::Vector2d& a, const std::string& node_b, const Eigen::Vector2d& b) {
-  return "[[connection]]\nname = \"" + name + "\"\ntype = \"" + type + "\"\na = { node = \"" + node_a +
-         "\", point_mm = " + point(a.x(), a.y()) + " }\nb = { node = \"" + node_b + "\", point_mm = " + point(b.x(), b.y()) +
-         " }\nlength_mm = " + num((b - a).norm()) + "\n";
-}
-
-// sweep data of a node's variable as a Motion per rad of driver, in rad or mm
-Motion node_motion(const kin::Mechanism& m, const kin::PositionResult& p, std::size_t point_index, const std::string& node,
-                   bool angle) {
-  const std::size_t nv = m.variables.size();
-  const int v = m.nodes[static_cast<std::size_t>(m.node_index(node))].first_variable;
-  Motion out;
-  for (int k = 0; k <= 3; ++k)
-    out[static_cast<std::size_t>(k)] = p.at(point_index, nv, v, k) * std::pow(deg, (angle ? 1 : 0) - k);
-  return out;
-}
-
 // a grashof crank-rocker whose transmission angle stays within [20, 160] deg
 struct RandomFourBar {
   oracles::FourBar linkage;
@@ -78,16 +38,8 @@ RandomFourBar random_four_bar(std::mt19937_64& rng, double scale) {
   }
 }
 
-std::string four_bar_design(const RandomFourBar& r) {
-  const oracles::FourBar& f = r.linkage;
-  const double th4 = f.solve(r.crank_drawing).rocker_angle[0];
-  const Eigen::Vector2d A = f.crank_pivot + polar(f.crank, r.crank_drawing), B = f.rocker_pivot + polar(f.rocker, th4);
-  return header("random_four_bar", "crank", "rocker") + rotational_node("crank", f.crank_pivot) +
-         rotational_node("rocker", f.rocker_pivot) + pin_connection("coupler", "link", "crank", A, "rocker", B);
-}
-
 void check_four_bar(const RandomFourBar& r, double step_deg) {
-  const kin::Mechanism m = compile_text(four_bar_design(r));
+  const kin::Mechanism m = compile_text(four_bar_design(r.linkage, r.crank_drawing));
   const kin::SweepResult result = revolution(m, step_deg, false);
   INFO(result.positions[0].status.str());
   REQUIRE(result.positions[0].status.ok());
@@ -120,23 +72,8 @@ RandomRoller random_roller(std::mt19937_64& rng, double scale) {
   }
 }
 
-std::string roller_design(const RandomRoller& c) {
-  const oracles::EccentricOffsetRoller& o = c.cam;
-  const Placement& p = c.place;
-  const Eigen::Vector2d centre = p.point({o.offset, o.centre_height(0)[0]}), pivot = p.point({0, 0});
-  const Eigen::Vector2d up = p.direction({0, 1});
-  return header("random_roller", "cam", "tappet") + rotational_node("cam", pivot) + translational_node("tappet", centre, up) +
-         "[[profile]]\nname = \"disc\"\nform = \"eccentric\"\ndisc_radius_mm = " + num(o.disc_radius) +
-         "\neccentricity_mm = " + num(o.eccentricity) +
-         "\n[[connection]]\nname = \"cam_roller\"\ntype = \"contact\"\na = { node = \"cam\", shape = \"profile\", "
-         "profile = \"disc\", origin_mm = " +
-         point(pivot.x(), pivot.y()) + ", orientation_deg = " + num(p.degrees(o.phase)) +
-         " }\nb = { node = \"tappet\", shape = \"circle\", center_mm = " + point(centre.x(), centre.y()) +
-         ", radius_mm = " + num(o.roller_radius) + ", roller = true }\n";
-}
-
 void check_roller(const RandomRoller& c, double step_deg) {
-  const kin::Mechanism m = compile_text(roller_design(c));
+  const kin::Mechanism m = compile_text(roller_design(c.cam, c.place));
   const kin::SweepResult result = revolution(m, step_deg);
   INFO(result.positions[0].status.str());
   REQUIRE(result.positions[0].status.ok());
