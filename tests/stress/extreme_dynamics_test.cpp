@@ -1,0 +1,110 @@
+// dynamics at extreme engine speeds and stiffness ratios, on every bundled design with
+// dynamics data: each run yields finite forces or stops with a status naming the time and
+// cam angle; never a NaN, never a crash.
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+
+#include "camopt/dynamics/compliant.hpp"
+#include "camopt/dynamics/model.hpp"
+#include "camopt/dynamics/rigid.hpp"
+#include "stress_support.hpp"
+
+namespace camopt::stress {
+namespace {
+
+kin::Mechanism bundled(const std::string& name) {
+  return kin::compile(io::load_design(std::string(CAMOPT_SOURCE_DIR) + "/designs/" + name + ".toml"));
+}
+
+std::vector<double> default_controls(const kin::Mechanism& mech) {
+  std::vector<double> controls;
+  for (const auto& c : mech.controls) controls.push_back(c.default_value);
+  return controls;
+}
+
+}  // namespace
+
+TEST_CASE("rigid dynamics from 1 to 100000 rpm: finite, and the split load cases add up at every speed",
+          "[stress][dynamics]") {
+  for (const char* name : {"roller_finger_follower", "bucket_tappet", "rocker_arm", "cvvl_swing_cam"}) {
+    INFO(name);
+    const kin::Mechanism mech = bundled(name);
+    const dynamics::Model model = dynamics::compile_dynamics(mech);
+    dynamics::RigidSweep sweep;
+    const Status st = dynamics::rigid_sweep(mech, model, default_controls(mech), 0, 360, 1, sweep);
+    INFO(st.str());
+    REQUIRE(st.ok());
+    for (const double rpm : {1.0, 1e3, 1e5}) {
+      const double w = dynamics::cam_speed_rad_per_s(rpm, model.crank_per_cam);
+      for (std::size_t i = 0; i < sweep.points(); ++i) {
+        REQUIRE(std::isfinite(sweep.torque_at(i, w)));
+        for (int c = 0; c < sweep.connections; ++c) REQUIRE(std::isfinite(sweep.force_at(i, c, w)));
+      }
+    }
+    // a contact's separation speed is where its force first reaches zero: just below it
+    // every closed contact still pushes, just above it the named point pulls
+    for (int c = 0; c < sweep.connections; ++c) {
+      if (mech.connections[static_cast<std::size_t>(c)].kind != ConnectionKind::contact) continue;
+      const dynamics::Separation sep = dynamics::separation_speed(sweep, model, c);
+      if (!std::isfinite(sep.engine_rpm) || sep.engine_rpm <= 0) continue;
+      const double w_at = dynamics::cam_speed_rad_per_s(sep.engine_rpm, model.crank_per_cam);
+      double min_below = 1e300;
+      for (std::size_t i = 0; i < sweep.points(); ++i)
+        if (!sweep.contact[i * static_cast<std::size_t>(sweep.connections) + static_cast<std::size_t>(c)].open)
+          min_below = std::min(min_below, sweep.force_at(i, c, w_at * (1 - 1e-6)));
+      INFO("contact " << mech.connections[static_cast<std::size_t>(c)].name << " separates at " << sep.engine_rpm
+                      << " rpm");
+      CHECK(min_below > 0);
+      const auto at = static_cast<std::size_t>(std::lround(sep.cam_deg));  // 1 deg grid from 0
+      CHECK(sweep.force_at(at, c, w_at * (1 + 1e-6)) < 0);
+    }
+  }
+}
+
+TEST_CASE("compliant contacts at extreme speeds and stiffness ratios: a result or a clear stop",
+          "[stress][dynamics]") {
+  const kin::Mechanism mech = bundled("roller_finger_follower");
+  const dynamics::Model model = dynamics::compile_dynamics(mech);
+  dynamics::RigidSweep rigid;
+  REQUIRE(dynamics::rigid_sweep(mech, model, {}, 0, 360, 1, rigid).ok());
+  int succeeded = 0, stopped = 0;
+  for (const double rpm : {10.0, 6000.0, 30000.0, 1e6})
+    for (const double scale : {1e-3, 1.0, 1e3}) {
+      INFO(rpm << " rpm, stiffness x " << scale);
+      dynamics::CompliantOptions options;
+      options.stiffness_scale = scale;
+      options.max_steps = 20000;
+      dynamics::CompliantResult result;
+      const Status st = dynamics::run_compliant(mech, model, {}, rpm, 0, 360, 1, options, result);
+      INFO(st.str());
+      if (!st.ok()) {
+        ++stopped;
+        CHECK(st.code == StatusCode::integrator_failure);
+        CHECK_THAT(st.where, Catch::Contains("cam "));
+        CHECK_THAT(st.where, Catch::Contains("t = "));
+        continue;
+      }
+      ++succeeded;
+      for (const double f : result.force) REQUIRE(std::isfinite(f));
+      for (const double d : result.deviation) REQUIRE(std::isfinite(d));
+      if (rpm <= 10.0 && scale >= 1.0) {
+        // quasi-static: the compliant contact forces are the rigid ones to within the
+        // contact deflection's share (about force / stiffness / lever) of the peak
+        const double w = dynamics::cam_speed_rad_per_s(rpm, model.crank_per_cam);
+        double worst = 0, peak = 0;
+        for (std::size_t i = 0; i < rigid.points(); ++i)
+          for (int c = 0; c < rigid.connections; ++c) {
+            const double fa = rigid.force_at(i, c, w);
+            worst = std::max(worst, std::abs(result.force[i * static_cast<std::size_t>(result.connections) +
+                                                          static_cast<std::size_t>(c)] - fa));
+            peak = std::max(peak, std::abs(fa));
+          }
+        CHECK(worst < 1e-2 * peak);
+      }
+    }
+  CHECK(succeeded >= 6);  // the realistic corner (<= 30000 rpm, stiffness x 1 and up) must run
+  CHECK(succeeded + stopped == 12);
+}
+
+}  // namespace camopt::stress
