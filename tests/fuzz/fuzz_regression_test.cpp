@@ -70,5 +70,5 @@ TEST_CASE("inputs the fuzzers crashed on are handled", "[fuzz]") {
       (void)entry(read_bytes(file));  // aborts on a bug
       ++replayed;
     }
-  CHECK(replayed >= 0);
+  CHECK(replayed >= 5);  // the hand-written edge cases: overflow, one row, near-duplicate angles, deep nesting, tiny radius
 }
