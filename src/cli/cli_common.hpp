@@ -59,6 +59,5 @@ void setup_synthesize(CLI::App& app);
 void setup_lift(CLI::App& app);
 void setup_optimize(CLI::App& app);
 void setup_dynamics(CLI::App& app);
-void setup_bench(CLI::App& app);
 
 }  // namespace camopt::cli

@@ -26,7 +26,6 @@ int main(int argc, char** argv) {
   setup_lift(app);
   setup_optimize(app);
   setup_dynamics(app);
-  setup_bench(app);
 
   try {
     app.parse(argc, argv);

@@ -21,8 +21,7 @@ using namespace camopt::test;
 
 namespace {
 
-const std::vector<std::string> kSubcommands = {"validate", "kinematics", "synthesize", "lift",
-                                               "optimize", "dynamics",   "bench"};
+const std::vector<std::string> kSubcommands = {"validate", "kinematics", "synthesize", "lift", "optimize", "dynamics"};
 
 // small valid inputs of our own (tests/data/cli/)
 fs::path cli_data(const std::string& name) { return source_dir() / "tests" / "data" / "cli" / name; }
@@ -216,7 +215,6 @@ TEST_CASE("subcommands not built yet exit 5 and write nothing", "[cli]") {
   };
   const std::vector<Case> cases = {
       {"dynamics flexible", {"dynamics", design, "--model", "flexible", "--rpm", "1000:7000:7", "--out", "{out}"}},
-      {"bench", {"bench", "--out", "{out}"}},
   };
   for (const auto& c : cases) {
     TempDir tmp;
