@@ -1,8 +1,9 @@
 // synthesis benchmark: run time of envelope synthesis against its error.
 //  - eccentric disc + offset roller: the synthesized profile against the exact disc;
-//  - the bundled roller finger follower, bucket tappet and rocker arm, and the CVVL swing cam
-//    at maximum lift: target = the design's own forward lift at 0.25 deg; error = round trip
-//    (forward lift of the new cam against the target).
+//  - the bundled roller finger follower, bucket tappet and rocker arm, the CVVL swing cam
+//    and the Valvetronic lever's working curve (a profile on a floating body) at maximum
+//    lift: target = the design's own forward lift at 0.25 deg; error = round trip (forward
+//    lift of the new cam against the target).
 // resolution: 360 / points deg (polar angle, cam angle and tangent turn); samples = points.
 // usage: bench_synthesis [--repeat N] [--csv FILE]
 #include <algorithm>
@@ -47,8 +48,9 @@ int main(int argc, char** argv) {
   std::printf("%-26s %10s %8s %14s %14s %16s %18s\n", "design", "resol deg", "table", "synthesis ms",
               "round trip ms", "profile err mm", "round trip err mm");
   for (const char* name :
-       {"eccentric_offset_roller", "roller_finger_follower", "bucket_tappet", "rocker_arm", "cvvl_swing_cam"}) {
-    const bool swing = std::string(name) == "cvvl_swing_cam";
+       {"eccentric_offset_roller", "roller_finger_follower", "bucket_tappet", "rocker_arm", "cvvl_swing_cam",
+        "valvetronic"}) {
+    const bool swing = std::string(name) == "cvvl_swing_cam" || std::string(name) == "valvetronic";
     DesignSpec d = io::load_design(std::string(CAMOPT_SOURCE_DIR) + "/designs/" + name + ".toml");
     for (auto& c : d.connections) c.lash_mm = 0.0;
     const PeriodicSpline target = forward_lift(d);
