@@ -593,6 +593,11 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
                            "roller's travel: " + through_lever.fill_span + "; the bridged lever misses the target by "
                            "up to " + fmt(through_lever.fill_error_mm) + " mm (at cam " +
                            fmt(through_lever.fill_error_at_rad * 180 / pi) + " deg)");
+    if (through_lever.rest_travel_mm != 0.0)
+      result.notes.push_back("the target's base circle is not the lever's rest lift (" +
+                             fmt(through_lever.rest_lift) + " mm): on the base circle the lever rests " +
+                             fmt(through_lever.rest_travel_mm) + " mm of cam-roller travel from its drawing rest, "
+                             "beyond its idle travel");
   } else {
     // one continuous path: from the rest level (L nearest 0, the drawing) down to the
     // lowest level, then up through all of them (warm starts from the neighbour)

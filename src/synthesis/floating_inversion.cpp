@@ -234,7 +234,9 @@ Status invert_floating_follower(const DesignSpec& spec, const MechanismCut& cut,
     int k = pieces - 1;
     double extreme = motion[peak].value();  // the target's running extreme on this piece
     bool near_rest = false;  // on the first piece, past the target's last turn: bridged to the rest
-    for (int step = dir < 0 ? 0 : 1; step < n; ++step) {
+    // each walk covers half the revolution (the opening stroke and the base circle before
+    // it, the closing stroke and the base circle after it), unless it reaches the rest
+    for (int step = dir < 0 ? 0 : 1; dir < 0 ? step <= n / 2 : step < n - n / 2; ++step) {
       const int i = ((peak + dir * step) % n + n) % n;
       if (kind[i] != Kind::open) break;  // met the other walk
       const double target = motion[i].value();
@@ -279,6 +281,19 @@ Status invert_floating_follower(const DesignSpec& spec, const MechanismCut& cut,
   }
   for (auto& kd : kind)
     if (kd == Kind::open) kd = Kind::rest;  // between the two walks: the base circle
+  // where the walks meet without reaching the rest, they must agree: the lever rests past
+  // its drawing rest (a target whose base circle lies beyond the lever's idle travel)
+  const int meet_a = ((peak - n / 2) % n + n) % n, meet_b = (meet_a + n - 1) % n;  // the walks' last samples
+  if (kind[meet_a] != Kind::rest && kind[meet_b] != Kind::rest) {
+    const double gap = std::abs(q_of[meet_a].value() - q_of[meet_b].value());
+    if (kind[meet_a] == Kind::inverted && kind[meet_b] == Kind::inverted && gap > 1e-3)
+      return {StatusCode::singular,
+              "the opening and closing strokes leave the lever '" + cut.follower_node + "' " + fmt(gap) +
+                  " mm of cam-roller travel apart on the base circle: the target's base circle lies on two pieces of "
+                  "the lever's lift (before and after its idle travel)",
+              "cam " + deg_of(theta[meet_a]) + " deg"};
+    out.rest_travel_mm = q_of[meet_a].value();
+  }
   // 4. bridges: runs of samples where the lift barely moves with q (next to a turning
   // point or the rest) take q from septic hermite pieces between their neighbours' jets
   const double h = 2 * pi / n;

@@ -439,3 +439,103 @@ TEST_CASE("synthesis: the Valvetronic lever's working curve (a profile on a floa
     CHECK(worst < 2e-5);  // measured 4.2e-6 .. 5.2e-6 mm
   }
 }
+
+namespace {
+
+// the bundled Valvetronic without lash and its own lift at one control position
+struct ValvetronicCase {
+  DesignSpec design;
+  PeriodicSpline lift;
+  explicit ValvetronicCase(double control) {
+    design = io::load_design(std::string(CAMOPT_SOURCE_DIR) + "/designs/valvetronic.toml");
+    for (auto& c : design.connections) c.lash_mm = 0.0;
+    const auto m = kin::compile(design);
+    REQUIRE(kin::periodic_motion(m, m.output_node, {control}, 0.25, lift).ok());
+  }
+};
+
+}  // namespace
+
+TEST_CASE("synthesis: the Valvetronic input cam through the floating lever gives back its lobe",
+          "[synthesis][envelope][floating]") {
+  // the lever's pose is not fixed by the valve lift during its idle travel (the lift dips
+  // 0.022 mm while the idle arc slides past the finger roller, then rises): the lever is
+  // parameterised by its cam roller's travel, inverted piece by piece (dip, then rise)
+  const ValvetronicCase v(0.0);
+  synthesis::SynthesisOptions o;
+  o.controls = {0.0};
+  synthesis::SynthesisResult res;
+  const Status st = synthesis::synthesize(v.design, v.lift, o, res);
+  INFO(st.str());
+  REQUIRE(st.ok());
+  CHECK(res.connection == "cam_roller");
+  CHECK(res.follower_node == "lever");
+  const auto m = kin::compile(v.design);
+  int lobe = -1;
+  for (std::size_t i = 0; i < m.profiles.size(); ++i)
+    if (m.profiles[i].name() == "lobe") lobe = static_cast<int>(i);
+  REQUIRE(lobe >= 0);
+  // where the lever leaves its rest the lift barely moves with it (the lift's ripple there is
+  // 2e-8 mm): that stretch is bridged, elsewhere the lobe comes back
+  double worst = 0.0, worst_at = 0.0, worst_bridged = 0.0, worst_bridged_at = 0.0;
+  for (std::size_t k = 0; k < res.angle_deg.size(); ++k) {
+    const double a = res.angle_deg[k];
+    const double e = std::abs(res.radius_mm[k] - m.profiles[lobe].radius_at(a * deg));
+    const bool leaving_rest = (a > 95 && a < 110) || (a > 250 && a < 265);
+    double& w = leaving_rest ? worst_bridged : worst;
+    if (e > w) w = e, (leaving_rest ? worst_bridged_at : worst_at) = a;
+  }
+  INFO("worst radius error " << worst << " mm at " << worst_at << " deg; leaving the rest " << worst_bridged
+                             << " mm at " << worst_bridged_at << " deg");
+  CHECK(worst < 1e-5);
+  CHECK(worst_bridged < 5e-3);
+  CHECK(res.base_radius_mm == Approx(16.0).margin(1e-6));  // the lobe's base circle
+}
+
+TEST_CASE("synthesis: a lift the floating lever cannot follow is a singular Status naming the angle",
+          "[synthesis][envelope][floating]") {
+  // the design's own lift raised by 0.03 mm: the target turns back at +0.008 mm where the
+  // lever's lift only turns back at -0.022 mm (the bottom of its idle dip), so no travel
+  // of the lever gives it
+  const ValvetronicCase v(0.0);
+  std::vector<double> x, y;
+  for (int i = 0; i < 1440; ++i) x.push_back(i * 0.25 * deg), y.push_back(v.lift(x.back()) + 0.03);
+  const PeriodicSpline raised = PeriodicSpline::interpolate(x, y, 2 * pi);
+  synthesis::SynthesisOptions o;
+  o.controls = {0.0};
+  synthesis::SynthesisResult res;
+  const Status st = synthesis::synthesize(v.design, raised, o, res);
+  REQUIRE_FALSE(st.ok());
+  CHECK(st.code == StatusCode::singular);
+  CHECK_THAT(st.message, Catch::Contains("turns back") && Catch::Contains("idle travel"));
+  CHECK_THAT(st.where, Catch::Contains("cam ") && Catch::Contains(" deg"));
+}
+
+TEST_CASE("synthesis: a plain lift with a zero base circle through the Valvetronic lever rests it past its idle dip",
+          "[synthesis][envelope][floating]") {
+  // H (1 - u^2)^4, u = (theta - 180 deg) / 70 deg: C3 at the ends, 6 mm peak, no dip. The
+  // lever rests where its lift is 0 after the dip (larger base circle), and the lift is
+  // followed exactly
+  const ValvetronicCase v(0.0);
+  std::vector<double> x, y;
+  for (int i = 0; i < 1440; ++i) {
+    const double a = i * 0.25, u = (a - 180) / 70;
+    x.push_back(a * deg);
+    y.push_back(std::abs(u) < 1 ? 6.0 * std::pow(1 - u * u, 4) : 0.0);
+  }
+  const PeriodicSpline bump = PeriodicSpline::interpolate(x, y, 2 * pi);
+  synthesis::SynthesisOptions o;
+  o.controls = {0.0};
+  synthesis::SynthesisResult res;
+  const Status st = synthesis::synthesize(v.design, bump, o, res);
+  INFO(st.str());
+  REQUIRE(st.ok());
+  bool rest_note = false;
+  for (const auto& note : res.notes) rest_note = rest_note || note.find("beyond its idle travel") != std::string::npos;
+  CHECK(rest_note);
+  CHECK(res.base_radius_mm > 16.0);
+  synthesis::RoundTrip rt;
+  REQUIRE(synthesis::round_trip(synthesis::with_profile(v.design, res.profile), bump, {0.0}, res.connection, rt).ok());
+  INFO("round trip " << rt.max_error_mm << " mm at " << rt.max_error_at_deg << " deg");
+  CHECK(rt.max_error_mm < 1e-6);
+}

@@ -34,6 +34,7 @@ namespace camopt::synthesis {
 struct FloatingInversion {
   std::vector<Jet<3>> centre_x, centre_y;  // follower surface centre, global [mm], jets in the cam angle
   double rest_lift = 0.0;       // [mm] the lever's lift at rest (q = 0)
+  double rest_travel_mm = 0.0;  // cam-roller travel on the base circle when the target never reaches rest_lift
   double fill_error_mm = 0.0;   // largest |L(q) - target| where q is bridged [mm]
   double fill_error_at_rad = 0.0;
   std::string fill_span;        // how many samples rest, how many are bridged
