@@ -485,98 +485,17 @@ def cvvl(write=True, **kw):
     return p, pts, orient_c, orient_s
 
 
-# ---------------------------------------------------------------- idle curves (envelopes)
-def idle_curve(poses, follower_centre, follower_radius, origin):
-    """working-curve 'idle' (zero-lift) region of a body whose rest pose changes with a
-    control: the envelope, in the body's drawing frame, of the follower roller held at its
-    rest position. poses: list of (pivot_now, angle_deg) rest poses of the body (its drawing
-    point `origin` maps to pivot_now, then it is turned by angle_deg about it). Returns
-    polar samples (psi_deg, r, x, y) about `origin`, ordered by control."""
-    loc = []
-    for piv, ang in poses:
-        d = (follower_centre[0] - piv[0], follower_centre[1] - piv[1])
-        x = rot(d, -ang)
-        loc.append((origin[0] + x[0], origin[1] + x[1]))
-    out = []
-    for i, (x, y) in enumerate(loc):
-        a, b = loc[max(i - 1, 0)], loc[min(i + 1, len(loc) - 1)]
-        tx, ty = b[0] - a[0], b[1] - a[1]
-        t = math.hypot(tx, ty)
-        nx, ny = ty / t, -tx / t
-        # the envelope point on the side facing the body's origin
-        if (origin[0] - x) * nx + (origin[1] - y) * ny < 0:
-            nx, ny = -nx, -ny
-        px, py = x + follower_radius * nx, y + follower_radius * ny
-        out.append((math.degrees(math.atan2(py - origin[1], px - origin[0])),
-                    math.hypot(px - origin[0], py - origin[1]), px, py))
-    return out
-
-
-def idle_base(samples, decay=25.0):
-    """periodic base radius r(psi) [psi in deg] about the body's pivot: the idle envelope
-    itself inside its polar span; beyond either end its deviation from the mean radius is
-    continued with matching value and slope (local quadratic fit at the end; C1 join) while
-    the slope decays (scale `decay` deg), then the deviation fades to zero 60..120 deg away
-    (C3). Below the span the continuation is the base of the ramp."""
-    ps = sorted((p, r) for p, r, _, _ in samples)
-    for k in range(len(ps) - 1):
-        assert ps[k + 1][0] > ps[k][0], "idle curve not single-valued in polar angle"
-    lo, hi = ps[0][0], ps[-1][0]
-    assert hi - lo < 180.0, "idle span too wide"
-    mean = sum(r for _, r in ps) / len(ps)
-
-    def end_fit(pts):  # quadratic in (psi - psi_end): value, d/dpsi, d2/dpsi2 of r - mean
-        x0 = pts[0][0]
-        ata = [[0.0] * 3 for _ in range(3)]
-        atb = [0.0] * 3
-        for x, y in pts:
-            row = [1.0, (x - x0), (x - x0) ** 2]
-            for i in range(3):
-                atb[i] += row[i] * (y - mean)
-                for j in range(3):
-                    ata[i][j] += row[i] * row[j]
-        c = solve_linear(ata, atb)
-        return c[0], c[1], 2 * c[2]
-
-    f_lo = end_fit(ps[:8])
-    f_hi = end_fit(list(reversed(ps[-8:])))
-
-    def idle_r(psi):
-        j0, j1 = 0, len(ps) - 1
-        while j1 - j0 > 1:
-            m = (j0 + j1) // 2
-            if ps[m][0] <= psi:
-                j0 = m
-            else:
-                j1 = m
-        t = (psi - ps[j0][0]) / (ps[j1][0] - ps[j0][0])
-        return ps[j0][1] + t * (ps[j1][1] - ps[j0][1])
-
-    def extension(f, d, sign):  # d >= 0 deg beyond the end; sign = d(psi)/d(d)
-        v, s1, _ = f
-        val = v + sign * s1 * decay * (1 - math.exp(-d / decay))
-        return val * (1.0 - smoothstep7((d - 60.0) / 60.0))
-
-    def base(psi):
-        psi = (psi - lo + 120.0) % 360.0 + lo - 120.0  # lo - 120 .. lo + 240
-        if lo <= psi <= hi:
-            return idle_r(psi)
-        if psi < lo:
-            return mean + extension(f_lo, lo - psi, -1.0)
-        if psi - hi <= 120.0:
-            return mean + extension(f_hi, psi - hi, 1.0)
-        return mean + extension(f_lo, lo + 360.0 - psi, -1.0)
-    return base, mean, (lo, hi)
-
-
 def vvld(write=True, **kw):
     """VVLD-type mechanism (SAE 2010-01-1193 fig. 22): input cam -> swing cam (fixed pivot,
     roller on the input cam) -> pad on the swing cam pushes the roller of an oscillating
-    control arm, whose pivot sits on an eccentric control shaft -> the control arm's
-    working curve (idle curve + ramp) drives the roller of an end-pivot rocker -> valve."""
+    control arm -> the control arm's working curve (idle arc + ramp) drives the roller of an
+    end-pivot rocker -> valve. The arm's pivot Q is carried on an arc guide centred on the
+    resting rocker-roller centre Rr, turned by the control shaft (gain deg per control deg),
+    and the idle arc is concentric with Q: the resting roller stays put at every control
+    position and during the idle travel (the arm turns about Q)."""
     p = dict(arm=15.0, arm_dir=177.0, r_i=9.0, rb_c=19.0, tau=-13.0, lift_c=7.0, half_c=84.0,
              sw_pad_r=10.0, sw_pad_arm=12.0, sw_pad_dir=-60.0, r_c=7.0, push_dir=30.0, ca_arm=12.0,
-             ecc=2.0, ecc_dir=105.0, ext_lo=-6.0, ctrl_max=100.0, r_r=8.0, idle_r=24.0,
+             gain=-0.14, ctrl_max=100.0, r_r=8.0, idle_r=24.0,
              eps=1.0, slope=0.27, accel=0.025, onset=3.0, decel_start=32.0, peak=44.0,
              hla=(25.0, -3.0), tip=(-20.0, -8.0), pad_r=10.0)
     p.update(kw)
@@ -590,43 +509,35 @@ def vvld(write=True, **kw):
     Rc = add(Psw, pd, p["sw_pad_r"] + p["r_c"])
     Q = add(Rc, (-pd[1], pd[0]), p["ca_arm"])  # control-arm pivot: roller path along push_dir
     Rr = add(Q, (0.0, -1.0), p["idle_r"] + p["r_r"])
-    E = add(Q, (math.cos(p["ecc_dir"] * DEG), math.sin(p["ecc_dir"] * DEG)), p["ecc"])
     H = add(Rr, p["hla"])
     V = add(Rr, p["tip"])
     pad = add(V, (0.0, p["pad_r"]))
     shift = (-C[0], -C[1])
-    pts = {k: add(v, shift) for k, v in dict(C=C, S=S, I=I, Psw=Psw, Rc=Rc, Q=Q, E=E, Rr=Rr, H=H, V=V,
+    pts = {k: add(v, shift) for k, v in dict(C=C, S=S, I=I, Psw=Psw, Rc=Rc, Q=Q, Rr=Rr, H=H, V=V,
                                                pad=pad).items()}
-    # rest poses of the control arm against the eccentric angle (swing cam at rest)
-    poses, rest = [], []
-    lo, hi = p["ext_lo"], p["ctrl_max"] + 8.0
-    n = int(round((hi - lo) * 4))  # 0.25 deg steps
-    for i in range(n + 1):
-        g = lo + (hi - lo) * i / n
-        Qg = rot(Q, g, E)
-        Rcg = circle_intersection(Qg, p["ca_arm"], Psw, p["sw_pad_r"] + p["r_c"], add(Rc, (Qg[0] - Q[0], Qg[1] - Q[1])))
-        b = angle_of((Rcg[0] - Qg[0], Rcg[1] - Qg[1])) - angle_of((Rc[0] - Q[0], Rc[1] - Q[1]))
-        b = (b + 180.0) % 360.0 - 180.0
-        poses.append((Qg, b))
-        rest.append((g, b))
-    samples = idle_curve(poses, Rr, p["r_r"], Q)
-    base, mean_r, span = idle_base(samples)
-    polar_k = [(s[0], s[1]) for s in samples]
-    psi0 = [s for (g, _), s in zip(rest, polar_k) if abs(g) < 1e-9][0][0]
+    psi0 = angle_of((Rr[0] - Q[0], Rr[1] - Q[1]))  # rest contact at control 0 [deg, arm frame]
     ramp_start = psi0 - p["eps"]
-    table, g_of_u = swing_lobe(base, p["slope"], p["accel"], p["onset"], p["decel_start"], p["peak"],
-                               ramp_start_deg=ramp_start)
+    table, g_of_u = swing_lobe(p["idle_r"], p["slope"], p["accel"], p["onset"], p["decel_start"], p["peak"],
+                               ramp_start_deg=ramp_start % 360.0)
     lobe_c = radial_lobe(p["rb_c"], p["lift_c"], p["half_c"])
     orient_c = angle_of((I[0] - C[0], I[1] - C[1]))
     print("vvld: drawing coordinates (camshaft at the origin)")
     for k, v in pts.items():
         print("  %-4s %s" % (k, fmt(v)))
     print("  input lobe orientation_deg %.4f; control-arm profile orientation 0" % orient_c)
-    print("  idle curve: polar span %.2f .. %.2f deg about Q, mean radius %.4f mm" % (span[0], span[1], mean_r))
-    for (g, b), s in zip(rest, polar_k):
-        if abs(g - round(g / 10) * 10) < 1e-9 and 0 <= g <= p["ctrl_max"]:
-            print("  eccentric %5.1f deg: arm rest angle %+7.3f deg, rest contact at psi %.2f, idle travel %.2f deg" % (
-                g, b, s[0], s[0] - ramp_start))
+    print("  idle arc r %.4f about Q; pivot guide r %.4f about Rr, gain %g deg per control deg" % (
+        p["idle_r"], p["idle_r"] + p["r_r"], p["gain"]))
+    # rest pose of the arm against the control (swing cam at rest): Q turns about Rr, the
+    # arm roller stays on the swing-cam pad; the rest contact sits on the idle arc at the
+    # arm-frame polar angle of Rr - Q
+    for k in range(0, int(p["ctrl_max"]) + 1, 10):
+        Qg = rot(Q, p["gain"] * k, Rr)
+        Rcg = circle_intersection(Qg, p["ca_arm"], Psw, p["sw_pad_r"] + p["r_c"], add(Rc, (Qg[0] - Q[0], Qg[1] - Q[1])))
+        b = angle_of((Rcg[0] - Qg[0], Rcg[1] - Qg[1])) - angle_of((Rc[0] - Q[0], Rc[1] - Q[1]))
+        b = (b + 180.0) % 360.0 - 180.0
+        psi = angle_of((Rr[0] - Qg[0], Rr[1] - Qg[1])) - b
+        print("  control %5.1f deg: pivot %s, arm rest angle %+7.3f deg, rest contact at psi %.2f, idle travel "
+              "%.2f deg" % (k, fmt(add(Qg, shift)), b, psi, (psi - ramp_start + 180.0) % 360.0 - 180.0))
     report_table("vvld_input_lobe.csv", lobe_c)
     report_table("vvld_control_arm.csv", table)
     if write:
@@ -638,14 +549,10 @@ def vvld(write=True, **kw):
         ], lobe_c)
         write_polar("vvld_control_arm.csv", [
             "working curve of the VVLD control arm (designs/vvld.toml), polar about its drawing pivot Q",
-            "(profile frame = drawing frame, orientation 0). Idle region %.2f..%.2f deg: envelope of" % span,
-            "the rocker roller (r %g at its rest position) over the arm's rest poses, eccentric" % p["r_r"],
-            "%g..%g deg (zero valve lift at every control position); ramp from %.3f deg towards" % (
-                p["ext_lo"], p["ctrl_max"] + 8, ramp_start),
-            "decreasing polar angle (accel %g mm/deg^2, slope %g mm/deg, nose %g deg); elsewhere the" % (
-                p["accel"], p["slope"], p["peak"]),
-            "idle curve continued smoothly (mean radius %.3f). scripts/make_profiles.py vvld." % mean_r,
-            "polar angle [deg], radius [mm]",
+            "(profile frame = drawing frame, orientation 0): idle arc r = %g mm concentric with Q; ramp" % p["idle_r"],
+            "from %.3f deg towards decreasing polar angle (accel %g mm/deg^2, slope %g mm/deg, nose %g deg)," % (
+                ramp_start % 360.0, p["accel"], p["slope"], p["peak"]),
+            "mirrored back. scripts/make_profiles.py vvld. polar angle [deg], radius [mm]",
         ], table)
     return p, pts, orient_c
 

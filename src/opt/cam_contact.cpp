@@ -81,6 +81,9 @@ CamContactModel::CamContactModel(const DesignSpec& spec, std::vector<double> con
   material_follower_ = cut.profile_on_a ? conn.material_b : conn.material_a;
   width_ = conn.width_mm.value_or(0.0);
   impl_->cam = impl_->up.node_index(cut.cam_node);
+  if (impl_->up.nodes[static_cast<std::size_t>(impl_->cam)].kind == NodeKind::floating)
+    throw InputError(conn.where, "optimize: the cam '" + cut.cam_node + "' of contact '" + conn.name +
+                                     "' is a floating lever; the optimiser needs a rotational cam (use camopt synthesize)");
   impl_->follower = impl_->down.node_index(cut.follower_node);
   const kin::Node& fn = impl_->down.nodes[static_cast<std::size_t>(impl_->follower)];
   if (fn.kind == NodeKind::floating)

@@ -15,12 +15,16 @@
 #include "camopt/kinematics/mechanism.hpp"
 #include "camopt/kinematics/solver.hpp"
 #include "camopt/kinematics/sweep.hpp"
+#include "camopt/synthesis/detail/hermite.hpp"
+#include "camopt/synthesis/floating_inversion.hpp"
 #include "camopt/synthesis/mechanism_cut.hpp"
 
 namespace camopt::synthesis {
 
 namespace {
 
+using detail::Quintic;
+using detail::Septic;
 constexpr double pi = std::numbers::pi;
 // levels of the target motion at which the downstream chain is solved for the inversion
 // (septic hermite between them: for the bundled designs the round trip is unchanged from
@@ -46,63 +50,6 @@ struct P2 {
 
 // v^1.5 [mm^3]: the denominator of a curvature from a squared speed v
 double curvature_denominator(double v) { return v * std::sqrt(v); }
-
-// quintic hermite on [0, 1] from value, first and second derivative (per unit t) at both ends
-struct Quintic {
-  double a[6];
-  Quintic(double p0, double d0, double s0, double p1, double d1, double s1) {
-    // p(t) = a0 + a1 t + ... + a5 t^5 matching p, p', p'' at t = 0 and 1
-    a[0] = p0;
-    a[1] = d0;
-    a[2] = 0.5 * s0;
-    const double r0 = p1 - (a[0] + a[1] + a[2]);
-    const double r1 = d1 - (a[1] + 2 * a[2]);
-    const double r2 = s1 - 2 * a[2];
-    a[3] = 10 * r0 - 4 * r1 + 0.5 * r2;
-    a[4] = -15 * r0 + 7 * r1 - r2;
-    a[5] = 6 * r0 - 3 * r1 + 0.5 * r2;
-  }
-  void eval(double t, double& p, double& d, double& s) const {
-    p = ((((a[5] * t + a[4]) * t + a[3]) * t + a[2]) * t + a[1]) * t + a[0];
-    d = (((5 * a[5] * t + 4 * a[4]) * t + 3 * a[3]) * t + 2 * a[2]) * t + a[1];
-    s = ((20 * a[5] * t + 12 * a[4]) * t + 6 * a[3]) * t + 2 * a[2];
-  }
-};
-
-// septic hermite on [0, 1] from value and three derivatives (per unit t) at both ends:
-// p0[k], p1[k] = d^k p / dt^k at t = 0 and t = 1
-struct Septic {
-  double a[8];
-  Septic(const double* p0, const double* p1) {
-    a[0] = p0[0];
-    a[1] = p0[1];
-    a[2] = 0.5 * p0[2];
-    a[3] = p0[3] / 6;
-    const double r0 = p1[0] - (a[0] + a[1] + a[2] + a[3]);
-    const double r1 = p1[1] - (a[1] + 2 * a[2] + 3 * a[3]);
-    const double r2 = p1[2] - (2 * a[2] + 6 * a[3]);
-    const double r3 = p1[3] - 6 * a[3];
-    // inverse of the end conditions on a4..a7 (rows: value, d1, d2, d3 of t^4..t^7 at 1)
-    a[4] = 35 * r0 - 15 * r1 + 2.5 * r2 - r3 / 6;
-    a[5] = -84 * r0 + 39 * r1 - 7 * r2 + r3 / 2;
-    a[6] = 70 * r0 - 34 * r1 + 6.5 * r2 - r3 / 2;
-    a[7] = -20 * r0 + 10 * r1 - 2 * r2 + r3 / 6;
-  }
-  // d[k] = p^(k)(t), k = 0..3
-  void eval(double t, double* d) const {
-    // horner with synthetic division (Numerical Recipes, ddpoly): d[j] = p^(j) / j!
-    d[0] = a[7];
-    d[1] = d[2] = d[3] = 0.0;
-    for (int k = 6; k >= 0; --k) {
-      d[3] = d[3] * t + d[2];
-      d[2] = d[2] * t + d[1];
-      d[1] = d[1] * t + d[0];
-      d[0] = d[0] * t + a[k];
-    }
-    d[2] *= 2.0;
-    d[3] *= 6.0;
-  }
-};
 
 // the envelope point at polar angle `target` [rad] between two samples a (at polar angle
 // phi_a) and b (phi_b), theta spacing h: quintic hermite in theta from p, p', p'' at both
@@ -407,12 +354,14 @@ Status swing_profile(const DesignSpec& spec, const kin::Mechanism& up, const Mec
                          " deg of its profile; closing stroke retraces it within " + fmt(worst) + " mm (at cam " +
                          fmt(worst_at * 180 / pi) + " deg; the round trip on the closing stroke is limited by this)");
 
-  // dwell arc about the swing pivot, in the profile frame
+  // dwell arc about the swing pivot, in the profile frame (a floating lever has no pivot:
+  // an arc about the profile origin)
   const kin::Node& swing = up.nodes[up.node_index(cut.cam_node)];
   const double ox = cam_surface.origin_mm[0], oy = cam_surface.origin_mm[1];
   const double co = std::cos(cam_surface.orientation_deg * pi / 180), so = std::sin(cam_surface.orientation_deg * pi / 180);
-  const double px = co * (swing.pivot.x() - ox) + so * (swing.pivot.y() - oy);
-  const double py = -so * (swing.pivot.x() - ox) + co * (swing.pivot.y() - oy);
+  const bool floating = swing.kind == NodeKind::floating;
+  const double px = floating ? 0.0 : co * (swing.pivot.x() - ox) + so * (swing.pivot.y() - oy);
+  const double py = floating ? 0.0 : -so * (swing.pivot.x() - ox) + co * (swing.pivot.y() - oy);
   const double rest_x = env.front().x.value(), rest_y = env.front().y.value();
   const double dwell = std::hypot(rest_x - px, rest_y - py);
   auto dwell_radius = [&](double a) {
@@ -594,6 +543,8 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
   up_ws.set_controls(controls);
   down_ws.set_controls(controls);
   const int cam = up.node_index(cut.cam_node), follower = down.node_index(cut.follower_node);
+  // the cam's angle: its one variable, or the third (phi) of a floating lever
+  const int cam_angle_variable = up.nodes[cam].first_variable + (up.nodes[cam].kind == NodeKind::floating ? 2 : 0);
   const bool angle_driver = up.driver_is_angle();
   if (!angle_driver) throw InputError("synthesize: the driver '" + spec.driver.node + "' must be rotational");
 
@@ -631,7 +582,23 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
   const int levels = kInversionLevels;
   const double level_step = (motion_hi - motion_lo) / levels;
   std::vector<double> inverse((levels + 1) * dof * 4);  // [level][dof][derivative]
-  {
+  // a floating follower (intermediate lever) is not fixed by the target motion during its
+  // idle travel: inverted through its cam roller's travel instead (floating_inversion.hpp)
+  const bool floating_follower = fn.kind == NodeKind::floating;
+  FloatingInversion through_lever;
+  if (floating_follower) {
+    const Status st = invert_floating_follower(spec, cut, target_node, controls, theta, motion, through_lever);
+    if (!st.ok()) return st;
+    result.notes.push_back("follower '" + cut.follower_node + "' is a floating lever, inverted through its cam "
+                           "roller's travel: " + through_lever.fill_span + "; the bridged lever misses the target by "
+                           "up to " + fmt(through_lever.fill_error_mm) + " mm (at cam " +
+                           fmt(through_lever.fill_error_at_rad * 180 / pi) + " deg)");
+    if (through_lever.rest_travel_mm != 0.0)
+      result.notes.push_back("the target's base circle is not the lever's rest lift (" +
+                             fmt(through_lever.rest_lift) + " mm): on the base circle the lever rests " +
+                             fmt(through_lever.rest_travel_mm) + " mm of cam-roller travel from its drawing rest, "
+                             "beyond its idle travel");
+  } else {
     // one continuous path: from the rest level (L nearest 0, the drawing) down to the
     // lowest level, then up through all of them (warm starts from the neighbour)
     const int rest = std::clamp(static_cast<int>(std::lround(-motion_lo / level_step)), 0, levels);
@@ -669,7 +636,7 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
     const Jet3& L = motion[i];
     const double u = std::clamp((L.value() - motion_lo) / level_step, 0.0, static_cast<double>(levels));
     const int q = std::min(levels - 1, static_cast<int>(u));
-    for (int k = 0; k < dof; ++k) {
+    for (int k = 0; k < dof && !floating_follower; ++k) {
       // end data per unit of the local parameter t = u - q: d^j/dt^j = step^j d^j/dL^j
       double e0[4], e1[4], d[4];
       for (int j = 0; j < 4; ++j) {
@@ -690,14 +657,16 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
       up_vars = up_ws.vars.data();
     }
     const auto cpose = kin::detail::node_pose(up, cam, up_vars, up_ws.pivots.data());
-    cam_rate[i] = up_vars[up.nodes[cam].first_variable].derivative(1);  // [rad per rad of driver]
+    cam_rate[i] = up_vars[cam_angle_variable].derivative(1);  // [rad per rad of driver]
     valve_rate[i] = L.derivative(1);
     auto to_profile = [&](const kin::detail::V2<Jet3>& g) { return global_to_profile(cpose, g); };
     auto rotate_to_profile = [&](const kin::detail::V2<Jet3>& v) {
       const Jet3 lx = cpose.c * v.x + cpose.s * v.y, ly = -cpose.s * v.x + cpose.c * v.y;
       return P2<Jet3>{co * lx + so * ly, -so * lx + co * ly};
     };
-    path[i] = to_profile(fpose.apply(follower_surface.origin_mm[0], follower_surface.origin_mm[1]));
+    path[i] = floating_follower
+                  ? to_profile(kin::detail::V2<Jet3>{through_lever.centre_x[i], through_lever.centre_y[i]})
+                  : to_profile(fpose.apply(follower_surface.origin_mm[0], follower_surface.origin_mm[1]));
     if (!roller) {
       const Vec2 nn = follower_surface.normal;
       const double len = std::hypot(nn[0], nn[1]);

@@ -21,7 +21,10 @@ MechanismCut cut_mechanism(const DesignSpec& spec, const std::string& cam_kind, 
       const SurfaceSpec& o = side == 0 ? c.surface_b : c.surface_a;
       if (s.shape != SurfaceShape::profile || o.shape == SurfaceShape::profile) continue;
       const NodeSpec* n = node_kind(s.node);
-      if (!n || n->kind != NodeKind::rotational) continue;
+      // a rotational cam, or a swing cam on a rotational node or a floating lever
+      if (!n || n->kind == NodeKind::translational) continue;
+      if (n->kind == NodeKind::floating && cam_kind == "rotational") continue;
+      if (n->control) continue;  // set by a control (an eccentric shaft): not driven by the cam
       const bool is_driver = s.node == spec.driver.node;
       if ((cam_kind == "rotational") != is_driver) continue;
       candidates.push_back(i * 2 + side);
@@ -30,7 +33,7 @@ MechanismCut cut_mechanism(const DesignSpec& spec, const std::string& cam_kind, 
   if (candidates.empty())
     throw InputError("synthesize --cam " + cam_kind + ": design '" + spec.name + "' has no contact between a " +
                      (cam_kind == "rotational" ? std::string("profile on the driver '") + spec.driver.node + "'"
-                                               : std::string("profile on a rotational node other than the driver")) +
+                                               : std::string("profile on a rotational node other than the driver or on a floating lever")) +
                      " and a roller, pad or flat face");
   if (candidates.size() > 1) {
     std::string names;

@@ -18,7 +18,7 @@ struct MechanismCut {
 };
 
 // cam_kind "rotational": the profile on the driver; "swing": a profile on another
-// rotational node. InputError when no contact or several qualify, when the follower is a
+// rotational node or on a floating lever (its pose solved upstream with its other contacts). InputError when no contact or several qualify, when the follower is a
 // concave circle, or when the contact does not separate the driver from target_node.
 MechanismCut cut_mechanism(const DesignSpec& spec, const std::string& cam_kind, const std::string& target_node);
 

@@ -1,0 +1,64 @@
+#pragma once
+// hermite polynomials on [0, 1] from end values and derivatives (per unit of the local
+// parameter), used to resample envelopes and to interpolate inverse motions.
+
+namespace camopt::synthesis::detail {
+
+// quintic hermite on [0, 1] from value, first and second derivative (per unit t) at both ends
+struct Quintic {
+  double a[6];
+  Quintic(double p0, double d0, double s0, double p1, double d1, double s1) {
+    // p(t) = a0 + a1 t + ... + a5 t^5 matching p, p', p'' at t = 0 and 1
+    a[0] = p0;
+    a[1] = d0;
+    a[2] = 0.5 * s0;
+    const double r0 = p1 - (a[0] + a[1] + a[2]);
+    const double r1 = d1 - (a[1] + 2 * a[2]);
+    const double r2 = s1 - 2 * a[2];
+    a[3] = 10 * r0 - 4 * r1 + 0.5 * r2;
+    a[4] = -15 * r0 + 7 * r1 - r2;
+    a[5] = 6 * r0 - 3 * r1 + 0.5 * r2;
+  }
+  void eval(double t, double& p, double& d, double& s) const {
+    p = ((((a[5] * t + a[4]) * t + a[3]) * t + a[2]) * t + a[1]) * t + a[0];
+    d = (((5 * a[5] * t + 4 * a[4]) * t + 3 * a[3]) * t + 2 * a[2]) * t + a[1];
+    s = ((20 * a[5] * t + 12 * a[4]) * t + 6 * a[3]) * t + 2 * a[2];
+  }
+};
+
+// septic hermite on [0, 1] from value and three derivatives (per unit t) at both ends:
+// p0[k], p1[k] = d^k p / dt^k at t = 0 and t = 1
+struct Septic {
+  double a[8];
+  Septic(const double* p0, const double* p1) {
+    a[0] = p0[0];
+    a[1] = p0[1];
+    a[2] = 0.5 * p0[2];
+    a[3] = p0[3] / 6;
+    const double r0 = p1[0] - (a[0] + a[1] + a[2] + a[3]);
+    const double r1 = p1[1] - (a[1] + 2 * a[2] + 3 * a[3]);
+    const double r2 = p1[2] - (2 * a[2] + 6 * a[3]);
+    const double r3 = p1[3] - 6 * a[3];
+    // inverse of the end conditions on a4..a7 (rows: value, d1, d2, d3 of t^4..t^7 at 1)
+    a[4] = 35 * r0 - 15 * r1 + 2.5 * r2 - r3 / 6;
+    a[5] = -84 * r0 + 39 * r1 - 7 * r2 + r3 / 2;
+    a[6] = 70 * r0 - 34 * r1 + 6.5 * r2 - r3 / 2;
+    a[7] = -20 * r0 + 10 * r1 - 2 * r2 + r3 / 6;
+  }
+  // d[k] = p^(k)(t), k = 0..3
+  void eval(double t, double* d) const {
+    // horner with synthetic division (Numerical Recipes, ddpoly): d[j] = p^(j) / j!
+    d[0] = a[7];
+    d[1] = d[2] = d[3] = 0.0;
+    for (int k = 6; k >= 0; --k) {
+      d[3] = d[3] * t + d[2];
+      d[2] = d[2] * t + d[1];
+      d[1] = d[1] * t + d[0];
+      d[0] = d[0] * t + a[k];
+    }
+    d[2] *= 2.0;
+    d[3] *= 6.0;
+  }
+};
+
+}  // namespace camopt::synthesis::detail

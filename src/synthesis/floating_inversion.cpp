@@ -1,0 +1,348 @@
+#include "camopt/synthesis/floating_inversion.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "camopt/kinematics/detail/geometry.hpp"
+#include "camopt/kinematics/mechanism.hpp"
+#include "camopt/kinematics/solver.hpp"
+#include "camopt/synthesis/detail/hermite.hpp"
+
+namespace camopt::synthesis {
+
+namespace {
+
+constexpr double pi = std::numbers::pi;
+using Jet3 = Jet<3>;
+
+std::string fmt(double v) { return format_value(v, 6); }
+std::string deg_of(double rad) { return fmt(rad * 180 / pi); }
+
+// probe travel per scan step [mm] and the slope, relative to the mean slope of the lift
+// over the scan, below which L(q) counts as flat (idle travel): at a quadratic ramp foot
+// the lift there is ~ 1e-8 of the full lift
+constexpr double kScanStep = 0.01;
+constexpr double kFlatSlope = 1e-5;
+constexpr double kMaxTravel = 100.0;  // [mm] the scan gives up beyond this probe travel
+// [mm per mm of peak lift] how close the target's turning lift must come to the lever's
+// (the target is sampled: its extreme sample misses the true turn by ~ L'' h^2 / 8)
+constexpr double kTurnTolerance = 1e-4;
+
+// q(theta) from L(q0 + d) = L0 + a1 d + a2 d^2 + a3 d^3 and the target's taylor
+// coefficients b in theta (b0 = L0): series reversion to third order
+Jet3 revert(const Jet3& lift_of_q, double q0, const Jet3& target) {
+  const double a1 = lift_of_q.c[1], a2 = lift_of_q.c[2], a3 = lift_of_q.c[3];
+  Jet3 q(q0);
+  q.c[1] = target.c[1] / a1;
+  q.c[2] = (target.c[2] - a2 * q.c[1] * q.c[1]) / a1;
+  q.c[3] = (target.c[3] - 2 * a2 * q.c[1] * q.c[2] - a3 * q.c[1] * q.c[1] * q.c[1]) / a1;
+  return q;
+}
+
+// f(q(theta)) from the jet of f in q (taylor coefficients at q(theta).value())
+Jet3 compose_in(const Jet3& f_of_q, const Jet3& q) {
+  double d[4];
+  for (int k = 0; k < 4; ++k) d[k] = f_of_q.derivative(k);
+  return compose(d, q);
+}
+
+}  // namespace
+
+Status invert_floating_follower(const DesignSpec& spec, const MechanismCut& cut, const std::string& target_node,
+                                const std::vector<double>& controls, const std::vector<double>& theta,
+                                const std::vector<Jet3>& motion, FloatingInversion& out) {
+  const auto& conn = spec.connections[static_cast<std::size_t>(cut.connection)];
+  const SurfaceSpec& follower_surface = cut.profile_on_a ? conn.surface_b : conn.surface_a;
+  if (follower_surface.shape != SurfaceShape::circle)
+    throw InputError(conn.where, "synthesize: the follower '" + cut.follower_node + "' of contact '" + conn.name +
+                                     "' is a floating lever; through a floating lever the follower must be a roller "
+                                     "or pad (circle), not a " + to_string(follower_surface.shape));
+  const NodeSpec* cam_node = nullptr;
+  for (const auto& n : spec.nodes)
+    if (n.name == cut.cam_node) cam_node = &n;
+  CAMOPT_ASSERT(cam_node);
+  if (cam_node->kind != NodeKind::rotational)
+    throw InputError(conn.where, "synthesize: a floating follower '" + cut.follower_node +
+                                     "' needs a rotational cam, not the " + to_string(cam_node->kind) + " '" +
+                                     cut.cam_node + "'");
+  // the probe: a flat face on a translating node, pushing the roller along the cam's
+  // radial direction d through a roller centre c; its travel q is the roller centre's
+  // displacement along d
+  const double c0x = follower_surface.origin_mm[0], c0y = follower_surface.origin_mm[1];
+  const double px = cam_node->pivot_mm[0], py = cam_node->pivot_mm[1];
+  const double base = std::hypot(c0x - px, c0y - py);  // [mm] roller centre from the cam pivot on the base circle
+  if (!(base > 1e-9))
+    throw InputError(conn.where, "synthesize: the roller of '" + cut.follower_node + "' is centred on the cam pivot");
+  const double r = follower_surface.radius_mm;
+  auto make_probe = [&](double cx, double cy) {
+    const double len = std::hypot(cx - px, cy - py), dx = (cx - px) / len, dy = (cy - py) / len;
+    DesignSpec probe_spec = cut.downstream;
+    NodeSpec probe;
+    probe.name = "synthesis_probe";
+    probe.kind = NodeKind::translational;
+    probe.origin_mm = {cx, cy};
+    probe.direction = {dx, dy};
+    probe_spec.nodes.push_back(probe);
+    ConnectionSpec face;
+    face.name = "synthesis_probe_face";
+    face.kind = ConnectionKind::contact;
+    face.surface_a.node = probe.name;
+    face.surface_a.shape = SurfaceShape::line;
+    face.surface_a.origin_mm = {cx - r * dx, cy - r * dy};
+    face.surface_a.normal = {dx, dy};
+    face.surface_b = follower_surface;
+    face.surface_b.concave = false;
+    probe_spec.connections.push_back(face);
+    probe_spec.driver.node = probe.name;
+    probe_spec.output_node = target_node;
+    return kin::compile(probe_spec);
+  };
+  // the lever at rest: its cam roller on the base circle (as far from the cam pivot as in
+  // the drawing). Away from the drawing's control position the other contacts move the
+  // rest pose (a Valvetronic eccentric turns the lever about the camshaft), so it is found
+  // by newton on |c(q) - pivot| = base with a probe along the drawing's radial direction
+  double rest_x = c0x, rest_y = c0y;
+  {
+    const kin::Mechanism m0 = make_probe(c0x, c0y);
+    kin::Workspace ws0(m0);
+    ws0.set_controls(controls);
+    const int f0 = m0.node_index(cut.follower_node);
+    double q = 0.0;
+    for (int it = 0;; ++it) {
+      const Status st = kin::solve(m0, ws0, q, {1, false});
+      if (!st.ok()) return {st.code, "placing the lever '" + cut.follower_node + "' at rest: " + st.message, "cam base circle"};
+      const auto c = kin::detail::node_pose(m0, f0, ws0.vars.data(), ws0.pivots.data()).apply(c0x, c0y);
+      const Jet3 rho = sqrt((c.x - px) * (c.x - px) + (c.y - py) * (c.y - py));
+      rest_x = c.x.value(), rest_y = c.y.value();
+      const double miss = rho.value() - base;
+      if (std::abs(miss) < 1e-12 * base) break;
+      if (it == 50 || !(std::abs(rho.c[1]) > 1e-9))
+        return {StatusCode::no_convergence,
+                "placing the lever '" + cut.follower_node + "' at rest with its roller on the base circle (" +
+                    fmt(base) + " mm from the cam pivot): " + fmt(miss) + " mm off",
+                "cam base circle"};
+      q -= miss / rho.c[1];
+    }
+  }
+  const kin::Mechanism m = make_probe(rest_x, rest_y);
+  kin::Workspace ws(m);
+  ws.set_controls(controls);
+  const int lift_var = m.nodes[static_cast<std::size_t>(m.node_index(target_node))].first_variable;
+  const int follower = m.node_index(cut.follower_node);
+  auto centre_of_q = [&] {
+    return kin::detail::node_pose(m, follower, ws.vars.data(), ws.pivots.data()).apply(c0x, c0y);
+  };
+
+  const int n = static_cast<int>(theta.size());
+  double motion_hi = -1e300;
+  for (const auto& L : motion) motion_hi = std::max(motion_hi, L.value());
+
+  // 1. scan L(q) from the rest up past the largest target lift
+  std::vector<double> grid_lift;
+  for (int j = 0;; ++j) {
+    const double q = j * kScanStep;
+    const Status st = kin::solve(m, ws, q, {1, false});
+    if (!st.ok())
+      return {st.code,
+              "the lever '" + cut.follower_node + "' pushed " + fmt(q) + " mm along its cam roller's radial path "
+              "cannot be solved with its other contacts (" + st.message + ") before the valve reaches the target's " +
+                  fmt(motion_hi) + " mm",
+              "probe travel " + fmt(q) + " mm"};
+    grid_lift.push_back(ws.vars[static_cast<std::size_t>(lift_var)].value());
+    if (grid_lift.back() > motion_hi && j > 0) break;
+    if (q > kMaxTravel)
+      return {StatusCode::cannot_assemble,
+              "the valve lift through the lever '" + cut.follower_node + "' stays below the target's " +
+                  fmt(motion_hi) + " mm over " + fmt(kMaxTravel) + " mm of cam-roller travel",
+              "probe travel " + fmt(q) + " mm"};
+  }
+  const int top = static_cast<int>(grid_lift.size()) - 1;
+  // 2. monotone pieces of L(q) between its turning points (grid indices, ascending)
+  std::vector<int> turns{0};
+  for (int j = 1; j < top; ++j)
+    if ((grid_lift[j] - grid_lift[j - 1]) * (grid_lift[j + 1] - grid_lift[j]) < 0) turns.push_back(j);
+  turns.push_back(top);
+  const int pieces = static_cast<int>(turns.size()) - 1;
+  if (grid_lift[top] <= grid_lift[turns[pieces - 1]])
+    return {StatusCode::cannot_assemble, "the valve lift falls as the lever '" + cut.follower_node +
+                                             "' is pushed towards the target's peak", "probe travel " + fmt(top * kScanStep) + " mm"};
+  // the lift at a turning point: vertex of the parabola through the grid points around it
+  auto turning_lift = [&](int j) {
+    if (j <= 0 || j >= top) return grid_lift[std::clamp(j, 0, top)];
+    const double l0 = grid_lift[j - 1], l1 = grid_lift[j], l2 = grid_lift[j + 1];
+    const double curv = l0 - 2 * l1 + l2;
+    return curv == 0 ? l1 : l1 - 0.125 * (l2 - l0) * (l2 - l0) / curv;
+  };
+  const double mean_slope = std::abs(grid_lift[top] - grid_lift[0]) / (top * kScanStep);
+  const double flat = kFlatSlope * mean_slope;  // |dL/dq| below which q is not inverted
+  const double rest_lift = grid_lift[0];
+  const double reverse = 1e-9 * std::max(1.0, mean_slope);  // [mm] target turning, beyond round-off
+
+  out = {};
+  out.centre_x.assign(n, Jet3(0.0));
+  out.centre_y.assign(n, Jet3(0.0));
+  enum class Kind : char { open, rest, inverted, bridged };
+  std::vector<Kind> kind(n, Kind::open);
+  std::vector<Jet3> q_of(n, Jet3(0.0));
+  // invert sample i on piece k (newton inside the piece's grid bracket)
+  auto invert_on = [&](int i, int k, double& a1) -> Status {
+    const double target = motion[i].value();
+    const int j0 = turns[k], j1 = turns[k + 1];
+    const double sign = grid_lift[j1] > grid_lift[j0] ? 1.0 : -1.0;
+    int j = j0;
+    while (j + 1 < j1 && (grid_lift[j + 1] - target) * sign < 0) ++j;
+    double lo = j * kScanStep, hi = (j + 1) * kScanStep;
+    double q = 0.5 * (lo + hi);
+    for (int it = 0; it < 100; ++it) {
+      const Status st = kin::solve(m, ws, q, {3, false});
+      if (!st.ok()) return {st.code, st.message, "cam " + deg_of(theta[i]) + " deg"};
+      const Jet3& L = ws.vars[static_cast<std::size_t>(lift_var)];
+      const double f = (L.value() - target) * sign;  // increasing in q on this piece
+      if (std::abs(f) <= 1e-13 * std::max(1.0, motion_hi) || hi - lo < 1e-15) {
+        a1 = L.c[1];
+        q_of[i] = revert(L, q, motion[i]);
+        const auto c = centre_of_q();
+        out.centre_x[i] = compose_in(c.x, q_of[i]);
+        out.centre_y[i] = compose_in(c.y, q_of[i]);
+        return Status::success();
+      }
+      (f < 0 ? lo : hi) = q;
+      double next = L.c[1] * sign > 0 ? q - f / (L.c[1] * sign) : 0.5 * (lo + hi);
+      if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+      q = next;
+    }
+    return {StatusCode::no_convergence,
+            "inverting the valve lift " + fmt(target) + " mm for the travel of the lever '" + cut.follower_node +
+                "' did not converge",
+            "cam " + deg_of(theta[i]) + " deg"};
+  };
+  // 3. from the peak back along the opening stroke (q falls) and on along the closing
+  // stroke (q falls): each sample on the piece the lever has reached; the walk moves to the
+  // previous piece where the target turns back at that piece's turning lift, and stops
+  // where the target is at the lever's rest (q = 0)
+  int peak = 0;
+  for (int i = 1; i < n; ++i)
+    if (motion[i].value() > motion[peak].value()) peak = i;
+  for (int dir : {-1, +1}) {
+    // continuation from the rest up the scan, so the walk starts on the drawing's assembly
+    // branch next to the peak (a cold start there may converge to another branch)
+    ws.reset();
+    for (int j = 0; j <= top; ++j)
+      if (const Status st = kin::solve(m, ws, j * kScanStep, {0, false}); !st.ok())
+        return {st.code, st.message, "probe travel " + fmt(j * kScanStep) + " mm"};
+    int k = pieces - 1;
+    double extreme = motion[peak].value();  // the target's running extreme on this piece
+    bool near_rest = false;  // on the first piece, past the target's last turn: bridged to the rest
+    // each walk covers half the revolution (the opening stroke and the base circle before
+    // it, the closing stroke and the base circle after it), unless it reaches the rest
+    for (int step = dir < 0 ? 0 : 1; dir < 0 ? step <= n / 2 : step < n - n / 2; ++step) {
+      const int i = ((peak + dir * step) % n + n) % n;
+      if (kind[i] != Kind::open) break;  // met the other walk
+      const double target = motion[i].value();
+      if (k == 0 && std::abs(target - rest_lift) <= reverse) break;  // the lever at rest: the base circle
+      if (near_rest) {
+        kind[i] = Kind::bridged;
+        continue;
+      }
+      const double rises = grid_lift[turns[k + 1]] > grid_lift[turns[k]] ? 1.0 : -1.0;  // L(q) rises with q: +1
+      // walking towards smaller q the target must move by -rises; a turn back beyond
+      // round-off means the lever passed the piece's lower turning point
+      if ((target - extreme) * rises > reverse || (k == 0 && (target - rest_lift) * rises < -reverse)) {
+        if (k == 0) {
+          // a turn (or a step past the rest lift) within a scan step of the rest: the
+          // target's ripple next to the rest, left to the bridge down to q = 0
+          near_rest = true;
+          kind[i] = Kind::bridged;
+          continue;
+        }
+        const double turn_lift = turning_lift(turns[k]);
+        if (std::abs(extreme - turn_lift) > kTurnTolerance * std::max(1.0, motion_hi))
+          return {StatusCode::singular,
+                  "the target lift turns back at " + fmt(extreme) + " mm, but the lever '" + cut.follower_node +
+                      "' turns back only at " + fmt(turn_lift) + " mm of lift (its idle travel, at " +
+                      fmt(turns[k] * kScanStep) + " mm of cam-roller travel): the lift does not fix the lever's "
+                      "travel there",
+                  "cam " + deg_of(theta[i]) + " deg"};
+        --k;
+        // the samples on both sides of the turn: dL/dq ~ 0, their jets by reversion are
+        // ill-conditioned, so they are bridged
+        kind[((i - dir) % n + n) % n] = Kind::bridged;
+        kind[i] = Kind::bridged;
+        extreme = target;
+        continue;
+      }
+      extreme = (target - extreme) * rises < 0 ? target : extreme;
+      double a1 = 0.0;
+      const Status st = invert_on(i, k, a1);
+      if (!st.ok()) return st;
+      kind[i] = std::abs(a1) < flat ? Kind::bridged : Kind::inverted;
+    }
+  }
+  for (auto& kd : kind)
+    if (kd == Kind::open) kd = Kind::rest;  // between the two walks: the base circle
+  // where the walks meet without reaching the rest, they must agree: the lever rests past
+  // its drawing rest (a target whose base circle lies beyond the lever's idle travel)
+  const int meet_a = ((peak - n / 2) % n + n) % n, meet_b = (meet_a + n - 1) % n;  // the walks' last samples
+  if (kind[meet_a] != Kind::rest && kind[meet_b] != Kind::rest) {
+    const double gap = std::abs(q_of[meet_a].value() - q_of[meet_b].value());
+    if (kind[meet_a] == Kind::inverted && kind[meet_b] == Kind::inverted && gap > 1e-3)
+      return {StatusCode::singular,
+              "the opening and closing strokes leave the lever '" + cut.follower_node + "' " + fmt(gap) +
+                  " mm of cam-roller travel apart on the base circle: the target's base circle lies on two pieces of "
+                  "the lever's lift (before and after its idle travel)",
+              "cam " + deg_of(theta[meet_a]) + " deg"};
+    out.rest_travel_mm = q_of[meet_a].value();
+  }
+  // 4. bridges: runs of samples where the lift barely moves with q (next to a turning
+  // point or the rest) take q from septic hermite pieces between their neighbours' jets
+  const double h = 2 * pi / n;
+  const double inverse_factorial[4] = {1.0, 1.0, 0.5, 1.0 / 6.0};  // taylor coefficient = derivative / k!
+  int rest_samples = 0, bridged_samples = 0;
+  const Status at_rest = kin::solve(m, ws, 0.0, {0, false});
+  if (!at_rest.ok()) return {at_rest.code, at_rest.message, "probe travel 0 mm"};
+  const auto rest_centre = centre_of_q();
+  for (int i = 0; i < n; ++i)
+    if (kind[i] == Kind::rest) {
+      ++rest_samples;
+      out.centre_x[i] = Jet3(rest_centre.x.value());
+      out.centre_y[i] = Jet3(rest_centre.y.value());
+      q_of[i] = Jet3(0.0);
+    }
+  for (int i = 0; i < n; ++i) {
+    if (kind[i] != Kind::bridged || kind[(i + n - 1) % n] == Kind::bridged) continue;
+    int count = 0;
+    while (count < n && kind[(i + count) % n] == Kind::bridged) ++count;
+    if (count >= n) return {StatusCode::singular, "the lift does not fix the lever anywhere", "whole revolution"};
+    const int before = (i + n - 1) % n, after = (i + count) % n;
+    const double span = (count + 1) * h;
+    double p0[4], p1[4];
+    for (int o = 0; o < 4; ++o) {
+      p0[o] = q_of[before].derivative(o) * std::pow(span, o);
+      p1[o] = q_of[after].derivative(o) * std::pow(span, o);
+    }
+    const detail::Septic piece(p0, p1);
+    for (int c = 0; c < count; ++c) {
+      const int s = (i + c) % n;
+      double d[4];
+      piece.eval((c + 1.0) / (count + 1.0), d);
+      Jet3 q(std::max(0.0, d[0]));
+      for (int o = 1; o < 4; ++o) q.c[o] = d[o] / std::pow(span, o) * inverse_factorial[o];
+      const Status st = kin::solve(m, ws, q.value(), {3, false});
+      if (!st.ok()) return {st.code, st.message, "cam " + deg_of(theta[s]) + " deg"};
+      const double e = std::abs(ws.vars[static_cast<std::size_t>(lift_var)].value() - motion[s].value());
+      if (e > out.fill_error_mm) out.fill_error_mm = e, out.fill_error_at_rad = theta[s];
+      const auto cc = centre_of_q();
+      out.centre_x[s] = compose_in(cc.x, q);
+      out.centre_y[s] = compose_in(cc.y, q);
+      ++bridged_samples;
+    }
+  }
+  out.rest_lift = rest_lift;
+  out.fill_span = std::to_string(rest_samples) + " samples at the lever's rest, " + std::to_string(bridged_samples) +
+                  " bridged where the lift barely moves with the lever (" + std::to_string(pieces) +
+                  " monotone piece(s) of the lift against the cam-roller travel)";
+  return Status::success();
+}
+
+}  // namespace camopt::synthesis
