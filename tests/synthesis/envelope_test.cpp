@@ -288,7 +288,8 @@ TEST_CASE("synthesis: real measured intake lifts (ICESym) on the finger follower
 // within ..."). For the CVVL at 0.5 deg that is 5e-6 mm, hence 0.25 deg. The VVLD's ramp
 // foot is concave with a radius of 10.3 mm against its 8 mm roller, where the lift is
 // hypersensitive: at control 0, 1.3e-5 mm at 0.25 deg, 9.5e-9 mm at 1/16 deg (control 50:
-// 2.5e-6 / 6.3e-9 mm). The Valvetronic's working curve sits on a floating lever whose pose
+// 2.5e-6 / 6.3e-9 mm, not run here to keep the sanitizer pass short; the CLI test runs it
+// at 0.25 deg). The Valvetronic's working curve sits on a floating lever whose pose
 // comes from the upstream cluster (cam roller, eccentric roller, gate): 1.4e-8 / 1.1e-8 mm
 // at control 0 / 30 deg.
 TEST_CASE("synthesis: round trip within 1e-6 mm on every bundled design", "[synthesis][envelope][designs]") {
@@ -308,7 +309,6 @@ TEST_CASE("synthesis: round trip within 1e-6 mm on every bundled design", "[synt
                         {"cvvl_swing_cam", "swing", 0, 0.25},
                         {"cvvl_swing_cam", "swing", 8, 0.25},
                         {"vvld", "swing", 0, 0.0625},
-                        {"vvld", "swing", 50, 0.0625},
                         {"valvetronic", "swing", 0, 0.25},
                         {"valvetronic", "swing", 30, 0.25},
                         {"valvetronic", "rotational", 0, 0.25},
@@ -423,7 +423,7 @@ TEST_CASE("synthesis: the Valvetronic lever's working curve (a profile on a floa
   CHECK(worst_idle < 1e-5);
   CHECK(worst_traced < 1e-6);
   const DesignSpec synthesized = synthesis::with_profile(d, res.profile);
-  for (double control : {15.0, 30.0, 45.0, 60.0}) {
+  for (double control : {30.0, 60.0}) {
     auto lift_at = [&](const DesignSpec& spec) {
       const auto mech = kin::compile(spec);
       PeriodicSpline lift;
@@ -436,7 +436,7 @@ TEST_CASE("synthesis: the Valvetronic lever's working curve (a profile on a floa
     double worst = 0.0;
     for (std::size_t i = 0; i < a.size(); ++i) worst = std::max(worst, std::abs(a[i] - b[i]));
     INFO("control " << control << " deg: worst lift difference " << worst << " mm");
-    CHECK(worst < 2e-5);  // measured 4.2e-6 .. 5.2e-6 mm
+    CHECK(worst < 2e-5);  // measured 4.2e-6 .. 5.2e-6 mm at 15 .. 60 deg
   }
 }
 

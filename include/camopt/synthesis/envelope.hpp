@@ -8,7 +8,9 @@
 //    (driver -> cam node) and the downstream part (follower -> valve);
 // 2. inversion: the downstream part is driven by the valve at the target lift L(theta), and
 //    the follower's motion comes out as jets in the valve travel, composed with the jets of
-//    L(theta) (Faa di Bruno) into exact jets in the cam angle;
+//    L(theta) (Faa di Bruno) into exact jets in the cam angle; a floating follower (an
+//    intermediate lever) is inverted through its cam roller's travel instead
+//    (floating_inversion.hpp);
 // 3. envelope: the follower surface is taken into the profile frame of the cam node; a
 //    roller or pad gives the offset of its centre path (p = c - r nu), a flat face the
 //    envelope of its lines (F = (x - q).n = 0, dF/dtheta = 0: p = q + t (q'.n)/(t.n'));
@@ -25,7 +27,7 @@
 namespace camopt::synthesis {
 
 struct SynthesisOptions {
-  std::string cam = "rotational";  // "rotational": the driver's profile; "swing": a profile on another node
+  std::string cam = "rotational";  // "rotational": the driver's profile; "swing": a profile on another rotational node or a floating lever
   std::vector<double> controls;    // every control [deg or mm]; empty = defaults
   // resolution of the profile table: neighbouring points are at most 360 / points deg
   // apart in polar angle, in cam angle and in turn of the tangent (so a sharp nose or a
