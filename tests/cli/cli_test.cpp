@@ -215,7 +215,6 @@ TEST_CASE("subcommands not built yet exit 5 and write nothing", "[cli]") {
     std::vector<std::string> args;  // "{out}" is replaced by the output directory
   };
   const std::vector<Case> cases = {
-      {"dynamics flexible", {"dynamics", design, "--model", "flexible", "--rpm", "1000:7000:7", "--out", "{out}"}},
       {"bench", {"bench", "--out", "{out}"}},
   };
   for (const auto& c : cases) {
