@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "camopt/dynamics/compliant.hpp"
+#include "camopt/dynamics/flexible.hpp"
 #include "camopt/dynamics/hertz.hpp"
 #include "camopt/dynamics/rigid.hpp"
 #include "camopt/io/atomic_file.hpp"
@@ -23,6 +24,7 @@ namespace {
 struct DynamicsOptions {
   std::string design, model = "rigid", contacts = "rigid", rpm, out_dir, control;
   double step_deg = 0.0;  // 0: the design's step
+  dynamics::FlexibleOptions flexible;
 };
 
 // json number, or null for +-inf (a separation speed that never happens)
@@ -472,12 +474,205 @@ void run_compliant_contacts(const DynamicsOptions& o) {
        std::to_string(seconds * 1e3) + " ms -> " + o.out_dir + "/dynamics.csv, summary.json");
 }
 
+// the flexible model (issue #7): one CVODE run per (rpm, control), the last revolution reported
+void run_flexible_model(const DynamicsOptions& o) {
+  const Setup su = make_setup(o);
+  const kin::Mechanism& mech = su.mech;
+  const dynamics::Model& model = su.model;
+  const std::size_t nc = mech.connections.size();
+  const auto t0 = std::chrono::steady_clock::now();
+  struct Run {
+    double rpm;
+    std::size_t position;
+    dynamics::FlexibleResult result;
+  };
+  std::vector<Run> runs;
+  Progress progress("dynamics", static_cast<long>(su.rpms.size() * su.positions.size()));
+  for (double rpm : su.rpms)
+    for (std::size_t p = 0; p < su.positions.size(); ++p) {
+      Run r{rpm, p, {}};
+      const Status st =
+          dynamics::run_flexible(mech, model, su.positions[p], rpm, su.start, su.stop, su.step, o.flexible, r.result);
+      if (!st.ok()) fail_at(su, st, p);
+      runs.push_back(std::move(r));
+      progress.advance();
+    }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const bool angle_out = mech.nodes[mech.output_node].kind != NodeKind::translational;
+  const std::string lift_unit = angle_out ? "deg" : "mm";
+
+  // ---- dynamics.csv ----
+  std::vector<std::string> header;
+  std::vector<std::vector<double>> cols;
+  auto add_column = [&](std::string name, auto&& value) {
+    header.push_back(std::move(name));
+    std::vector<double> col;
+    for (const Run& r : runs)
+      for (std::size_t i = 0; i < r.result.cam_deg.size(); ++i) col.push_back(value(r.result, i));
+    cols.push_back(std::move(col));
+  };
+  using Res = dynamics::FlexibleResult;
+  {
+    header.push_back("rpm");
+    header.push_back("control_" + su.control_unit);
+    std::vector<double> a, b;
+    for (const Run& r : runs)
+      for (std::size_t i = 0; i < r.result.cam_deg.size(); ++i) a.push_back(r.rpm), b.push_back(su.control_values[r.position]);
+    cols.push_back(std::move(a));
+    cols.push_back(std::move(b));
+  }
+  add_column("cam_deg", [](const Res& r, std::size_t i) { return r.cam_deg[i]; });
+  add_column("crank_deg", [&](const Res& r, std::size_t i) { return r.cam_deg[i] * model.crank_per_cam; });
+  add_column("lift_kinematic_" + lift_unit, [](const Res& r, std::size_t i) { return r.lift_kinematic[i]; });
+  add_column("lift_" + lift_unit, [](const Res& r, std::size_t i) { return r.lift[i]; });
+  add_column("lift_loss_" + lift_unit, [](const Res& r, std::size_t i) { return r.lift_kinematic[i] - r.lift[i]; });
+  for (std::size_t c = 0; c < nc; ++c) {
+    const auto& conn = mech.connections[c];
+    const bool contact = conn.kind == ConnectionKind::contact;
+    const std::string n = (contact ? "contact_" : "link_") + conn.name + "_";
+    add_column(n + "force_N", [nc, c](const Res& r, std::size_t i) { return r.force[i * nc + c]; });
+    if (contact && model.contacts[c].friction > 0 && !model.contacts[c].rolling)
+      add_column(n + "friction_W", [nc, c](const Res& r, std::size_t i) { return r.friction_power[i * nc + c]; });
+  }
+  bool has_seat = false;
+  for (const auto& cd : model.contacts) has_seat = has_seat || cd.held_node > 0;
+  if (has_seat) add_column("seat_force_N", [](const Res& r, std::size_t i) { return r.seat_force[i]; });
+  add_column("cam_torque_Nm", [](const Res& r, std::size_t i) { return r.cam_torque[i] * 1e-3; });
+  const Res& first = runs.front().result;
+  for (std::size_t e = 0; e < first.element_names.size(); ++e) {
+    const int node = mech.node_index(first.element_names[e]);
+    const bool angle = mech.nodes[node].kind != NodeKind::translational;
+    const std::size_t ne = first.element_names.size();
+    add_column("node_" + first.element_names[e] + "_deformation_" + (angle ? "deg" : "mm"),
+               [e, ne, angle](const Res& r, std::size_t i) { return r.deformation[i * ne + e] * (angle ? 180.0 / M_PI : 1.0); });
+  }
+  const std::size_t nch = first.chain_names.size();
+  for (std::size_t s = 0; s < nch; ++s) {
+    add_column("spring_" + first.chain_names[s] + "_retainer_N",
+               [s, nch](const Res& r, std::size_t i) { return r.coil_force_top[i * nch + s]; });
+    add_column("spring_" + first.chain_names[s] + "_seat_N",
+               [s, nch](const Res& r, std::size_t i) { return r.coil_force_base[i * nch + s]; });
+  }
+
+  // ---- summary.json ----
+  nlohmann::json summary;
+  summary["design"] = su.spec.name;
+  summary["design_file"] = o.design;
+  summary["model"] = "flexible";
+  summary["step_cam_deg"] = su.step;
+  summary["revolutions"] = o.flexible.revolutions;
+  summary["relative_tolerance"] = o.flexible.relative_tolerance;
+  summary["absolute_tolerance"] = o.flexible.absolute_tolerance;
+  summary["run_time_s"] = seconds;
+  nlohmann::json results = nlohmann::json::array(), map = nlohmann::json::array();
+  for (const Run& run : runs) {
+    const Res& r = run.result;
+    nlohmann::json j;
+    j["rpm"] = run.rpm;
+    j["control_" + su.control_unit] = su.control_values[run.position];
+    Extremes kin_lift, dyn_lift, torque, loss;
+    double friction = 0.0, bounce_height = 0.0;
+    for (std::size_t i = 0; i < r.cam_deg.size(); ++i) {
+      kin_lift.add(r.lift_kinematic[i], r.cam_deg[i]);
+      dyn_lift.add(r.lift[i], r.cam_deg[i]);
+      loss.add(r.lift_kinematic[i] - r.lift[i], r.cam_deg[i]);
+      torque.add(r.cam_torque[i] * 1e-3, r.cam_deg[i]);
+      for (std::size_t c = 0; c < nc; ++c) friction += r.friction_power[i * nc + c];
+      if (std::abs(r.lift_kinematic[i]) <= 1e-12) bounce_height = std::max(bounce_height, std::abs(r.lift[i]));
+    }
+    j["max_lift_kinematic_" + lift_unit] = kin_lift.max;
+    j["max_lift_" + lift_unit] = dyn_lift.max;
+    j["max_lift_loss_" + lift_unit] = loss.max;
+    j["max_lift_loss_at_cam_deg"] = loss.max_at;
+    j["max_cam_torque_Nm"] = torque.max;
+    j["min_cam_torque_Nm"] = torque.min;
+    j["mean_friction_power_W"] = friction / static_cast<double>(r.cam_deg.size());
+    bool separates = false;
+    for (std::size_t c = 0; c < nc; ++c) {
+      Extremes f;
+      for (std::size_t i = 0; i < r.cam_deg.size(); ++i) f.add(r.force[i * nc + c], r.cam_deg[i]);
+      nlohmann::json cj = {{"max_force_N", f.max}, {"max_force_at_cam_deg", f.max_at}, {"min_force_N", f.min},
+                           {"min_force_at_cam_deg", f.min_at}, {"damping_N_s_per_mm", r.contact_damping[c]}};
+      // separation intervals: opens .. next closes of this connection (not the lash gap)
+      nlohmann::json intervals = nlohmann::json::array();
+      const bool lash = model.contacts[c].held_node > 0;
+      double opened = std::numeric_limits<double>::quiet_NaN();
+      for (const auto& ev : r.events) {
+        if (ev.what != mech.connections[c].name) continue;
+        if (ev.opens) opened = ev.cam_deg;
+        else if (!std::isnan(opened)) intervals.push_back({opened, ev.cam_deg}), opened = std::numeric_limits<double>::quiet_NaN();
+      }
+      if (!std::isnan(opened)) intervals.push_back({opened, nullptr});
+      cj["open_intervals_cam_deg"] = intervals;
+      if (!lash && !intervals.empty()) separates = true;
+      if (lash && intervals.size() > 1) separates = true;
+      j["connections"][mech.connections[c].name] = cj;
+    }
+    j["any_contact_separates"] = separates;
+    int seat_closes = 0;
+    double seating_velocity = 0.0;
+    for (const auto& ev : r.events)
+      if (ev.what.size() > 5 && ev.what.compare(ev.what.size() - 5, 5, " seat") == 0 && !ev.opens) {
+        if (seat_closes == 0) seating_velocity = ev.speed_m_per_s;
+        ++seat_closes;
+      }
+    if (has_seat) {
+      j["seating_velocity_m_per_s"] = seat_closes > 0 ? nlohmann::json(seating_velocity) : nlohmann::json(nullptr);
+      j["bounce_count"] = std::max(0, seat_closes - 1);
+      j["bounce_height_" + lift_unit] = bounce_height;
+    }
+    for (std::size_t s = 0; s < nch; ++s) {
+      double surge = 0.0, coil = 0.0;
+      for (std::size_t i = 0; i < r.cam_deg.size(); ++i) {
+        surge = std::max(surge, std::abs(r.coil_force_base[i * nch + s] - r.spring_static_load[i * nch + s]));
+        coil = std::max(coil, r.coil_force_top[i * nch + s]);
+      }
+      int clashes = 0;
+      for (const auto& ev : r.events)
+        if (ev.what.rfind(first.chain_names[s] + " coil", 0) == 0 && !ev.opens) ++clashes;
+      j["springs"][first.chain_names[s]] = {{"segments", first.chain_segments[s]},
+                                             {"max_retainer_force_N", coil},
+                                             {"surge_amplitude_N", surge},
+                                             {"coil_clash_events", clashes}};
+    }
+    for (std::size_t e = 0; e < first.element_names.size(); ++e) {
+      double worst = 0.0;
+      const std::size_t ne = first.element_names.size();
+      for (std::size_t i = 0; i < r.cam_deg.size(); ++i) worst = std::max(worst, std::abs(r.deformation[i * ne + e]));
+      const bool angle = mech.nodes[mech.node_index(first.element_names[e])].kind != NodeKind::translational;
+      j["deformation"][first.element_names[e]] = {{std::string("max_") + (angle ? "deg" : "mm"), angle ? worst * 180.0 / M_PI : worst}};
+    }
+    nlohmann::json events = nlohmann::json::array();
+    for (const auto& e : r.events)
+      events.push_back({{"what", e.what}, {"cam_deg", e.cam_deg}, {"event", e.opens ? "opens" : "closes"},
+                        {"speed_m_per_s", e.speed_m_per_s}});
+    j["events"] = events;
+    j["integrator_steps"] = r.steps;
+    j["rhs_evaluations"] = r.rhs_evaluations;
+    map.push_back({{"rpm", run.rpm},
+                   {"control_" + su.control_unit, su.control_values[run.position]},
+                   {"any_contact_separates", separates},
+                   {"bounce_count", has_seat ? j["bounce_count"] : nlohmann::json(nullptr)},
+                   {"bounce_height_" + lift_unit, has_seat ? j["bounce_height_" + lift_unit] : nlohmann::json(nullptr)},
+                   {"max_lift_loss_" + lift_unit, loss.max}});
+    results.push_back(j);
+  }
+  summary["results"] = results;
+  summary["speed_map"] = map;
+  io::OutputTransaction out(o.out_dir);
+  out.stage("dynamics.csv", io::format_csv(header, cols));
+  out.stage("summary.json", summary.dump(2) + "\n");
+  out.commit();
+  info("dynamics (flexible): " + std::to_string(runs.size()) + " run(s) in " + std::to_string(seconds * 1e3) +
+       " ms -> " + o.out_dir + "/dynamics.csv, summary.json");
+}
+
 }  // namespace
 
 void setup_dynamics(CLI::App& app) {
   auto opts = std::make_shared<DynamicsOptions>();
   auto* cmd = app.add_subcommand("dynamics", "valvetrain dynamics: contact forces, cam torque, Hertz stress, spring "
-                                             "margin and separation speed (rigid; flexible not built yet)");
+                                             "margin and separation speed (rigid), valve motion, bounce and surge (flexible)");
   cmd->add_option("design", opts->design, "design file (TOML)")->required();
   cmd->add_option("--model", opts->model, "rigid or flexible")->check(CLI::IsMember({"rigid", "flexible"}));
   cmd->add_option("--rpm", opts->rpm, "engine speed [rpm, crankshaft]: a value, a list a,b,c or START:STOP:COUNT")
@@ -491,8 +686,19 @@ void setup_dynamics(CLI::App& app) {
                   "rigid: kinematically constrained inverse dynamics (mode a, exact rpm^2 scaling); compliant: "
                   "stiff separable Hertz contacts integrated in time (mode b)")
       ->check(CLI::IsMember({"rigid", "compliant"}));
+  cmd->add_option("--revolutions", opts->flexible.revolutions,
+                  "flexible: cam revolutions integrated, the last reported (default 3)")
+      ->check(CLI::Range(1, 1000));
+  cmd->add_option("--rtol", opts->flexible.relative_tolerance, "flexible: CVODE relative tolerance (default 1e-6)")
+      ->check(CLI::Range(1e-14, 1e-1));
+  cmd->add_option("--atol", opts->flexible.absolute_tolerance,
+                  "flexible: CVODE absolute tolerance on deviations [mm or rad] (default 1e-7)")
+      ->check(CLI::Range(1e-16, 1.0));
   cmd->callback([opts] {
-    if (opts->model == "flexible") throw NotBuilt{"dynamics --model flexible is not built yet (issue #7)"};
+    if (opts->model == "flexible") {
+      run_flexible_model(*opts);
+      return;
+    }
     if (opts->contacts == "compliant")
       run_compliant_contacts(*opts);
     else

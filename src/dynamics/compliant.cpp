@@ -1,12 +1,6 @@
 // mode (b): stiff separable contacts integrated with CVODE (see compliant.hpp)
 #include "camopt/dynamics/compliant.hpp"
 
-#include <cvode/cvode.h>
-#include <nvector/nvector_serial.h>
-#include <sundials/sundials_context.h>
-#include <sunlinsol/sunlinsol_dense.h>
-#include <sunmatrix/sunmatrix_dense.h>
-
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
 #include <algorithm>
@@ -18,6 +12,7 @@
 
 #include "camopt/dynamics/hertz.hpp"
 #include "camopt/dynamics/rigid.hpp"
+#include "cvode_support.hpp"
 
 namespace camopt::dynamics {
 
@@ -26,21 +21,6 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 constexpr double kDeg = kPi / 180.0;
 constexpr double kDefaultReferenceForce = 500.0;  // [N]
-
-std::string fmt(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
-
-// line-contact stiffness linearised at a load: approach of two cylinders
-// delta = (P / (pi E*)) (2 ln(4 R* / b) - 1), P = F / L (Johnson 1985, sec. 4.2) [N/mm]
-double line_contact_stiffness(double force, double length, double e_star, double reduced_radius) {
-  const double p = force / length;
-  const double b = std::sqrt(4.0 * p * reduced_radius / (kPi * e_star));
-  const double log_term = std::max(2.0 * std::log(4.0 * reduced_radius / b) - 1.0, 1.0);
-  return kPi * length * e_star / log_term;
-}
 
 // the kinematic path at one cam angle, as the integrator needs it (free rows r, connections c)
 struct PathLayout {
@@ -91,14 +71,13 @@ struct Problem {
     const double x = (theta - grid_first) / grid_step;
     int i = static_cast<int>(std::floor(x));
     i = std::clamp(i, 1, grid_points - 3);
-    const double u = x - i, u2 = u * u, u3 = u2 * u;
-    const double w0 = 0.5 * (-u + 2 * u2 - u3), w1 = 0.5 * (2 - 5 * u2 + 3 * u3), w2 = 0.5 * (u + 4 * u2 - 3 * u3),
-                 w3 = 0.5 * (-u2 + u3);
+    double w[4];
+    detail::catmull_rom_weights(x - i, w);
     const double* p0 = &table[static_cast<std::size_t>(i - 1) * lay.size];
     const double* p1 = p0 + lay.size;
     const double* p2 = p1 + lay.size;
     const double* p3 = p2 + lay.size;
-    for (int j = 0; j < lay.size; ++j) path[j] = w0 * p0[j] + w1 * p1[j] + w2 * p2[j] + w3 * p3[j];
+    for (int j = 0; j < lay.size; ++j) path[j] = w[0] * p0[j] + w[1] * p1[j] + w[2] * p2[j] + w[3] * p3[j];
   }
 
   double gn(int r, int c) const { return path[lay.g_normal + r + rows * c]; }
@@ -182,26 +161,6 @@ int root_callback(sunrealtype t, N_Vector y, sunrealtype* gout, void* data) {
     return -1;
   }
 }
-
-// CVODE's error messages go into the returned Status, not to stderr
-void silent_error_handler(int, const char*, const char*, char*, void*) {}
-
-// owned SUNDIALS objects
-struct Sundials {
-  SUNContext ctx = nullptr;
-  N_Vector y = nullptr, atol = nullptr;
-  SUNMatrix a = nullptr;
-  SUNLinearSolver ls = nullptr;
-  void* cvode = nullptr;
-  ~Sundials() {
-    if (cvode) CVodeFree(&cvode);
-    if (ls) SUNLinSolFree(ls);
-    if (a) SUNMatDestroy(a);
-    if (atol) N_VDestroy(atol);
-    if (y) N_VDestroy(y);
-    if (ctx) SUNContext_Free(&ctx);
-  }
-};
 
 }  // namespace
 
@@ -297,7 +256,7 @@ Status run_compliant(const kin::Mechanism& mech, const Model& model, const std::
     const kin::ContactState& cs = ws.kin.contacts[c];
     const double curvature = cs.curvature_a + cs.curvature_b;
     const double radius = curvature > 1e-6 ? 1.0 / curvature : 1e6;  // flat on flat: a long cylinder
-    p.k[c] = options.stiffness_scale * line_contact_stiffness(f_ref, cd.width, cd.e_star, radius);
+    p.k[c] = options.stiffness_scale * line_contact_secant_stiffness(f_ref, cd.width, cd.e_star, radius);
     Eigen::VectorXd gnc(p.rows);
     for (int r = 0; r < p.rows; ++r) gnc(r) = p.gn(r, c);
     const double inv_mass = gnc.dot(m_inv * gnc);
@@ -335,7 +294,7 @@ Status run_compliant(const kin::Mechanism& mech, const Model& model, const std::
   }
   const Eigen::VectorXd q0 = a.partialPivLu().solve(b);
 
-  Sundials s;
+  detail::Sundials s;
   const int n = 2 * p.rows;
   if (SUNContext_Create(nullptr, &s.ctx) != 0) return {StatusCode::integrator_failure, "SUNContext_Create failed", ""};
   s.y = N_VNew_Serial(n, s.ctx);
@@ -359,7 +318,7 @@ Status run_compliant(const kin::Mechanism& mech, const Model& model, const std::
       CVodeSetMaxStep(s.cvode, 4 * p.grid_step / p.omega) != CV_SUCCESS ||
       (p.roots > 0 && CVodeRootInit(s.cvode, p.roots, root_callback) != CV_SUCCESS) ||
       (p.roots > 0 && CVodeSetNoInactiveRootWarn(s.cvode) != CV_SUCCESS) ||
-      CVodeSetErrHandlerFn(s.cvode, silent_error_handler, nullptr) != CV_SUCCESS)
+      CVodeSetErrHandlerFn(s.cvode, detail::silent_error_handler, nullptr) != CV_SUCCESS)
     return {StatusCode::integrator_failure, "CVODE setup failed", ""};
 
   const auto points = static_cast<std::size_t>(std::floor((stop_deg - start_deg) / step_deg + 1e-9)) + 1;
@@ -401,17 +360,15 @@ Status run_compliant(const kin::Mechanism& mech, const Model& model, const std::
                       "'): the contacts chatter; raise max_steps or the contact damping",
                   "t = " + fmt(t) + " s, cam " + fmt(start_deg + t * p.omega / kDeg) + " deg"};
         if (CVodeReInit(s.cvode, t, s.y) != CV_SUCCESS)
-          return {StatusCode::integrator_failure, "CVodeReInit failed", "t = " + fmt(t) + " s"};
+          return {StatusCode::integrator_failure, "CVodeReInit failed", "t = " + detail::format_number(t) + " s"};
         continue;
       }
       if (flag < 0) {
         std::string state;
-        for (int r = 0; r < n; ++r) state += (r ? ", " : "") + fmt(NV_Ith_S(s.y, r));
-        char* flag_name = CVodeGetReturnFlagName(flag);  // malloc'd by SUNDIALS
-        const std::string why = flag_name ? flag_name : std::to_string(flag);
-        std::free(flag_name);
+        for (int r = 0; r < n; ++r) state += (r ? ", " : "") + detail::format_number(NV_Ith_S(s.y, r));
+        const std::string why = detail::cvode_flag_name(flag);
         return {StatusCode::integrator_failure, "CVODE failed: " + why,
-                "t = " + fmt(t) + " s, cam " + fmt(start_deg + t * p.omega / kDeg) + " deg, state [dq; dq/dt] = [" +
+                "t = " + detail::format_number(t) + " s, cam " + detail::format_number(start_deg + t * p.omega / kDeg) + " deg, state [dq; dq/dt] = [" +
                     state + "]"};
       }
     }

@@ -14,3 +14,52 @@ HertzLine hertz_line(double force, double length, double e_star, double curvatur
 }
 
 }  // namespace camopt::dynamics
+
+namespace camopt::dynamics {
+
+namespace {
+// a = F / (pi L E*) [mm]
+double load_length(double force, double length, double e_star) { return force / (std::numbers::pi * length * e_star); }
+}  // namespace
+
+double line_contact_approach(double force, double length, double e_star, double reduced_radius) {
+  if (!(force > 0.0)) return 0.0;
+  const double a = load_length(force, length, e_star);
+  return a * (std::log(4.0 * reduced_radius / a) - 1.0);
+}
+
+double line_contact_force(double approach, double length, double e_star, double reduced_radius) {
+  if (!(approach > 0.0)) return 0.0;
+  const double c = 4.0 * reduced_radius;
+  // a = approach / (ln(c/a) - 1): one fixed-point pass from a = approach / 10 (the log
+  // varies slowly), then Newton on f(a) = a (ln(c/a) - 1) - approach, f' = ln(c/a) - 2
+  double a = approach / std::max(std::log(c / (0.1 * approach)) - 1.0, 1.0);
+  a = approach / std::max(std::log(c / a) - 1.0, 1.0);
+  for (int it = 0; it < 8; ++it) {
+    const double l = std::log(c / a);
+    const double slope = std::max(l - 2.0, 1e-3);
+    const double da = (a * (l - 1.0) - approach) / slope;
+    a = std::max(a - da, 0.5 * a);
+    if (std::abs(da) <= 1e-15 * a) break;
+  }
+  return std::numbers::pi * length * e_star * a;
+}
+
+double line_contact_tangent_stiffness(double force, double length, double e_star, double reduced_radius) {
+  const double k = std::numbers::pi * length * e_star;
+  if (!(force > 0.0)) return 0.0;
+  return k / std::max(std::log(4.0 * reduced_radius / load_length(force, length, e_star)) - 2.0, 1e-3);
+}
+
+double line_contact_secant_stiffness(double force, double length, double e_star, double reduced_radius) {
+  const double k = std::numbers::pi * length * e_star;
+  return k / std::max(std::log(4.0 * reduced_radius / load_length(force, length, e_star)) - 1.0, 1.0);
+}
+
+double line_contact_energy(double force, double length, double e_star, double reduced_radius) {
+  if (!(force > 0.0)) return 0.0;
+  const double k = std::numbers::pi * length * e_star;
+  return force * force / (2.0 * k) * (std::log(4.0 * reduced_radius / load_length(force, length, e_star)) - 1.5);
+}
+
+}  // namespace camopt::dynamics

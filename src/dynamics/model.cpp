@@ -58,6 +58,27 @@ double Spring::stiffness(double x) const {
   return s;
 }
 
+double Spring::energy(double x) const {
+  if (table_x.empty()) return preload * x + 0.5 * rate * x * x;
+  // piecewise linear law (linear extrapolation): trapezoids from 0 to x
+  auto integral_to = [&](double to) {
+    // breakpoints strictly between 0 and `to`, then the end
+    double sum = 0.0, from = 0.0;
+    const double dir = to >= 0 ? 1.0 : -1.0;
+    std::vector<double> cuts;
+    for (double b : table_x)
+      if (b * dir > 0 && b * dir < to * dir) cuts.push_back(b);
+    if (dir < 0) std::reverse(cuts.begin(), cuts.end());
+    cuts.push_back(to);
+    for (double b : cuts) {
+      sum += 0.5 * (load(from) + load(b)) * (b - from);
+      from = b;
+    }
+    return sum;
+  };
+  return integral_to(x);
+}
+
 double GasForce::at(double crank_angle_deg) const {
   const double first = crank_deg.front();
   double x = std::fmod(crank_angle_deg - first, period_deg);

@@ -205,43 +205,6 @@ TEST_CASE("usage errors exit 2", "[cli]") {
   CHECK(no_output(tmp / "out"));
 }
 
-// ---- subcommands not built yet (exit 5), writing nothing ---------------------------------
-
-TEST_CASE("subcommands not built yet exit 5 and write nothing", "[cli]") {
-  const std::string design = cli_data("eccentric_flat.toml").string();
-  struct Case {
-    std::string name;
-    std::vector<std::string> args;  // "{out}" is replaced by the output directory
-  };
-  const std::vector<Case> cases = {
-      {"dynamics flexible", {"dynamics", design, "--model", "flexible", "--rpm", "1000:7000:7", "--out", "{out}"}},
-  };
-  for (const auto& c : cases) {
-    TempDir tmp;
-    const fs::path out = tmp / "out";
-    // valid inputs for the options that name files
-    const fs::path target = tmp / "target_lift.csv";
-    write_text(target, "cam_deg,lift_mm\n0,0\n90,4.5\n180,9\n270,4.5\n");
-    const fs::path constraints = tmp / "constraints.toml";
-    write_text(constraints, "# no limits\n");
-    std::vector<std::string> args;
-    for (auto a : c.args) {
-      for (const auto& [key, value] : {std::pair<std::string, std::string>{"{out}", out.string()},
-                                       {"{target}", target.string()},
-                                       {"{constraints}", constraints.string()}}) {
-        const auto at = a.find(key);
-        if (at != std::string::npos) a.replace(at, key.size(), value);
-      }
-      args.push_back(a);
-    }
-    const auto r = run_camopt(args);
-    INFO(c.name << ": " << r.command << "\n" << r.all());
-    CHECK(r.exit_code == cli_not_built);
-    CHECK(contains(r.all(), "not built yet"));
-    CHECK((!fs::exists(out) || fs::is_empty(out)));
-  }
-}
-
 // ---- validate ------------------------------------------------------------------------------
 
 TEST_CASE("validate accepts every bundled design", "[cli][validate]") {

@@ -16,3 +16,23 @@ struct HertzLine {
 HertzLine hertz_line(double force, double length, double e_star, double curvature_sum);
 
 }  // namespace camopt::dynamics
+
+namespace camopt::dynamics {
+
+// approach (mutual deflection) of a line contact under load, Johnson 1985 sec. 4.2 / 5.?
+// for two cylinders: delta = (P / (pi E*)) (2 ln(4 R*/b) - 1), P = F / L. With
+// a = F / (pi L E*) [mm] and b^2 = 4 R* a this reads delta = a (ln(4 R*/a) - 1), valid
+// while a < 4 R*/e^2 (dDelta/da > 0). force [N], length L [mm], e_star [N/mm^2],
+// reduced_radius R* [mm]; returns [mm] (0 for F <= 0).
+double line_contact_approach(double force, double length, double e_star, double reduced_radius);
+// the inverse: the force [N] at an approach [mm] (Newton on a; 0 for approach <= 0).
+// The law stiffens with load: dF/dDelta = pi L E* / (ln(4 R*/a) - 2).
+double line_contact_force(double approach, double length, double e_star, double reduced_radius);
+// tangent stiffness dF/dDelta at a force [N/mm]
+double line_contact_tangent_stiffness(double force, double length, double e_star, double reduced_radius);
+// secant stiffness F / delta at a force [N/mm] (mode (b) linearisation)
+double line_contact_secant_stiffness(double force, double length, double e_star, double reduced_radius);
+// elastic energy stored at a force: int_0^delta F d(delta) = F^2/(2 pi L E*) (ln(4R*/a) - 3/2) [N mm]
+double line_contact_energy(double force, double length, double e_star, double reduced_radius);
+
+}  // namespace camopt::dynamics

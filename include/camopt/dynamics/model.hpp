@@ -34,6 +34,8 @@ struct Spring {
   double load(double x) const;
   // d(load)/dx [N/mm or N mm/rad]
   double stiffness(double x) const;
+  // work done compressing it from 0 to x: int_0^x load [N mm]
+  double energy(double x) const;
 };
 
 // cylinder gas force against a valve's opening, from a table against crank angle

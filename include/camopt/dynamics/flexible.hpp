@@ -1,0 +1,105 @@
+#pragma once
+// flexible lumped-parameter valvetrain dynamics (issue #7): component compliance,
+// nonlinear Hertz contacts with lash, damping and regularised Coulomb friction, a compliant
+// valve seat and multi-mass valve springs (surge, coil clash), integrated over several cam
+// revolutions with SUNDIALS CVODE (BDF) and root-finding; the last revolution is reported.
+//
+// Generic scheme (docs/dynamics.md "Flexible model"): the state is the deviation dq of
+// every free node coordinate from the kinematic path (as in mode (b), compliant.hpp),
+// extended by
+//  - a far-end coordinate per compliant node (rotational `torsional_stiffness_Nm_per_rad`,
+//    translational `axial_stiffness_N_per_mm`): the body becomes two halves of its
+//    generalized mass joined by a spring-damper. The near end keeps the connections that
+//    solve the node in the kinematic plan (its drive side) and its springs; the far end
+//    takes every later connection (the driven side), the seat and the gas force;
+//  - the absolute displacements of the internal masses of every compression spring with
+//    `surge_masses` N > 0 (N + 1 equal segments, the spring's load law per segment).
+// Contact c: penetration delta = -(gap_kin + g_c . dq), force
+//     F = max(0, F_hertz(delta; L, E*, R*(theta)) + c_d d(delta)/dt)   (delta > 0)
+// with the line-contact law delta = a (ln(4 R*/a) - 1), a = F / (pi L E*) (hertz.hpp).
+#include <string>
+#include <vector>
+
+#include "camopt/core/error.hpp"
+#include "camopt/dynamics/model.hpp"
+#include "camopt/kinematics/mechanism.hpp"
+
+namespace camopt::dynamics {
+
+struct FlexibleOptions {
+  int revolutions = 3;                 // cam revolutions integrated; the last is reported
+  double relative_tolerance = 1e-6;
+  double absolute_tolerance = 1e-7;    // deviations [mm or rad]; rates x 1e4 [per s]
+  double contact_stiffness_scale = 1.0;  // multiplies every Hertz force (studies, rigid limit)
+  double contact_damping_ratio = 0.05;   // contact and seat damping when the design gives none
+  double component_damping_ratio = 0.03; // compliant node when it has no damping_ratio
+  double spring_damping_ratio = 0.01;    // first surge mode of a multi-mass spring
+  double friction_velocity_m_per_s = 0.01;  // regularised Coulomb: mu v / sqrt(v^2 + v0^2)
+  double link_stiffness = 1e5;         // links [N/mm], gears [N mm/rad] (bilateral)
+  double seat_length_mm = 90.0;        // valve seat as a line contact: ring length (pi x 29 mm)
+  double seat_radius_mm = 5.0;         //   and reduced radius of its section
+  double coil_clash_stiffness = 1e4;   // whole spring once a coil gap closes [N/mm]
+  double reference_force = 500.0;      // damping from the tangent stiffness at this load [N]
+  double table_step_deg = 0.25;        // kinematic path tabulated on this grid (one revolution)
+  long max_steps = 2000000;
+};
+
+struct FlexibleEvent {
+  double time_s = 0.0, cam_deg = 0.0;
+  std::string what;    // connection name, "<node> seat" or "<spring> coil <j>"
+  bool opens = false;  // contact separates / seat lifts / coil gap opens; false: closes
+  double speed_m_per_s = 0.0;  // closing speed of the pair (seat: valve seating velocity)
+};
+
+// the extended coordinates: dq rows, far ends, spring masses
+struct FlexibleLayout {
+  int rows = 0;            // free node coordinates (mode (a) rows)
+  int elements = 0;        // compliant nodes: far-end coordinates rows .. rows + elements
+  int spring_masses = 0;   // internal spring masses after them
+  int size() const { return rows + elements + spring_masses; }
+};
+
+struct FlexibleResult {
+  FlexibleLayout layout;
+  std::vector<double> cam_deg;        // output points (last revolution) [driver deg]
+  std::vector<double> lift_kinematic; // output node, kinematic [mm or deg]
+  std::vector<double> lift;           // output node far end, dynamic [mm or deg]
+  int connections = 0;
+  std::vector<double> force;          // [point * connections + c] [N] (gear: N mm)
+  std::vector<double> friction_power; // [point * connections + c] [W]
+  std::vector<double> seat_force;     // [point] [N] summed over the seats
+  std::vector<double> cam_torque;     // [point] drive torque on the driver [N mm]
+  std::vector<std::string> element_names;  // compliant nodes
+  std::vector<double> deformation;    // [point * elements + e] far - near [mm or rad]
+  std::vector<std::string> chain_names;    // springs with a segment chain
+  std::vector<int> chain_segments;
+  std::vector<double> coil_force_top, coil_force_base;  // [point * chains + s] [N]
+  std::vector<double> spring_static_load;               // [point * chains + s] load at the node travel [N]
+  std::vector<double> state;          // [point * size + i] extended coordinates
+  std::vector<double> initial_state;  // [2 * size]: coordinates then rates at t = 0
+  // energy bookkeeping from t = 0 (quadratures), at the output points [N mm]
+  std::vector<double> drive_work, gas_work, viscous_loss, friction_loss, energy;
+  std::vector<FlexibleEvent> events;  // in the reported revolution
+  std::vector<double> contact_damping;  // per connection [N s/mm]
+  double start_time_s = 0.0;          // time of the reported revolution's first point
+  long steps = 0, rhs_evaluations = 0;
+};
+
+// integrate `options.revolutions` cam revolutions ending at stop_deg at one engine speed
+// [rpm] and control position; report the last from start_deg to stop_deg every step_deg.
+// An integrator failure returns StatusCode::integrator_failure naming the time, cam angle and
+// state; bad data (a contact without materials / width, compliance on a floating node)
+// throws InputError.
+Status run_flexible(const kin::Mechanism& mech, const Model& model, const std::vector<double>& controls,
+                    double engine_rpm_value, double start_deg, double stop_deg, double step_deg,
+                    const FlexibleOptions& options, FlexibleResult& out);
+
+// natural frequencies [Hz] of the flexible model linearised about its static equilibrium at
+// one cam angle (no speed): generalized eigenvalues of K x = w^2 M x, ascending. With
+// release_driver_contacts the contacts touching the driver carry no stiffness (the cam force
+// is the input, as in the handbook's multi-DOF models).
+Status flexible_modes(const kin::Mechanism& mech, const Model& model, const std::vector<double>& controls,
+                      double cam_deg, const FlexibleOptions& options, bool release_driver_contacts,
+                      std::vector<double>& frequencies_hz);
+
+}  // namespace camopt::dynamics

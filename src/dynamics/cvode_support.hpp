@@ -1,0 +1,74 @@
+#pragma once
+// what the time-domain dynamics models share (internal): owned SUNDIALS objects, a silent
+// CVODE error handler, the failure Status of a CVODE flag, and Catmull-Rom weights for the
+// tabulated kinematic path.
+#include <cvode/cvode.h>
+#include <nvector/nvector_serial.h>
+#include <sundials/sundials_context.h>
+#include <sunlinsol/sunlinsol_dense.h>
+#include <sunmatrix/sunmatrix_dense.h>
+
+#include <cstdlib>
+#include <sstream>
+#include <string>
+
+#include "camopt/core/error.hpp"
+
+namespace camopt::dynamics::detail {
+
+// owned SUNDIALS objects (CVODE, dense matrix and solver, state and tolerance vectors)
+struct Sundials {
+  SUNContext ctx = nullptr;
+  N_Vector y = nullptr, atol = nullptr, quad = nullptr;
+  SUNMatrix a = nullptr;
+  SUNLinearSolver ls = nullptr;
+  void* cvode = nullptr;
+  Sundials() = default;
+  Sundials(const Sundials&) = delete;
+  Sundials& operator=(const Sundials&) = delete;
+  ~Sundials() {
+    if (cvode) CVodeFree(&cvode);
+    if (ls) SUNLinSolFree(ls);
+    if (a) SUNMatDestroy(a);
+    if (quad) N_VDestroy(quad);
+    if (atol) N_VDestroy(atol);
+    if (y) N_VDestroy(y);
+    if (ctx) SUNContext_Free(&ctx);
+  }
+};
+
+// CVODE's error messages go into the returned Status, not to stderr
+inline void silent_error_handler(int, const char*, const char*, char*, void*) {}
+
+inline std::string format_number(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+// the name of a CVODE return flag (SUNDIALS returns a malloc'd string)
+inline std::string cvode_flag_name(int flag) {
+  char* name = CVodeGetReturnFlagName(flag);
+  const std::string why = name ? name : std::to_string(flag);
+  std::free(name);
+  return why;
+}
+
+// Catmull-Rom weights of the four points around u in [0, 1) (p_{i-1}, p_i, p_{i+1}, p_{i+2}),
+// and of the derivative d/du
+inline void catmull_rom_weights(double u, double w[4]) {
+  const double u2 = u * u, u3 = u2 * u;
+  w[0] = 0.5 * (-u + 2 * u2 - u3);
+  w[1] = 0.5 * (2 - 5 * u2 + 3 * u3);
+  w[2] = 0.5 * (u + 4 * u2 - 3 * u3);
+  w[3] = 0.5 * (-u2 + u3);
+}
+inline void catmull_rom_slopes(double u, double w[4]) {
+  const double u2 = u * u;
+  w[0] = 0.5 * (-1 + 4 * u - 3 * u2);
+  w[1] = 0.5 * (-10 * u + 9 * u2);
+  w[2] = 0.5 * (1 + 8 * u - 9 * u2);
+  w[3] = 0.5 * (-2 * u + 3 * u2);
+}
+
+}  // namespace camopt::dynamics::detail
