@@ -358,7 +358,7 @@ Status run_compliant(const kin::Mechanism& mech, const Model& model, const std::
                   "more than " + std::to_string(options.max_steps) + " steps and events (" +
                       std::to_string(out.events.size()) + " contact events, last '" + out.events.back().contact +
                       "'): the contacts chatter; raise max_steps or the contact damping",
-                  "t = " + fmt(t) + " s, cam " + fmt(start_deg + t * p.omega / kDeg) + " deg"};
+                  "t = " + detail::format_number(t) + " s, cam " + detail::format_number(start_deg + t * p.omega / kDeg) + " deg"};
         if (CVodeReInit(s.cvode, t, s.y) != CV_SUCCESS)
           return {StatusCode::integrator_failure, "CVodeReInit failed", "t = " + detail::format_number(t) + " s"};
         continue;
