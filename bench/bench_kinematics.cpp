@@ -6,6 +6,9 @@
 //    derivative self-check (jets against 6th-order central differences of the positions);
 //  - the CVVL 17-position sweep at 0.5 deg, single-threaded and with --threads.
 // usage: bench_kinematics [--repeat N] [--threads N] [--csv FILE] [--only DESIGN]
+//        bench_kinematics --sweep lift|deriv|all [--only DESIGN] [--positions N] [--stop DEG] [--repeat N]
+//   (--sweep: only one sweep of DESIGN, default cvvl_swing_cam, at 0.5 deg over N control
+//    positions, default 17, from 0 to DEG, default 360, single-threaded: for callgrind)
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -96,15 +99,65 @@ std::pair<double, double> derivative_self_check(const kin::Mechanism& m, const s
 int main(int argc, char** argv) {
   int repeat = 5, threads = 2;
   std::string csv_path, only;  // only: run just this bundled design (no accuracy case)
+  std::string sweep_mode;      // --sweep: one sweep only
+  int positions = 17;
+  double stop = 360.0;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--repeat") && i + 1 < argc) repeat = std::atoi(argv[++i]);
     else if (!std::strcmp(argv[i], "--threads") && i + 1 < argc) threads = std::atoi(argv[++i]);
     else if (!std::strcmp(argv[i], "--csv") && i + 1 < argc) csv_path = argv[++i];
     else if (!std::strcmp(argv[i], "--only") && i + 1 < argc) only = argv[++i];
+    else if (!std::strcmp(argv[i], "--sweep") && i + 1 < argc) sweep_mode = argv[++i];
+    else if (!std::strcmp(argv[i], "--positions") && i + 1 < argc) positions = std::atoi(argv[++i]);
+    else if (!std::strcmp(argv[i], "--stop") && i + 1 < argc) stop = std::atof(argv[++i]);
     else {
-      std::fprintf(stderr, "usage: bench_kinematics [--repeat N] [--threads N] [--csv FILE] [--only DESIGN]\n");
+      std::fprintf(stderr,
+                   "usage: bench_kinematics [--repeat N] [--threads N] [--csv FILE] [--only DESIGN]\n"
+                   "       bench_kinematics --sweep lift|deriv|all [--only DESIGN] [--positions N] [--stop DEG]\n");
       return 2;
     }
+  }
+  if (!sweep_mode.empty()) {
+    const std::string design = only.empty() ? "cvvl_swing_cam" : only;
+    const auto m = kin::compile(io::load_design(std::string(CAMOPT_SOURCE_DIR) + "/designs/" + design + ".toml"));
+    std::vector<double> controls;
+    const bool one = positions <= 1 || m.controls.empty();
+    for (int i = 0; i < (one ? 1 : positions); ++i)
+      controls.push_back(m.controls.empty() || one ? (m.controls.empty() ? 0.0 : m.controls[0].default_value)
+                                                   : m.controls[0].min + (m.controls[0].max - m.controls[0].min) * i /
+                                                                             (positions - 1));
+    kin::SweepSpec s;
+    s.start = 0.0;
+    s.stop = stop;
+    s.step = 0.5;
+    s.request = {sweep_mode == "lift" ? 0 : 3, sweep_mode == "all"};
+    for (double c : controls) {
+      std::vector<double> pos;
+      for (const auto& ctl : m.controls) pos.push_back(ctl.default_value);
+      if (!pos.empty()) pos[0] = c;
+      s.control_positions.push_back(pos);
+    }
+    long solved = 0, rejected = 0;
+    const double t = seconds_of(
+        [&] {
+          const auto r = kin::sweep(m, s);
+          solved = rejected = 0;
+          for (const auto& p : r.positions) {
+            if (!p.status.ok()) {
+              std::fprintf(stderr, "bench: %s: %s\n", design.c_str(), p.status.str().c_str());
+              std::exit(1);
+            }
+            solved += p.stats.points;
+            rejected += p.stats.rejected_steps;
+          }
+        },
+        repeat);
+    const double requested = static_cast<double>(controls.size()) * (std::lround(stop / 0.5) + 1);
+    std::printf("%s %s, %zu positions x 0..%g deg at 0.5 deg: best of %d %.3f ms, %.0f ns per requested point "
+                "(%ld solved, %ld steps halved)\n",
+                design.c_str(), sweep_mode.c_str(), controls.size(), stop, repeat, t * 1e3, t / requested * 1e9, solved,
+                rejected);
+    return 0;
   }
   std::vector<std::string> rows;
   rows.push_back("design,positions,points,mode,ns_per_point,total_ms,error_kind,error_rel_peak");

@@ -38,20 +38,22 @@ class CamProfile {
   // polar radius at a polar angle [rad] (excess radius = radius - base radius)
   double radius_at(double polar_angle_rad) const;
 
-  // second = false leaves ddx, ddy unset (cheaper: residuals need no curvature)
+  // second = false leaves ddx, ddy unset (cheaper: residuals need no curvature).
+  // memo (values only): fetch the spline through the per-thread memo below, for an
+  // iteration whose last parameter the derivative sweeps evaluate again
   template <class T>
-  CurvePoint<T> point(const T& u, bool second = true) const;
+  CurvePoint<T> point(const T& u, bool second = true, bool memo = false) const;
 
  private:
   // f, f', f'' of spline `which` (0: r or x, 1: y) at u, on jets or duals
   template <class T>
-  void spline_jets(int which, const T& u, T& f, T& f1, T& f2, bool second) const;
-  void spline_jets(int which, double u, double& f, double& f1, double& f2, bool second) const;
+  void spline_jets(int which, const T& u, T& f, T& f1, T& f2, bool second, bool memo) const;
+  void spline_jets(int which, double u, double& f, double& f1, double& f2, bool second, bool memo) const;
   // out[k] = f^(k)(u), k = 0..need, through a per-thread memo: one kinematic point
   // evaluates the same spline at the same parameter in several derivative sweeps
   // (jacobian, second and third order, contact outputs), so a miss fetches every order.
-  // Results are bit-identical to PeriodicSpline::evaluate. (Value sweeps bypass it: their
-  // parameters change on every iteration.)
+  // Results are bit-identical to PeriodicSpline::evaluate. (Value sweeps bypass it unless
+  // asked: their parameters change on every iteration.)
   void spline_derivatives(int which, double u, int need, double* out) const;
   const PeriodicSpline& spline(int which) const { return which == 0 ? (polar_ ? r_ : x_) : y_; }
   static std::uint64_t next_memo_id() noexcept {
@@ -92,16 +94,20 @@ inline void CamProfile::spline_derivatives(int which, double u, int need, double
   for (int k = 0; k <= need; ++k) out[k] = e.d[k];
 }
 
-inline void CamProfile::spline_jets(int which, double u, double& f, double& f1, double& f2, bool second) const {
+inline void CamProfile::spline_jets(int which, double u, double& f, double& f1, double& f2, bool second,
+                                     bool memo) const {
   double d[3];
-  spline(which).evaluate(u, second ? 2 : 1, d);
+  if (memo)
+    spline_derivatives(which, u, second ? 2 : 1, d);
+  else
+    spline(which).evaluate(u, second ? 2 : 1, d);
   f = d[0];
   f1 = d[1];
   if (second) f2 = d[2];
 }
 
 template <class T>
-void CamProfile::spline_jets(int which, const T& u, T& f, T& f1, T& f2, bool second) const {
+void CamProfile::spline_jets(int which, const T& u, T& f, T& f1, T& f2, bool second, bool /*memo: always*/) const {
   // f, f', f'' of order N need derivatives up to N + 2 (quintic: f^(5) piecewise constant)
   constexpr int N = detail::taylor_order<T>;
   double d[N + 3 > 6 ? N + 3 : 6] = {};
@@ -113,7 +119,7 @@ void CamProfile::spline_jets(int which, const T& u, T& f, T& f1, T& f2, bool sec
 }
 
 template <class T>
-CurvePoint<T> CamProfile::point(const T& u, bool second) const {
+CurvePoint<T> CamProfile::point(const T& u, bool second, bool memo) const {
   CurvePoint<T> p;
   T c, s;
   if (is_disc_ || polar_) sin_cos(u, s, c);
@@ -128,7 +134,7 @@ CurvePoint<T> CamProfile::point(const T& u, bool second) const {
   }
   if (polar_) {
     T r, r1, r2;
-    spline_jets(0, u, r, r1, r2, second);
+    spline_jets(0, u, r, r1, r2, second, memo);
     // p = r (cos u, sin u)
     p.x = r * c;
     p.y = r * s;
@@ -140,8 +146,8 @@ CurvePoint<T> CamProfile::point(const T& u, bool second) const {
     }
     return p;
   }
-  spline_jets(0, u, p.x, p.dx, p.ddx, second);
-  spline_jets(1, u, p.y, p.dy, p.ddy, second);
+  spline_jets(0, u, p.x, p.dx, p.ddx, second, memo);
+  spline_jets(1, u, p.y, p.dy, p.ddy, second, memo);
   return p;
 }
 

@@ -41,6 +41,7 @@ struct ContactState {
 
 struct SolveStats {
   long broyden_iterations = 0, newton_iterations = 0, newton_fallbacks = 0, points = 0;
+  long rejected_steps = 0;  // driver (or control) steps halved by the trust check
 };
 
 class Workspace {
@@ -48,7 +49,9 @@ class Workspace {
   explicit Workspace(const Mechanism& mech);
 
   // set control positions [deg or mm], in Mechanism::controls order; resets warm starts
-  void set_controls(std::span<const double> values);
+  // unless keep_warm_start (then the next solve continues from the last point, with the
+  // trust check below bounding the change)
+  void set_controls(std::span<const double> values, bool keep_warm_start = false);
   const std::vector<double>& controls() const { return controls_; }
   void reset();  // forget warm starts (next solve scans for contact points)
 
@@ -122,6 +125,11 @@ class Workspace {
     poses1.invalidate(node);
   }
   std::vector<bool> open;  // per plan step: lash gap open
+  // step control: a point is accepted only if no solved variable moved farther than its
+  // trust radius from the prediction and the prediction's highest taylor terms are within
+  // it too; otherwise the step from the last accepted point is halved
+  std::vector<double> trust_radius;  // per variable [rad or mm]; infinite for known ones
+  std::vector<double> predicted;     // per variable: the predictor's value at this point
   bool offset_contacts = true;  // use the one-equation form where it applies (off: tests compare)
   double prev_driver = 0.0, prev2_driver = 0.0;
   int history = 0;  // number of previous points available for prediction
