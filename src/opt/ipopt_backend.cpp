@@ -24,8 +24,8 @@ class CamTnlp : public Ipopt::TNLP {
   bool get_nlp_info(Index& n, Index& m, Index& nnz_jac_g, Index& nnz_h_lag, IndexStyleEnum& index_style) override {
     CamProblem& p = cache_.problem();
     n = p.variables();
-    m = 2 + static_cast<Index>(p.rows().size());
-    nnz_jac_g = 2 * n + static_cast<Index>(p.jacobian_pattern().size());
+    m = neq() + static_cast<Index>(p.rows().size());
+    nnz_jac_g = neq() * n + static_cast<Index>(p.jacobian_pattern().size());
     nnz_h_lag = 0;
     index_style = C_STYLE;
     return true;
@@ -38,7 +38,7 @@ class CamTnlp : public Ipopt::TNLP {
       x_u[j] = p.upper()[static_cast<std::size_t>(j)];
     }
     for (Index i = 0; i < m; ++i) {
-      g_l[i] = i < 2 ? 0.0 : -2e19;
+      g_l[i] = i < neq() ? 0.0 : -2e19;
       g_u[i] = 0.0;
     }
     return true;
@@ -65,9 +65,9 @@ class CamTnlp : public Ipopt::TNLP {
   bool eval_g(Index, const Number* x, bool, Index m, Number* g) override {
     if (!guarded(x, false)) return false;
     const Evaluation& e = cache_.eval();
-    g[0] = e.equality(0);
-    g[1] = e.equality(1);
-    for (Index i = 2; i < m; ++i) g[i] = e.g(i - 2);
+    const Index ne = neq();
+    for (Index i = 0; i < ne; ++i) g[i] = e.equality(i);
+    for (Index i = ne; i < m; ++i) g[i] = e.g(i - ne);
     return true;
   }
 
@@ -76,13 +76,13 @@ class CamTnlp : public Ipopt::TNLP {
     const auto& pattern = p.jacobian_pattern();
     if (values == nullptr) {
       Index k = 0;
-      for (Index r = 0; r < 2; ++r)
+      for (Index r = 0; r < neq(); ++r)
         for (Index j = 0; j < n; ++j, ++k) {
           rows[k] = r;
           cols[k] = j;
         }
       for (const auto& [r, j] : pattern) {
-        rows[k] = r + 2;
+        rows[k] = r + neq();
         cols[k] = j;
         ++k;
       }
@@ -91,7 +91,7 @@ class CamTnlp : public Ipopt::TNLP {
     if (!guarded(x, true)) return false;
     const Evaluation& e = cache_.eval();
     Index k = 0;
-    for (Index r = 0; r < 2; ++r)
+    for (Index r = 0; r < neq(); ++r)
       for (Index j = 0; j < n; ++j) values[k++] = p.equality_matrix()(r, j);
     for (const auto& [r, j] : pattern) values[k++] = e.jacobian(r, j);
     return true;
@@ -118,6 +118,7 @@ class CamTnlp : public Ipopt::TNLP {
   std::chrono::steady_clock::time_point t0_;
 
  private:
+  Index neq() { return static_cast<Index>(cache_.problem().equality_matrix().rows()); }
   bool guarded(const Number* x, bool gradients) {
     try {
       return cache_.at(x, gradients);
