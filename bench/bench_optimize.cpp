@@ -63,7 +63,9 @@ int main(int argc, char** argv) {
     opt::CamProblem problem(d, set, nullptr);
     for (const auto& s : solvers) {
       opt::SolverOptions so;
-      so.solver = opt::parse_solver(s);
+      // "ipopt-h": ipopt with the objective's own hessian instead of limited-memory bfgs
+      so.solver = opt::parse_solver(s == "ipopt-h" ? "ipopt" : s);
+      so.ipopt_objective_hessian = s == "ipopt-h";
       const auto r = opt::optimize(problem, so);
       rows.push_back({s, r.status.ok() ? "converged" : to_string(r.status.code), r.iterations, r.evaluations, r.seconds,
                       r.final.objective, r.max_violation});

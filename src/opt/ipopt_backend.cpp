@@ -18,15 +18,15 @@ using Ipopt::Number;
 
 class CamTnlp : public Ipopt::TNLP {
  public:
-  CamTnlp(CamProblem& p, const std::vector<double>& start, double time_limit)
-      : cache_(p), start_(start), time_limit_(time_limit), t0_(std::chrono::steady_clock::now()) {}
+  CamTnlp(CamProblem& p, const std::vector<double>& start, double time_limit, bool hessian)
+      : cache_(p), start_(start), time_limit_(time_limit), hessian_(hessian), t0_(std::chrono::steady_clock::now()) {}
 
   bool get_nlp_info(Index& n, Index& m, Index& nnz_jac_g, Index& nnz_h_lag, IndexStyleEnum& index_style) override {
     CamProblem& p = cache_.problem();
     n = p.variables();
     m = neq() + static_cast<Index>(p.rows().size());
     nnz_jac_g = neq() * n + static_cast<Index>(p.jacobian_pattern().size());
-    nnz_h_lag = 0;
+    nnz_h_lag = hessian_ ? n * (n + 1) / 2 : 0;
     index_style = C_STYLE;
     return true;
   }
@@ -97,6 +97,26 @@ class CamTnlp : public Ipopt::TNLP {
     return true;
   }
 
+  // the objective's hessian (lower triangle, dense); the constraints' curvature is left out
+  bool eval_h(Index n, const Number* x, bool, Number obj_factor, Index, const Number*, bool, Index, Index* rows,
+              Index* cols, Number* values) override {
+    if (!hessian_) return false;
+    Index k = 0;
+    if (values == nullptr) {
+      for (Index i = 0; i < n; ++i)
+        for (Index j = 0; j <= i; ++j, ++k) {
+          rows[k] = i;
+          cols[k] = j;
+        }
+      return true;
+    }
+    if (!guarded(x, false)) return false;
+    const Eigen::MatrixXd h = cache_.problem().objective_hessian();
+    for (Index i = 0; i < n; ++i)
+      for (Index j = 0; j <= i; ++j) values[k++] = obj_factor * h(i, j);
+    return true;
+  }
+
   bool intermediate_callback(Ipopt::AlgorithmMode, Index iter, Number, Number, Number, Number, Number, Number, Number,
                              Number, Index, const Ipopt::IpoptData*, Ipopt::IpoptCalculatedQuantities*) override {
     iterations_ = iter;
@@ -115,6 +135,7 @@ class CamTnlp : public Ipopt::TNLP {
   Ipopt::SolverReturn status_ = Ipopt::INTERNAL_ERROR;
   int iterations_ = 0;
   double time_limit_;
+  bool hessian_ = false;
   std::chrono::steady_clock::time_point t0_;
 
  private:
@@ -151,11 +172,11 @@ const char* describe(Ipopt::SolverReturn s) {
 }  // namespace
 
 void run_ipopt(CamProblem& problem, const SolverOptions& options, const std::vector<double>& start, SolveResult& result) {
-  Ipopt::SmartPtr<CamTnlp> nlp = new CamTnlp(problem, start, options.time_limit_s);
+  Ipopt::SmartPtr<CamTnlp> nlp = new CamTnlp(problem, start, options.time_limit_s, options.ipopt_objective_hessian);
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
   app->Options()->SetIntegerValue("print_level", std::getenv("CAMOPT_IPOPT_PRINT") ? 5 : 0);
   app->Options()->SetStringValue("sb", "yes");
-  app->Options()->SetStringValue("hessian_approximation", "limited-memory");
+  app->Options()->SetStringValue("hessian_approximation", options.ipopt_objective_hessian ? "exact" : "limited-memory");
   app->Options()->SetNumericValue("tol", options.tolerance);
   app->Options()->SetNumericValue("constr_viol_tol", options.constraint_tolerance);
   app->Options()->SetNumericValue("acceptable_tol", 1e3 * options.tolerance);

@@ -373,6 +373,17 @@ bool CamProblem::is_upper_limit(ConstraintKind kind) const {
   }
 }
 
+Eigen::MatrixXd CamProblem::objective_hessian() const {
+  Eigen::MatrixXd h = Eigen::MatrixXd::Zero(n_, n_);
+  if (!(spec_.objective.target_weight > 0.0)) return h;
+  std::size_t count = 0;
+  for (std::size_t i = 0; i < points_.size(); ++i) count += scalar_point(i) ? 1 : 0;
+  const double w = spec_.objective.target_weight / (static_cast<double>(std::max<std::size_t>(count, 1)) * 1e-6);
+  for (std::size_t i = 0; i < points_.size(); ++i)
+    if (scalar_point(i)) h.topLeftCorner(nv_, nv_).noalias() += 2.0 * w * points_[i].rows.row(0).transpose() * points_[i].rows.row(0);
+  return h;
+}
+
 bool CamProblem::scalar_point(std::size_t i) const noexcept { return points_[i].position == 0; }
 
 bool CamProblem::adjacent(std::size_t i) const noexcept {

@@ -88,6 +88,11 @@ class CamProblem {
   // envelope returns its status (the caller rejects the step)
   Status evaluate(std::span<const double> u, Evaluation& out, bool gradients);
 
+  // hessian of the objective at the last evaluate(): the target term's gauss-newton matrix
+  // 2 w sum_i r_i r_i^T (exact for a conventional cam, whose lift is linear in u); the area
+  // and peak terms are linear (zero). n x n
+  Eigen::MatrixXd objective_hessian() const;
+
   // coefficients of the lift model (conventional: acceleration [mm/deg^2]; swing: pitch-curve
   // lift h [mm]) for u
   std::vector<double> coefficients(std::span<const double> u) const;
