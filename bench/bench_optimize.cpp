@@ -1,8 +1,9 @@
 // optimisation benchmark: iterations, evaluations and time of every solver on the bundled
 // constraint sets, with the error of each result: the objective's distance from the best
 // objective any solver reached (same problem, so the same optimum), and the largest
-// normalised constraint violation (fraction of its limit).
-// usage: bench_optimize [--csv FILE] [--solvers a,b,c]
+// normalised constraint violation (fraction of its limit). cases: two conventional cams and
+// the CVVL swing cam over its 17 control positions.
+// usage: bench_optimize [--csv FILE] [--solvers a,b,c] [--only DESIGN_SUBSTRING]
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -17,34 +18,41 @@
 using namespace camopt;
 
 int main(int argc, char** argv) {
-  std::string csv_path;
+  std::string csv_path, only;
   std::vector<std::string> solvers = {"ipopt", "slsqp", "mma", "cobyla", "global"};
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--csv") && i + 1 < argc) {
       csv_path = argv[++i];
+    } else if (!std::strcmp(argv[i], "--only") && i + 1 < argc) {
+      only = argv[++i];
     } else if (!std::strcmp(argv[i], "--solvers") && i + 1 < argc) {
       solvers.clear();
       std::stringstream s(argv[++i]);
       for (std::string item; std::getline(s, item, ',');) solvers.push_back(item);
     } else {
-      std::fprintf(stderr, "usage: bench_optimize [--csv FILE] [--solvers ipopt,slsqp,mma,cobyla,global]\n");
+      std::fprintf(stderr, "usage: bench_optimize [--csv FILE] [--solvers ipopt,slsqp,mma,cobyla,global] "
+                           "[--only DESIGN_SUBSTRING]\n");
       return 2;
     }
   }
   const std::string root = CAMOPT_SOURCE_DIR;
   struct Case {
-    const char *design, *set;
+    const char *design, *set, *cam;
   };
-  const Case cases[] = {{"designs/roller_finger_follower.toml", "constraints/passenger_car_intake.toml"},
-                        {"designs/bucket_tappet.toml", "constraints/high_speed_bucket.toml"}};
+  // the swing case: the CVVL's swing cam over its 17 control positions (optimize --cam swing)
+  const Case cases[] = {{"designs/roller_finger_follower.toml", "constraints/passenger_car_intake.toml", "rotational"},
+                        {"designs/bucket_tappet.toml", "constraints/high_speed_bucket.toml", "rotational"},
+                        {"designs/cvvl_swing_cam.toml", "constraints/cvvl_swing_cam.toml", "swing"}};
   std::ostringstream csv;
   csv << "constraint_set,solver,variables,constraints,status,iterations,evaluations,time_s,objective,"
          "objective_error,max_violation\n";
   std::printf("| constraint set | solver | vars | constraints | status | iterations | evaluations | time s | "
               "objective | objective error | max violation |\n|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const Case& c : cases) {
+    if (!only.empty() && std::string(c.design).find(only) == std::string::npos) continue;
     const DesignSpec d = io::load_design(root + "/" + c.design);
-    const opt::OptimizationSpec set = io::load_constraints(root + "/" + c.set);
+    opt::OptimizationSpec set = io::load_constraints(root + "/" + c.set);
+    set.cam = c.cam;
     struct Row {
       std::string solver, status;
       int it, ev;
@@ -55,7 +63,9 @@ int main(int argc, char** argv) {
     opt::CamProblem problem(d, set, nullptr);
     for (const auto& s : solvers) {
       opt::SolverOptions so;
-      so.solver = opt::parse_solver(s);
+      // "ipopt-h": ipopt with the objective's own hessian instead of limited-memory bfgs
+      so.solver = opt::parse_solver(s == "ipopt-h" ? "ipopt" : s);
+      so.ipopt_objective_hessian = s == "ipopt-h";
       const auto r = opt::optimize(problem, so);
       rows.push_back({s, r.status.ok() ? "converged" : to_string(r.status.code), r.iterations, r.evaluations, r.seconds,
                       r.final.objective, r.max_violation});

@@ -11,6 +11,7 @@
 #include "camopt/io/constraint_file.hpp"
 #include "camopt/io/csv.hpp"
 #include "camopt/io/design_file.hpp"
+#include "camopt/kinematics/cam_profile.hpp"
 #include "camopt/kinematics/sweep.hpp"
 #include "camopt/opt/solve.hpp"
 #include "camopt/synthesis/envelope.hpp"
@@ -25,7 +26,7 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 
 struct OptimizeOptions {
-  std::string design, constraints, solver = "ipopt", out_dir;
+  std::string design, constraints, solver = "ipopt", out_dir, cam = "rotational";
   bool verify = false;
   int points = 1440;
   int max_iterations = 3000;
@@ -75,6 +76,7 @@ nlohmann::json constraint_report(const opt::CamProblem& p, const opt::Evaluation
     c["limit_is"] = upper ? "max" : "min";
     c["worst"] = value;
     c["worst_at_cam_deg"] = p.rows()[r].cam_deg;
+    if (p.is_swing()) c["worst_at_control"] = p.swing()->positions()[static_cast<std::size_t>(p.rows()[r].position)];
     c["normalised"] = g;  // (value - limit) / limit, <= 0 feasible
     c["satisfied"] = g <= 1e-6;
     out[name] = c;
@@ -91,9 +93,110 @@ nlohmann::json constraint_report(const opt::CamProblem& p, const opt::Evaluation
   return out;
 }
 
+// swing cam: the valve lift at every control position on the grid, the pitch curve, the
+// new swing profile with its exports, and (--verify) the kinematic solver on the new design
+void stage_swing_outputs(io::OutputTransaction& out, const OptimizeOptions& o, const DesignSpec& spec,
+                         opt::CamProblem& problem, const opt::SolveResult& result, nlohmann::json& report) {
+  opt::SwingCamLift& model = *problem.swing();
+  const std::vector<double> c = problem.coefficients(result.u);
+  std::vector<double> control, cam_deg, l0, l1, l2, l3;
+  Eigen::Matrix<double, 4, Eigen::Dynamic> rows(4, model.variables());
+  std::vector<double> peak(model.positions().size(), 0.0);
+  for (std::size_t i = 0; i < model.points().size(); ++i) {
+    const opt::SwingPoint& sp = model.points()[i];
+    double m[4];
+    Status st = model.evaluate(static_cast<int>(i), c, m, rows);
+    if (!st.ok()) throw NumericalError(st);
+    control.push_back(model.positions()[static_cast<std::size_t>(sp.position)]);
+    cam_deg.push_back(std::fmod(sp.cam_deg, 360.0));
+    l0.push_back(m[0]);
+    l1.push_back(m[1]);
+    l2.push_back(m[2]);
+    l3.push_back(m[3]);
+    peak[static_cast<std::size_t>(sp.position)] = std::max(peak[static_cast<std::size_t>(sp.position)], m[0]);
+  }
+  out.stage("lift.csv", io::format_csv({"control", "cam_deg", "lift_mm", "vel_mm_per_deg", "acc_mm_per_deg2",
+                                        "jerk_mm_per_deg3"},
+                                       {control, cam_deg, l0, l1, l2, l3}, 12));
+  std::vector<double> swing_deg, pitch_lift;
+  for (int i = 0; i <= 400; ++i) {
+    const double s = model.start_rad() + (model.end_rad() - model.start_rad()) * i / 400.0;
+    double h[5];
+    model.pitch_lift(c, s, h);
+    swing_deg.push_back(s * 180.0 / kPi);
+    pitch_lift.push_back(h[0]);
+  }
+  out.stage("swing_pitch.csv", io::format_csv({"swing_deg", "pitch_lift_mm"}, {swing_deg, pitch_lift}, 12));
+  nlohmann::json per_position = nlohmann::json::array();
+  for (std::size_t k = 0; k < peak.size(); ++k)
+    per_position.push_back({{"control", model.positions()[k]}, {"max_lift_mm", peak[k]}});
+  report["swing"] = {{"connection", model.connection()},
+                     {"working_curve_deg", {model.start_rad() * 180.0 / kPi, model.end_rad() * 180.0 / kPi}},
+                     {"dwell_pitch_radius_mm", model.dwell_radius_mm()},
+                     {"positions", per_position}};
+
+  // the swing cam's surface as a polar table, with the exports synthesize delivers
+  synthesis::SynthesisResult res;
+  for (const auto& p : spec.profiles)
+    if (p.name == model.profile_name()) res.profile = p;
+  res.profile.source_file.clear();
+  res.profile.form = ProfileForm::polar;
+  model.profile_table(c, std::max(o.points, 3600), res.profile.angle_deg, res.profile.radius_mm);
+  res.connection = model.connection();
+  for (const auto& k : spec.connections)
+    if (k.name == res.connection) res.follower_node = k.surface_a.shape == SurfaceShape::profile ? k.surface_b.node : k.surface_a.node;
+  const kin::CamProfile cam = kin::CamProfile::build(res.profile);
+  res.base_radius_mm = 1e300;
+  for (std::size_t i = 0; i < res.profile.angle_deg.size(); ++i) {
+    const double a = res.profile.angle_deg[i] * kPi / 180.0, r = res.profile.radius_mm[i];
+    const kin::CurvePoint<double> pt = cam.point(a, true);
+    const double speed = std::hypot(pt.dx, pt.dy);
+    const double cross = pt.dx * pt.ddy - pt.dy * pt.ddx;  // > 0 convex (counter-clockwise curve)
+    res.angle_deg.push_back(res.profile.angle_deg[i]);
+    res.radius_mm.push_back(r);
+    res.x_mm.push_back(r * std::cos(a));
+    res.y_mm.push_back(r * std::sin(a));
+    res.radius_of_curvature_mm.push_back(cross != 0.0 ? speed * speed * speed / cross : 1e12);
+    res.base_radius_mm = std::min(res.base_radius_mm, r);
+    res.max_radius_mm = std::max(res.max_radius_mm, r);
+  }
+  // the grinding table (a roller master around the whole swing cam, its unused far side
+  // included) is reported, not fatal
+  stage_profile_exports(out, o.out_dir, o.design, spec, res, std::nullopt, 0.25, report, true);
+
+  if (o.verify) {
+    // the kinematic solver on the new design at every position, on the optimiser's grid: its
+    // peak lift against the model's
+    const DesignSpec made = synthesis::with_profile(spec, res.profile);
+    const kin::Mechanism mech = kin::compile(made);
+    nlohmann::json v = nlohmann::json::array();
+    double worst = 0.0;
+    for (std::size_t k = 0; k < peak.size(); ++k) {
+      kin::SweepSpec sw;
+      sw.start = 0;
+      sw.stop = 360;
+      sw.step = problem.spec().grid_step_deg;
+      sw.control_positions = {model.controls(static_cast<int>(k))};
+      sw.request = {3, true};
+      const kin::SweepResult sr = kin::sweep(mech, sw);
+      if (!sr.positions[0].status.ok()) throw NumericalError(sr.positions[0].status);
+      const kin::PositionSummary sum = kin::summarize(mech, sr, 0);
+      worst = std::max(worst, std::abs(sum.max_lift - peak[k]));
+      v.push_back({{"control", model.positions()[k]},
+                   {"max_lift_mm", sum.max_lift},
+                   {"max_pressure_angle_deg", sum.max_pressure_angle_deg},
+                   {"duration_at_1mm_deg", sum.duration_at_1mm}});
+    }
+    report["verify"]["kinematics"] = {{"positions", v}, {"max_lift_difference_mm", worst}};
+    info("optimize --verify: the kinematic solver's peak lifts match the optimiser's to " + std::to_string(worst) +
+         " mm at " + std::to_string(peak.size()) + " control positions");
+  }
+}
+
 void run_optimize(const OptimizeOptions& o) {
   const DesignSpec spec = io::load_design(o.design);
-  const opt::OptimizationSpec set = io::load_constraints(o.constraints);
+  opt::OptimizationSpec set = io::load_constraints(o.constraints);
+  set.cam = o.cam;
   opt::SolverOptions so;
   so.solver = opt::parse_solver(o.solver);
   so.max_iterations = o.max_iterations;
@@ -142,6 +245,18 @@ void run_optimize(const OptimizeOptions& o) {
     out.stage("report.json", report.dump(2) + "\n");
     out.commit();
     throw NumericalError(result.status);
+  }
+
+  if (problem.is_swing()) {
+    stage_swing_outputs(out, o, spec, problem, result, report);
+    out.stage("report.json", report.dump(2) + "\n");
+    out.commit();
+    info("optimize: " + std::string(result.status.ok() ? "converged" : result.status.str()) + " in " +
+         std::to_string(result.iterations) + " iterations, " + std::to_string(result.seconds) + " s; objective " +
+         std::to_string(result.final.objective) + " -> " + o.out_dir +
+         "/lift.csv, swing_pitch.csv, profile.csv, report.json, design.toml, profile.dxf, grinding.csv");
+    if (!result.status.ok()) throw NumericalError(result.status);
+    return;
   }
 
   // the optimised lift over the cycle
@@ -268,6 +383,11 @@ void setup_optimize(CLI::App& app) {
   cmd->add_option("design", opts->design, "design file (TOML)")->required();
   cmd->add_option("--constraints", opts->constraints, "constraint set (TOML, see constraints/ and docs/optimisation.md)")
       ->required();
+  cmd->add_option("--cam", opts->cam,
+                  "which cam to optimise: rotational (the driver's; [event] lift model) or swing (a VVA swing cam's "
+                  "profile over every control position; [swing_profile])")
+      ->check(CLI::IsMember({"rotational", "swing"}))
+      ->capture_default_str();
   cmd->add_option("--solver", opts->solver, "ipopt, slsqp, mma, cobyla or global (multi-start slsqp)")
       ->capture_default_str();
   cmd->add_option("--out", opts->out_dir, "output directory")->required();

@@ -10,7 +10,8 @@ namespace camopt::cli {
 
 void stage_profile_exports(io::OutputTransaction& out, const std::string& out_dir, const std::string& design_path,
                            const DesignSpec& spec, const synthesis::SynthesisResult& res,
-                           std::optional<double> master_radius_mm, double grinding_step_deg, nlohmann::json& report) {
+                           std::optional<double> master_radius_mm, double grinding_step_deg, nlohmann::json& report,
+                           bool grinding_optional) {
   std::vector<double> excess(res.radius_mm.size());
   for (std::size_t i = 0; i < excess.size(); ++i) excess[i] = res.radius_mm[i] - res.base_radius_mm;
   report["profile"] = {{"name", res.profile.name},
@@ -31,15 +32,15 @@ void stage_profile_exports(io::OutputTransaction& out, const std::string& out_di
   Status st = synthesis::grinding_table(res.profile, master, grinding_step_deg, grind_deg, grind_lift);
   if (!st.ok()) {
     st.message = "grinding table with a " + std::to_string(master) + " mm master: " + st.message;
-    throw NumericalError(st);
+    if (!grinding_optional) throw NumericalError(st);
   }
   report["exports"] = {{"dxf", "profile.dxf"},
-                       {"grinding_table", "grinding.csv"},
+                       {"grinding_table", st.ok() ? std::string("grinding.csv") : "not computed: " + st.str()},
                        {"grinding_master_radius_mm", master},
                        {"grinding_master", master > 0 ? "roller" : "flat"}};
 
   out.stage("profile.dxf", io::dxf_closed_polyline(res.x_mm, res.y_mm, "CAM_" + res.profile.name));
-  out.stage("grinding.csv", io::format_csv({"cam_deg", "master_lift_mm"}, {grind_deg, grind_lift}, 12));
+  if (st.ok()) out.stage("grinding.csv", io::format_csv({"cam_deg", "master_lift_mm"}, {grind_deg, grind_lift}, 12));
   out.stage("profile.csv",
             io::format_csv({"angle_deg", "radius_mm", "excess_radius_mm", "x_mm", "y_mm", "radius_of_curvature_mm"},
                            {res.angle_deg, res.radius_mm, excess, res.x_mm, res.y_mm, res.radius_of_curvature_mm}, 12));

@@ -16,7 +16,7 @@ opt::RampSpec parse_ramp(const Table& t) {
 
 opt::OptimizationSpec parse(const toml::table& document, const Context& context) {
   const Table root(context, document, "");
-  root.allow({"schema", "set", "event", "limits", "load", "objective"});
+  root.allow({"schema", "set", "event", "swing_profile", "limits", "load", "objective"});
   if (const long long schema = root.integer("schema"); schema != 1)
     root.fail("schema", "value " + std::to_string(schema) + " is not a supported schema version (must be 1)");
   opt::OptimizationSpec s;
@@ -37,15 +37,29 @@ opt::OptimizationSpec parse(const toml::table& document, const Context& context)
     s.controls = c.values;
   }
 
-  const Table ev = root.table("event");
-  ev.allow({"start_deg", "duration_deg", "opening_ramp", "closing_ramp", "ramp_blend", "coefficients", "degree"});
-  s.event.start_deg = ev.number("start_deg");
-  s.event.duration_deg = ev.number("duration_deg", gt(0.0) & lt(360.0));
-  if (auto t = ev.optional_table("opening_ramp")) s.event.opening_ramp = parse_ramp(*t);
-  if (auto t = ev.optional_table("closing_ramp")) s.event.closing_ramp = parse_ramp(*t);
-  s.event.ramp_blend = ev.number_or("ramp_blend", 0.5, gt(0.0) & le(1.0));
-  s.event.coefficients = static_cast<int>(ev.integer_or("coefficients", 24, ge(6) & le(200)));
-  s.event.degree = static_cast<int>(ev.integer_or("degree", 3, ge(2) & le(5)));
+  // [event]: the conventional cam's lift model; [swing_profile]: the swing cam's pitch curve
+  // (optimize --cam swing). at least one of them.
+  if (!root.has("event") && !root.has("swing_profile")) root.table("event");  // names the missing table
+  if (auto ev_ = root.optional_table("event")) {
+    const Table& ev = *ev_;
+    ev.allow({"start_deg", "duration_deg", "opening_ramp", "closing_ramp", "ramp_blend", "coefficients", "degree"});
+    s.event.start_deg = ev.number("start_deg");
+    s.event.duration_deg = ev.number("duration_deg", gt(0.0) & lt(360.0));
+    if (auto t = ev.optional_table("opening_ramp")) s.event.opening_ramp = parse_ramp(*t);
+    if (auto t = ev.optional_table("closing_ramp")) s.event.closing_ramp = parse_ramp(*t);
+    s.event.ramp_blend = ev.number_or("ramp_blend", 0.5, gt(0.0) & le(1.0));
+    s.event.coefficients = static_cast<int>(ev.integer_or("coefficients", 24, ge(6) & le(200)));
+    s.event.degree = static_cast<int>(ev.integer_or("degree", 3, ge(2) & le(5)));
+  }
+  if (auto sw_ = root.optional_table("swing_profile")) {
+    const Table& sw = *sw_;
+    sw.allow({"start_deg", "end_deg", "coefficients", "degree", "positions"});
+    s.swing.start_deg = sw.number_or("start_deg", 1.0, ge(0.0) & lt(90.0));
+    s.swing.end_deg = sw.number_or("end_deg", 0.0, ge(0.0) & le(170.0));
+    s.swing.coefficients = static_cast<int>(sw.integer_or("coefficients", 20, ge(9) & le(200)));
+    s.swing.degree = static_cast<int>(sw.integer_or("degree", 5, ge(4) & le(7)));
+    if (sw.has("positions")) s.swing.positions = sw.numbers("positions").values;
+  }
 
   if (auto lt_ = root.optional_table("limits")) {
     const Table& l = *lt_;

@@ -105,8 +105,10 @@ CamContactModel::CamContactModel(const DesignSpec& spec, std::vector<double> con
 
 CamContactModel::~CamContactModel() = default;
 
-ContactWorkspace CamContactModel::make_workspace() const {
-  return ContactWorkspace(std::make_unique<ContactWorkspace::State>(impl_->up, impl_->down, controls_));
+ContactWorkspace CamContactModel::make_workspace() const { return make_workspace(controls_); }
+
+ContactWorkspace CamContactModel::make_workspace(const std::vector<double>& controls) const {
+  return ContactWorkspace(std::make_unique<ContactWorkspace::State>(impl_->up, impl_->down, controls));
 }
 
 Status CamContactModel::evaluate(double cam_rad, const double lift[3], ContactWorkspace& cws,

@@ -18,15 +18,15 @@ using Ipopt::Number;
 
 class CamTnlp : public Ipopt::TNLP {
  public:
-  CamTnlp(CamProblem& p, const std::vector<double>& start, double time_limit)
-      : cache_(p), start_(start), time_limit_(time_limit), t0_(std::chrono::steady_clock::now()) {}
+  CamTnlp(CamProblem& p, const std::vector<double>& start, double time_limit, bool hessian)
+      : cache_(p), start_(start), time_limit_(time_limit), hessian_(hessian), t0_(std::chrono::steady_clock::now()) {}
 
   bool get_nlp_info(Index& n, Index& m, Index& nnz_jac_g, Index& nnz_h_lag, IndexStyleEnum& index_style) override {
     CamProblem& p = cache_.problem();
     n = p.variables();
-    m = 2 + static_cast<Index>(p.rows().size());
-    nnz_jac_g = 2 * n + static_cast<Index>(p.jacobian_pattern().size());
-    nnz_h_lag = 0;
+    m = neq() + static_cast<Index>(p.rows().size());
+    nnz_jac_g = neq() * n + static_cast<Index>(p.jacobian_pattern().size());
+    nnz_h_lag = hessian_ ? n * (n + 1) / 2 : 0;
     index_style = C_STYLE;
     return true;
   }
@@ -38,7 +38,7 @@ class CamTnlp : public Ipopt::TNLP {
       x_u[j] = p.upper()[static_cast<std::size_t>(j)];
     }
     for (Index i = 0; i < m; ++i) {
-      g_l[i] = i < 2 ? 0.0 : -2e19;
+      g_l[i] = i < neq() ? 0.0 : -2e19;
       g_u[i] = 0.0;
     }
     return true;
@@ -65,9 +65,9 @@ class CamTnlp : public Ipopt::TNLP {
   bool eval_g(Index, const Number* x, bool, Index m, Number* g) override {
     if (!guarded(x, false)) return false;
     const Evaluation& e = cache_.eval();
-    g[0] = e.equality(0);
-    g[1] = e.equality(1);
-    for (Index i = 2; i < m; ++i) g[i] = e.g(i - 2);
+    const Index ne = neq();
+    for (Index i = 0; i < ne; ++i) g[i] = e.equality(i);
+    for (Index i = ne; i < m; ++i) g[i] = e.g(i - ne);
     return true;
   }
 
@@ -76,13 +76,13 @@ class CamTnlp : public Ipopt::TNLP {
     const auto& pattern = p.jacobian_pattern();
     if (values == nullptr) {
       Index k = 0;
-      for (Index r = 0; r < 2; ++r)
+      for (Index r = 0; r < neq(); ++r)
         for (Index j = 0; j < n; ++j, ++k) {
           rows[k] = r;
           cols[k] = j;
         }
       for (const auto& [r, j] : pattern) {
-        rows[k] = r + 2;
+        rows[k] = r + neq();
         cols[k] = j;
         ++k;
       }
@@ -91,9 +91,29 @@ class CamTnlp : public Ipopt::TNLP {
     if (!guarded(x, true)) return false;
     const Evaluation& e = cache_.eval();
     Index k = 0;
-    for (Index r = 0; r < 2; ++r)
+    for (Index r = 0; r < neq(); ++r)
       for (Index j = 0; j < n; ++j) values[k++] = p.equality_matrix()(r, j);
     for (const auto& [r, j] : pattern) values[k++] = e.jacobian(r, j);
+    return true;
+  }
+
+  // the objective's hessian (lower triangle, dense); the constraints' curvature is left out
+  bool eval_h(Index n, const Number* x, bool, Number obj_factor, Index, const Number*, bool, Index, Index* rows,
+              Index* cols, Number* values) override {
+    if (!hessian_) return false;
+    Index k = 0;
+    if (values == nullptr) {
+      for (Index i = 0; i < n; ++i)
+        for (Index j = 0; j <= i; ++j, ++k) {
+          rows[k] = i;
+          cols[k] = j;
+        }
+      return true;
+    }
+    if (!guarded(x, false)) return false;
+    const Eigen::MatrixXd h = cache_.problem().objective_hessian();
+    for (Index i = 0; i < n; ++i)
+      for (Index j = 0; j <= i; ++j) values[k++] = obj_factor * h(i, j);
     return true;
   }
 
@@ -115,9 +135,11 @@ class CamTnlp : public Ipopt::TNLP {
   Ipopt::SolverReturn status_ = Ipopt::INTERNAL_ERROR;
   int iterations_ = 0;
   double time_limit_;
+  bool hessian_ = false;
   std::chrono::steady_clock::time_point t0_;
 
  private:
+  Index neq() { return static_cast<Index>(cache_.problem().equality_matrix().rows()); }
   bool guarded(const Number* x, bool gradients) {
     try {
       return cache_.at(x, gradients);
@@ -150,11 +172,11 @@ const char* describe(Ipopt::SolverReturn s) {
 }  // namespace
 
 void run_ipopt(CamProblem& problem, const SolverOptions& options, const std::vector<double>& start, SolveResult& result) {
-  Ipopt::SmartPtr<CamTnlp> nlp = new CamTnlp(problem, start, options.time_limit_s);
+  Ipopt::SmartPtr<CamTnlp> nlp = new CamTnlp(problem, start, options.time_limit_s, options.ipopt_objective_hessian);
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
   app->Options()->SetIntegerValue("print_level", std::getenv("CAMOPT_IPOPT_PRINT") ? 5 : 0);
   app->Options()->SetStringValue("sb", "yes");
-  app->Options()->SetStringValue("hessian_approximation", "limited-memory");
+  app->Options()->SetStringValue("hessian_approximation", options.ipopt_objective_hessian ? "exact" : "limited-memory");
   app->Options()->SetNumericValue("tol", options.tolerance);
   app->Options()->SetNumericValue("constr_viol_tol", options.constraint_tolerance);
   app->Options()->SetNumericValue("acceptable_tol", 1e3 * options.tolerance);

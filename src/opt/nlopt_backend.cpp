@@ -143,7 +143,8 @@ void run_nlopt(CamProblem& problem, const SolverOptions& options, SolverKind alg
   Context ctx;
   ctx.cache = &cache;
 
-  const bool reduced = algorithm == SolverKind::mma;
+  const unsigned neq = static_cast<unsigned>(problem.equality_matrix().rows());
+  const bool reduced = algorithm == SolverKind::mma && neq > 0;
   nlopt_algorithm alg = algorithm == SolverKind::mma      ? NLOPT_LD_MMA
                         : algorithm == SolverKind::cobyla ? NLOPT_LN_COBYLA
                                                           : NLOPT_LD_SLSQP;
@@ -155,12 +156,12 @@ void run_nlopt(CamProblem& problem, const SolverOptions& options, SolverKind alg
     const Eigen::HouseholderQR<Eigen::MatrixXd> qr(a.transpose());
     const Eigen::MatrixXd q = qr.householderQ();
     ctx.reduced = true;
-    ctx.basis = q.rightCols(n - 2);
+    ctx.basis = q.rightCols(n - neq);
     ctx.particular = a.transpose() * (a * a.transpose()).ldlt().solve(problem.equality_rhs());
     const Eigen::Map<const Eigen::VectorXd> u0(start.data(), n);
     const Eigen::VectorXd z0 = ctx.basis.transpose() * (u0 - ctx.particular);
     x.assign(z0.data(), z0.data() + z0.size());
-    dim = n - 2;
+    dim = n - neq;
   }
   nlopt_opt opt = nlopt_create(alg, dim);
   ctx.opt = opt;
@@ -181,9 +182,9 @@ void run_nlopt(CamProblem& problem, const SolverOptions& options, SolverKind alg
     nlopt_set_lower_bounds(opt, problem.lower().data());
     nlopt_set_upper_bounds(opt, problem.upper().data());
     nlopt_set_min_objective(opt, objective, &ctx);
-    const std::vector<double> tol_g(m, options.constraint_tolerance), tol_h(2, 1e-12);
+    const std::vector<double> tol_g(m, options.constraint_tolerance), tol_h(neq, 1e-12);
     if (m > 0) nlopt_add_inequality_mconstraint(opt, m, inequalities, &ctx, tol_g.data());
-    nlopt_add_equality_mconstraint(opt, 2, equalities, &ctx, tol_h.data());
+    if (neq > 0) nlopt_add_equality_mconstraint(opt, neq, equalities, &ctx, tol_h.data());
   }
   // the lift-matching objective is ill-conditioned in the acceleration coefficients (a
   // double integral): stop on the objective's change three orders below the tolerance

@@ -45,7 +45,7 @@ Quantity parse_quantity(const std::string& name, const std::string& what) {
 }
 
 void validate(const OptimizationSpec& s, double crank_per_cam) {
-  validate(s.event);
+  if (s.cam == "rotational") validate(s.event);
   if (!(std::isfinite(s.grid_step_deg) && s.grid_step_deg >= 0.01 && s.grid_step_deg <= 5.0))
     throw InputError("grid_step_deg = " + num(s.grid_step_deg) + " cam deg: must be in [0.01, 5]");
   if (!(std::isfinite(s.rpm) && s.rpm >= 0.0)) throw InputError("rpm = " + num(s.rpm) + ": must be finite and >= 0");
@@ -82,7 +82,10 @@ void validate(const OptimizationSpec& s, double crank_per_cam) {
                      num(*l.max_duration_deg) + " cam deg: contradictory constraints");
   if ((l.min_duration_deg || l.max_duration_deg) && !l.duration_check_height_mm)
     throw InputError("limits.min_duration_deg / max_duration_deg need limits.duration_check_height_mm");
-  if (l.min_duration_deg && *l.min_duration_deg >= s.event.duration_deg)
+  if (s.cam != "rotational" && s.cam != "swing")
+    throw InputError("cam = '" + s.cam + "': must be rotational or swing");
+  if (s.cam == "swing") validate(s.swing);
+  if (s.cam == "rotational" && l.min_duration_deg && *l.min_duration_deg >= s.event.duration_deg)
     throw InputError("limits.min_duration_deg = " + num(*l.min_duration_deg) + " cam deg: must be below event.duration_deg = " +
                      num(s.event.duration_deg) + " cam deg (the lift is zero outside the event): contradictory constraints");
   if (l.duration_check_height_mm && l.max_lift_mm && *l.duration_check_height_mm >= *l.max_lift_mm)
@@ -115,7 +118,7 @@ void validate(const OptimizationSpec& s, double crank_per_cam) {
     throw InputError("objective: give at least one of target_weight, area_weight, peak_weight > 0");
   if (o.target_weight > 0.0 && o.target_file.empty())
     throw InputError("objective.target_weight = " + num(o.target_weight) + " needs objective.target (a lift csv)");
-  if (o.target_file.empty() && !(s.initial_max_lift_mm > 0.0))
+  if (s.cam == "rotational" && o.target_file.empty() && !(s.initial_max_lift_mm > 0.0))
     throw InputError("initial_max_lift_mm = " + num(s.initial_max_lift_mm) +
                      " mm: without an objective.target the initial design needs a lift > 0");
 }

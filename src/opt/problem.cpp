@@ -58,6 +58,7 @@ const char* to_string(ConstraintKind kind) {
 
 struct CamProblem::GridPoint {
   double deg = 0.0;
+  int position = 0;                               // swing: control position index
   std::array<double, 4> constant{};
   Eigen::Matrix<double, 4, Eigen::Dynamic> rows;  // d^k L / dtheta^k per unit of u [mm/deg^k]
   bool variable = false;                          // inside the main part (rows not all zero)
@@ -66,29 +67,41 @@ struct CamProblem::GridPoint {
 CamProblem::~CamProblem() = default;
 
 CamProblem::CamProblem(const DesignSpec& design, const OptimizationSpec& spec, const PeriodicSpline* target_lift)
-    : spec_(spec), lift_(AccelerationSplineLift::compile(spec.event)) {
+    : spec_(spec) {
   validate(spec_, design.driver.crank_per_cam);
+  const bool swing = spec_.cam == "swing";
+  if (swing) {
+    swing_ = std::make_unique<SwingCamLift>(design, spec_.swing, spec_.grid_step_deg);
+    nv_ = swing_->variables();
+  } else {
+    lift_.emplace(AccelerationSplineLift::compile(spec_.event));
+    nv_ = lift_->variables();
+  }
   const auto& lim = spec_.limits;
   omega_ = spec_.rpm / design.driver.crank_per_cam * 2.0 * std::numbers::pi / 60.0;
 
   // ramps against the seating / opening velocity limits: fixed by the event, so a miss is a
   // contradiction between [event] and [limits]
   const double to_m_per_s = omega_ * kDegPerRad * 1e-3;  // [mm/deg] -> [m/s]
-  if (lim.max_seating_velocity_m_per_s && lift_.closing_ramp().velocity() * to_m_per_s > *lim.max_seating_velocity_m_per_s)
+  if (lift_ && lim.max_seating_velocity_m_per_s && lift_->closing_ramp().velocity() * to_m_per_s > *lim.max_seating_velocity_m_per_s)
     throw InputError("event.closing_ramp gives a seating velocity of " +
-                     num(lift_.closing_ramp().velocity() * to_m_per_s) + " m/s at " + num(spec_.rpm) +
+                     num(lift_->closing_ramp().velocity() * to_m_per_s) + " m/s at " + num(spec_.rpm) +
                      " rpm, above limits.max_seating_velocity_m_per_s = " + num(*lim.max_seating_velocity_m_per_s) +
                      ": lengthen the closing ramp or lower its height");
-  if (lim.max_opening_ramp_velocity_m_per_s &&
-      lift_.opening_ramp().velocity() * to_m_per_s > *lim.max_opening_ramp_velocity_m_per_s)
-    throw InputError("event.opening_ramp gives a ramp velocity of " + num(lift_.opening_ramp().velocity() * to_m_per_s) +
+  if (lift_ && lim.max_opening_ramp_velocity_m_per_s &&
+      lift_->opening_ramp().velocity() * to_m_per_s > *lim.max_opening_ramp_velocity_m_per_s)
+    throw InputError("event.opening_ramp gives a ramp velocity of " + num(lift_->opening_ramp().velocity() * to_m_per_s) +
                      " m/s at " + num(spec_.rpm) + " rpm, above limits.max_opening_ramp_velocity_m_per_s = " +
                      num(*lim.max_opening_ramp_velocity_m_per_s));
 
   need_contact_ = needs_contact(spec_);
   if (need_contact_) {
-    contact_ = std::make_unique<CamContactModel>(design, spec_.controls);
-    contact_ws_ = std::make_unique<ContactWorkspace>(contact_->make_workspace());
+    // swing: the model names the contact, its follower and materials; the quantities come
+    // from the swing profile itself (SwingContact), never from its envelope
+    contact_ = std::make_unique<CamContactModel>(design, spec_.controls, spec_.cam);
+    if (!swing) contact_ws_.push_back(contact_->make_workspace());
+    if (swing && lim.max_sliding_speed_m_per_s)
+      throw InputError("limits.max_sliding_speed_m_per_s: not available for a swing cam (its follower is a roller)");
     if (lim.max_roller_speed_rpm && contact_->follower_shape() != FollowerShape::roller)
       throw InputError("limits.max_roller_speed_rpm: the follower of contact '" + contact_->connection() +
                        "' is not a roller");
@@ -119,65 +132,101 @@ CamProblem::CamProblem(const DesignSpec& design, const OptimizationSpec& spec, c
   } else if (spec_.objective.peak_weight > 0 && spec_.objective.peak == Quantity::hertz_stress) {
     throw InputError("objective.peak = hertz_stress needs a [load] table");
   }
+  if (swing && spec_.objective.peak_weight > 0 && spec_.objective.peak != Quantity::acceleration &&
+      spec_.objective.peak != Quantity::deceleration && spec_.objective.peak != Quantity::jerk &&
+      spec_.objective.peak != Quantity::pressure_angle)
+    throw InputError(std::string("objective.peak = ") + to_string(spec_.objective.peak) +
+                     ": a swing cam minimises the peak of acceleration, deceleration, jerk or pressure_angle");
 
-  // grid over the event, ramps included
-  const double dur = spec_.event.duration_deg;
-  const int steps = std::max(8, static_cast<int>(std::ceil(dur / spec_.grid_step_deg - 1e-9)));
-  const int nv = lift_.variables();
-  points_.resize(static_cast<std::size_t>(steps) + 1);
-  grid_.resize(points_.size());
-  for (int i = 0; i <= steps; ++i) {
-    GridPoint& gp = points_[static_cast<std::size_t>(i)];
-    gp.deg = spec_.event.start_deg + dur * i / steps;
-    grid_[static_cast<std::size_t>(i)] = gp.deg;
-    gp.rows.resize(4, nv);
-    lift_.rows(gp.deg, gp.constant, gp.rows);
-    gp.variable = gp.rows.cwiseAbs().maxCoeff() > 0.0;
-  }
-
-  // initial lift: the target, else a 4-5-6-7 event of the initial lift with the ramps
-  std::function<double(double)> initial;
-  synthesis::LiftEvent event;
-  if (target_lift) {
-    for (const auto& gp : points_) target_.push_back((*target_lift)(gp.deg / kDegPerRad));
-    initial = [target_lift](double deg) { return (*target_lift)(deg / kDegPerRad); };
+  if (swing) {
+    // grid: the working points of every control position (SwingCamLift); the target applies
+    // at the full-lift position 0
+    for (const SwingPoint& sp : swing_->points()) {
+      GridPoint gp;
+      gp.deg = sp.cam_deg;
+      gp.position = sp.position;
+      gp.rows.setZero(4, nv_);
+      gp.variable = false;  // the dwell keeps the valve shut: no lift_nonnegative rows
+      points_.push_back(std::move(gp));
+      grid_.push_back(sp.cam_deg);
+      if (target_lift) target_.push_back(sp.position == 0 ? (*target_lift)(sp.cam_deg / kDegPerRad) : 0.0);
+    }
+    const std::vector<double>& c0 = swing_->initial();
+    double cmax = 0.0;
+    for (double c : c0) cmax = std::max(cmax, std::abs(c));
+    coef_scale_ = spec_.coefficient_bound > 0 ? spec_.coefficient_bound : 1.5 * cmax;
+    if (!(coef_scale_ > 0)) coef_scale_ = 1.0;
+    start_.resize(static_cast<std::size_t>(nv_));
+    for (int j = 0; j < nv_; ++j)
+      start_[static_cast<std::size_t>(j)] = std::clamp(c0[static_cast<std::size_t>(j)] / coef_scale_, 0.0, 1.0);
   } else {
-    synthesis::LiftEventSpec es;
-    es.max_lift_mm = spec_.initial_max_lift_mm;
-    es.peak_deg = std::fmod(spec_.event.start_deg + 0.5 * dur + 360.0, 360.0);
-    es.ramp_blend = spec_.event.ramp_blend;
-    es.opening = {synthesis::LawKind::polynomial_4567, 0.5 * dur, spec_.event.opening_ramp.height_mm,
-                  spec_.event.opening_ramp.length_deg, {}, 3};
-    es.closing = {synthesis::LawKind::polynomial_4567, 0.5 * dur, spec_.event.closing_ramp.height_mm,
-                  spec_.event.closing_ramp.length_deg, {}, 3};
-    event = synthesis::LiftEvent::compile(es);
-    initial = [&event](double deg) { return event.evaluate(deg).lift; };
-  }
-  const std::vector<double> c0 = lift_.fit(initial, 0.25);
-  double cmax = 0.0;
-  for (double c : c0) cmax = std::max(cmax, std::abs(c));
-  coef_scale_ = spec_.coefficient_bound > 0 ? spec_.coefficient_bound
-                : lim.acc_max_mm_per_deg2 || lim.acc_min_mm_per_deg2
-                    ? 3.0 * std::max(lim.acc_max_mm_per_deg2.value_or(0.0), -lim.acc_min_mm_per_deg2.value_or(0.0))
-                    : 3.0 * cmax;
-  if (!(coef_scale_ > 0)) coef_scale_ = 1e-2;
-  for (auto& gp : points_) gp.rows *= coef_scale_;
+    // grid over the event, ramps included
+    const double dur = spec_.event.duration_deg;
+    const int steps = std::max(8, static_cast<int>(std::ceil(dur / spec_.grid_step_deg - 1e-9)));
+    const int nv = nv_;
+    points_.resize(static_cast<std::size_t>(steps) + 1);
+    grid_.resize(points_.size());
+    for (int i = 0; i <= steps; ++i) {
+      GridPoint& gp = points_[static_cast<std::size_t>(i)];
+      gp.deg = spec_.event.start_deg + dur * i / steps;
+      grid_[static_cast<std::size_t>(i)] = gp.deg;
+      gp.rows.resize(4, nv);
+      lift_->rows(gp.deg, gp.constant, gp.rows);
+      gp.variable = gp.rows.cwiseAbs().maxCoeff() > 0.0;
+    }
 
+    // initial lift: the target, else a 4-5-6-7 event of the initial lift with the ramps
+    std::function<double(double)> initial;
+    synthesis::LiftEvent event;
+    if (target_lift) {
+      for (const auto& gp : points_) target_.push_back((*target_lift)(gp.deg / kDegPerRad));
+      initial = [target_lift](double deg) { return (*target_lift)(deg / kDegPerRad); };
+    } else {
+      synthesis::LiftEventSpec es;
+      es.max_lift_mm = spec_.initial_max_lift_mm;
+      es.peak_deg = std::fmod(spec_.event.start_deg + 0.5 * dur + 360.0, 360.0);
+      es.ramp_blend = spec_.event.ramp_blend;
+      es.opening = {synthesis::LawKind::polynomial_4567, 0.5 * dur, spec_.event.opening_ramp.height_mm,
+                    spec_.event.opening_ramp.length_deg, {}, 3};
+      es.closing = {synthesis::LawKind::polynomial_4567, 0.5 * dur, spec_.event.closing_ramp.height_mm,
+                    spec_.event.closing_ramp.length_deg, {}, 3};
+      event = synthesis::LiftEvent::compile(es);
+      initial = [&event](double deg) { return event.evaluate(deg).lift; };
+    }
+    const std::vector<double> c0 = lift_->fit(initial, 0.25);
+    double cmax = 0.0;
+    for (double c : c0) cmax = std::max(cmax, std::abs(c));
+    coef_scale_ = spec_.coefficient_bound > 0 ? spec_.coefficient_bound
+                  : lim.acc_max_mm_per_deg2 || lim.acc_min_mm_per_deg2
+                      ? 3.0 * std::max(lim.acc_max_mm_per_deg2.value_or(0.0), -lim.acc_min_mm_per_deg2.value_or(0.0))
+                      : 3.0 * cmax;
+    if (!(coef_scale_ > 0)) coef_scale_ = 1e-2;
+    for (auto& gp : points_) gp.rows *= coef_scale_;
+    start_.resize(static_cast<std::size_t>(nv));
+    for (int j = 0; j < nv; ++j)
+      start_[static_cast<std::size_t>(j)] = std::clamp(c0[static_cast<std::size_t>(j)] / coef_scale_, -1.0, 1.0);
+  }
   const bool peak = spec_.objective.peak_weight > 0.0;
-  n_ = nv + (peak ? 1 : 0);
+  n_ = nv_ + (peak ? 1 : 0);
   lower_.assign(static_cast<std::size_t>(n_), -1.0);
   upper_.assign(static_cast<std::size_t>(n_), 1.0);
   start_.resize(static_cast<std::size_t>(n_));
-  for (int j = 0; j < nv; ++j) start_[static_cast<std::size_t>(j)] = std::clamp(c0[static_cast<std::size_t>(j)] / coef_scale_, -1.0, 1.0);
-  eq_a_ = lift_.closure_matrix() * coef_scale_;
-  eq_a_.conservativeResize(2, n_);
-  if (peak) eq_a_.col(n_ - 1).setZero();
-  eq_b_ = lift_.closure_rhs();
-  // normalise the closure rows (velocity [mm/deg], lift [mm]) to O(1)
-  for (int r = 0; r < 2; ++r) {
-    const double s = std::max(eq_a_.row(r).cwiseAbs().maxCoeff(), 1e-300);
-    eq_a_.row(r) /= s;
-    eq_b_(r) /= s;
+  if (swing) {
+    // h >= 0 (the b-spline's convex hull): the working curve never dips below the dwell
+    std::fill(lower_.begin(), lower_.begin() + nv_, 0.0);
+    eq_a_.setZero(0, n_);
+    eq_b_.setZero(0);
+  } else {
+    eq_a_ = lift_->closure_matrix() * coef_scale_;
+    eq_a_.conservativeResize(2, n_);
+    if (peak) eq_a_.col(n_ - 1).setZero();
+    eq_b_ = lift_->closure_rhs();
+    // normalise the closure rows (velocity [mm/deg], lift [mm]) to O(1)
+    for (int r = 0; r < 2; ++r) {
+      const double s = std::max(eq_a_.row(r).cwiseAbs().maxCoeff(), 1e-300);
+      eq_a_.row(r) /= s;
+      eq_b_(r) /= s;
+    }
   }
 
   build_rows();
@@ -198,11 +247,13 @@ CamProblem::CamProblem(const DesignSpec& design, const OptimizationSpec& spec, c
     upper_[static_cast<std::size_t>(n_ - 1)] = 10.0;
   }
   {
+    std::vector<std::array<double, 4>> motion;
+    if (Status st = motions(start_, motion); !st.ok())
+      throw NumericalError({st.code, "the initial design: " + st.message, st.where});
     double a = 0.0;
-    const std::vector<double> c = coefficients(start_);
     for (std::size_t i = 0; i + 1 < points_.size(); ++i)
-      a += 0.5 * (lift_.evaluate(c, points_[i].deg).lift + lift_.evaluate(c, points_[i + 1].deg).lift) *
-           (points_[i + 1].deg - points_[i].deg);
+      if (scalar_point(i) && adjacent(i))
+        a += 0.5 * (motion[i][0] + motion[i + 1][0]) * (points_[i + 1].deg - points_[i].deg);
     area0_ = a > 0 ? a : 1.0;
   }
 }
@@ -210,14 +261,16 @@ CamProblem::CamProblem(const DesignSpec& design, const OptimizationSpec& spec, c
 void CamProblem::build_rows() {
   const auto& lim = spec_.limits;
   const bool peak = spec_.objective.peak_weight > 0.0;
-  const int nv = lift_.variables();
+  const int nv = nv_;
   rows_.clear();
   pattern_.clear();
   auto add = [&](ConstraintKind kind, int grid, const std::vector<int>& derivs, bool peak_col) {
     const int r = static_cast<int>(rows_.size());
-    rows_.push_back({kind, grid >= 0 ? points_[static_cast<std::size_t>(grid)].deg : 0.0, grid});
+    rows_.push_back({kind, grid >= 0 ? points_[static_cast<std::size_t>(grid)].deg : 0.0, grid,
+                     grid >= 0 ? points_[static_cast<std::size_t>(grid)].position : 0});
     for (int j = 0; j < nv; ++j) {
-      bool nz = grid < 0;  // scalar constraints: dense
+      // scalar constraints, and every swing-cam row (the contact moves along the profile): dense
+      bool nz = grid < 0 || swing_ != nullptr;
       if (grid >= 0)
         for (int k : derivs) nz = nz || points_[static_cast<std::size_t>(grid)].rows(k, j) != 0.0;
       if (nz) pattern_.emplace_back(r, j);
@@ -258,7 +311,7 @@ void CamProblem::build_rows() {
 }
 
 std::vector<double> CamProblem::coefficients(std::span<const double> u) const {
-  std::vector<double> c(static_cast<std::size_t>(lift_.variables()));
+  std::vector<double> c(static_cast<std::size_t>(nv_));
   for (std::size_t j = 0; j < c.size(); ++j) c[j] = u[j] * coef_scale_;
   return c;
 }
@@ -320,9 +373,49 @@ bool CamProblem::is_upper_limit(ConstraintKind kind) const {
   }
 }
 
+Eigen::MatrixXd CamProblem::objective_hessian() const {
+  Eigen::MatrixXd h = Eigen::MatrixXd::Zero(n_, n_);
+  if (!(spec_.objective.target_weight > 0.0)) return h;
+  std::size_t count = 0;
+  for (std::size_t i = 0; i < points_.size(); ++i) count += scalar_point(i) ? 1 : 0;
+  const double w = spec_.objective.target_weight / (static_cast<double>(std::max<std::size_t>(count, 1)) * 1e-6);
+  for (std::size_t i = 0; i < points_.size(); ++i)
+    if (scalar_point(i)) h.topLeftCorner(nv_, nv_).noalias() += 2.0 * w * points_[i].rows.row(0).transpose() * points_[i].rows.row(0);
+  return h;
+}
+
+bool CamProblem::scalar_point(std::size_t i) const noexcept { return points_[i].position == 0; }
+
+bool CamProblem::adjacent(std::size_t i) const noexcept {
+  return i + 1 < points_.size() && points_[i].position == points_[i + 1].position &&
+         std::abs(points_[i + 1].deg - points_[i].deg - spec_.grid_step_deg) < 1e-6;
+}
+
+Status CamProblem::motions(std::span<const double> u, std::vector<std::array<double, 4>>& motion) {
+  const Eigen::Map<const Eigen::VectorXd> us(u.data(), nv_);
+  motion.resize(points_.size());
+  swing_contact_.resize(swing_ ? points_.size() : 1);
+  if (!swing_) {
+    for (std::size_t i = 0; i < points_.size(); ++i)
+      for (int k = 0; k < 4; ++k)
+        motion[i][static_cast<std::size_t>(k)] =
+            points_[i].constant[static_cast<std::size_t>(k)] + points_[i].rows.row(k).dot(us);
+    return Status::success();
+  }
+  // swing cam: the lift is nonlinear in u; the rows are its gradient at u (per unit of u)
+  const std::vector<double> c = coefficients(u);
+  for (std::size_t i = 0; i < points_.size(); ++i) {
+    GridPoint& gp = points_[i];
+    if (Status st = swing_->evaluate(static_cast<int>(i), c, motion[i].data(), gp.rows, &swing_contact_[i]); !st.ok())
+      return st;
+    gp.rows *= coef_scale_;
+  }
+  return Status::success();
+}
+
 Status CamProblem::evaluate(std::span<const double> u, Evaluation& e, bool gradients) {
   CAMOPT_ASSERT(static_cast<int>(u.size()) == n_);
-  const int nv = lift_.variables();
+  const int nv = nv_;
   const auto& lim = spec_.limits;
   const Eigen::Map<const Eigen::VectorXd> uv(u.data(), n_);
   const Eigen::VectorXd us = uv.head(nv);
@@ -343,16 +436,17 @@ Status CamProblem::evaluate(std::span<const double> u, Evaluation& e, bool gradi
   double f = 0.0;
   Eigen::VectorXd df = Eigen::VectorXd::Zero(n_);
   const std::size_t np = points_.size();
-  std::vector<std::array<double, 4>> motion(np);
-  for (std::size_t i = 0; i < np; ++i) {
-    const GridPoint& gp = points_[i];
-    for (int k = 0; k < 4; ++k) motion[i][static_cast<std::size_t>(k)] = gp.constant[static_cast<std::size_t>(k)] + gp.rows.row(k).dot(us);
-  }
+  std::vector<std::array<double, 4>> motion;
+  if (Status st = motions(u, motion); !st.ok()) return st;
   if (spec_.objective.target_weight > 0.0) {
-    // mean squared error in um^2: 1 um is the scale of interest of a lift match
-    const double w = spec_.objective.target_weight / (static_cast<double>(np) * 1e-6);
+    // mean squared error in um^2: 1 um is the scale of interest of a lift match. swing cam:
+    // at the full-lift position, and where the target is closed only an open valve counts
+    std::size_t count = 0;
+    for (std::size_t i = 0; i < np; ++i) count += scalar_point(i) ? 1 : 0;
+    const double w = spec_.objective.target_weight / (static_cast<double>(std::max<std::size_t>(count, 1)) * 1e-6);
     for (std::size_t i = 0; i < np; ++i) {
-      const double d = motion[i][0] - target_[i];
+      if (!scalar_point(i)) continue;
+      const double d = swing_ && target_[i] <= 0.0 ? std::max(motion[i][0], 0.0) : motion[i][0] - target_[i];
       f += w * d * d;
       if (gradients) df.head(nv) += 2.0 * w * d * points_[i].rows.row(0).transpose();
     }
@@ -360,6 +454,7 @@ Status CamProblem::evaluate(std::span<const double> u, Evaluation& e, bool gradi
   if (spec_.objective.area_weight > 0.0) {
     const double w = spec_.objective.area_weight / area0_;
     for (std::size_t i = 0; i + 1 < np; ++i) {
+      if (!scalar_point(i) || !adjacent(i)) continue;
       const double h = 0.5 * (points_[i + 1].deg - points_[i].deg);
       f -= w * h * (motion[i][0] + motion[i + 1][0]);
       if (gradients) df.head(nv) -= w * h * (points_[i].rows.row(0) + points_[i + 1].rows.row(0)).transpose();
@@ -382,22 +477,26 @@ Status CamProblem::evaluate(std::span<const double> u, Evaluation& e, bool gradi
     const auto& mo = motion[i];
     bool have_contact = false;
     auto contact = [&]() -> Status {
-      if (have_contact) return Status::success();
+      if (have_contact || swing_) return Status::success();
       const double lift[3] = {mo[0], mo[1] * r1, mo[2] * r2};
-      Status st = contact_->evaluate(gp.deg / kDegPerRad, lift, *contact_ws_, cq);
+      Status st = contact_->evaluate(gp.deg / kDegPerRad, lift, contact_ws_[static_cast<std::size_t>(gp.position)], cq);
       if (!st.ok()) return st;
       have_contact = true;
       return Status::success();
     };
     // p0^2 = F E* / (pi L R*) [MPa^2] (Johnson, Contact Mechanics, eq. 4.45) with the valve
     // force F_v = preload + rate L + m a (a = L'' omega^2) taken to the contact by virtual work
-    auto hertz_p0_squared = [&]() {
+    // p0^2 R* = F_n E* / (pi L) [MPa^2 mm]
+    auto valve_force = [&]() {  // [N]
       const double w = omega_ * omega_ * 1e-3;  // [mm/rad^2] -> [m/s^2]
       Grad3 fv(spec_.load->spring_preload_N + spec_.load->spring_rate_N_per_mm * mo[0] +
                spec_.load->moving_mass_kg * mo[2] * r2 * w);
       fv.d = {spec_.load->spring_rate_N_per_mm, 0.0, spec_.load->moving_mass_kg * w};
-      return fv * cq.force_ratio * cq.inverse_radius_sum * (e_star_MPa_ / (std::numbers::pi * width_mm_));
+      return fv;
     };
+    const double hertz_k = e_star_MPa_ / (std::numbers::pi * width_mm_);
+    auto hertz_load = [&]() { return valve_force() * cq.force_ratio * hertz_k; };
+    auto hertz_p0_squared = [&]() { return hertz_load() * cq.inverse_radius_sum; };
     // gradient row of a contact quantity
     auto chain = [&](const Grad3& q, double scale) {
       return ((q.d[0] * gp.rows.row(0) + q.d[1] * r1 * gp.rows.row(1) + q.d[2] * r2 * gp.rows.row(2)) * scale).eval();
@@ -409,6 +508,14 @@ Status CamProblem::evaluate(std::span<const double> u, Evaluation& e, bool gradi
         e.g(ri) = value;
         e.physical(ri) = physical;
         if (gradients) e.jacobian.row(ri).head(nv) = sign / scale * gp.rows.row(k);
+      };
+      // swing: the pitch curvature and its gradient row per unit of u
+      const SwingContact& sc = swing_contact_[swing_ ? i : 0];
+      auto kappa_u = [&] { return (sc.curvature_row * coef_scale_).eval(); };
+      auto set_row = [&](double value, const Eigen::RowVectorXd& row_u, double physical) {
+        e.g(ri) = value;
+        e.physical(ri) = physical;
+        if (gradients) e.jacobian.row(ri).head(nv) = row_u;
       };
       auto set_contact = [&](const Grad3& q, double physical) {
         e.g(ri) = q.v;
@@ -454,7 +561,15 @@ Status CamProblem::evaluate(std::span<const double> u, Evaluation& e, bool gradi
             if (Status st = contact(); !st.ok()) return st;
             Grad3 v;
             switch (q) {
-              case Quantity::pressure_angle: v = cq.pressure_angle * kDegPerRad; break;
+              case Quantity::pressure_angle:
+                v = cq.pressure_angle * kDegPerRad;
+                if (swing_) {  // the profile's own pressure angle (see SwingContact)
+                  set_row(sc.pressure_angle * kDegPerRad / peak_scale_ - t,
+                          sc.pressure_angle_row * (coef_scale_ * kDegPerRad / peak_scale_), sc.pressure_angle * kDegPerRad);
+                  if (gradients) e.jacobian(ri, n_ - 1) = -1.0;
+                  continue;
+                }
+                break;
               case Quantity::roller_speed: v = cq.roller_speed * cq.roller_speed; break;
               case Quantity::sliding_speed: v = cq.sliding * cq.sliding; break;
               case Quantity::curvature: v = roller_like ? cq.pitch_curvature : 1.0 / cq.cam_radius; break;
@@ -471,22 +586,32 @@ Status CamProblem::evaluate(std::span<const double> u, Evaluation& e, bool gradi
           switch (kind) {
             case ConstraintKind::radius_min: {
               const double rho = *lim.min_radius_of_curvature_mm;
-              if (roller_like) set_contact(cq.pitch_curvature * (rho + rf) - 1.0, cq.cam_radius.v);
+              if (swing_) set_row(sc.curvature * (rho + rf) - 1.0, kappa_u() * (rho + rf), 1.0 / sc.curvature - rf);
+              else if (roller_like) set_contact(cq.pitch_curvature * (rho + rf) - 1.0, cq.cam_radius.v);
               else set_contact((rho - cq.cam_radius) / rho, cq.cam_radius.v);
               break;
             }
             case ConstraintKind::concave_radius: {
               const double rw = *lim.grinding_wheel_radius_mm;
-              set_contact(-cq.pitch_curvature * (rw - rf) - 1.0, cq.cam_radius.v);
+              if (swing_) set_row(-sc.curvature * (rw - rf) - 1.0, -kappa_u() * (rw - rf), 1.0 / sc.curvature - rf);
+              else set_contact(-cq.pitch_curvature * (rw - rf) - 1.0, cq.cam_radius.v);
               break;
             }
             case ConstraintKind::pressure_angle: {
               const double a = *lim.max_pressure_angle_deg / kDegPerRad;
-              set_contact((cq.pressure_angle - a) / a, cq.pressure_angle.v * kDegPerRad);
+              if (swing_) set_row((sc.pressure_angle - a) / a, sc.pressure_angle_row * (coef_scale_ / a), sc.pressure_angle * kDegPerRad);
+              else set_contact((cq.pressure_angle - a) / a, cq.pressure_angle.v * kDegPerRad);
               break;
             }
             case ConstraintKind::roller_speed: {
               const double lim_rad = *lim.max_roller_speed_rpm * 2.0 * std::numbers::pi / 60.0 / omega_;  // [rad/rad]
+              if (swing_) {
+                const double w = sc.roller_speed;
+                set_row((w * w - lim_rad * lim_rad) / (lim_rad * lim_rad),
+                        sc.roller_speed_row * (2.0 * w * coef_scale_ / (lim_rad * lim_rad)),
+                        std::abs(w) * omega_ * 60.0 / (2.0 * std::numbers::pi));
+                break;
+              }
               set_contact((cq.roller_speed * cq.roller_speed - lim_rad * lim_rad) / (lim_rad * lim_rad),
                           std::abs(cq.roller_speed.v) * omega_ * 60.0 / (2.0 * std::numbers::pi));
               break;
@@ -498,9 +623,20 @@ Status CamProblem::evaluate(std::span<const double> u, Evaluation& e, bool gradi
               break;
             }
             case ConstraintKind::hertz_stress: {
-              const Grad3 p2 = hertz_p0_squared();
               const double s2 = *lim.max_hertz_stress_MPa * *lim.max_hertz_stress_MPa;
-              set_contact((p2 - s2) / s2, std::sqrt(std::max(0.0, p2.v)));
+              if (swing_) {
+                // 1/R* from the profile's own curvature: p0^2 = (F n) / (r (1 - r kappa))
+                const Grad3 fv = valve_force();
+                const double fn = fv.v * sc.force_ratio * hertz_k;
+                const Eigen::RowVectorXd fn_row =
+                    (chain(fv, 1.0) * sc.force_ratio + fv.v * coef_scale_ * sc.force_ratio_row) * hertz_k;
+                const double inv = 1.0 / (rf - rf * rf * sc.curvature), dinv = rf * rf * inv * inv;
+                const double p2 = fn * inv;
+                set_row((p2 - s2) / s2, (fn_row * inv + fn * dinv * kappa_u()) / s2, std::sqrt(std::max(0.0, p2)));
+              } else {
+                const Grad3 p2 = hertz_p0_squared();
+                set_contact((p2 - s2) / s2, std::sqrt(std::max(0.0, p2.v)));
+              }
               break;
             }
             case ConstraintKind::face_width: {
@@ -518,8 +654,18 @@ Status CamProblem::evaluate(std::span<const double> u, Evaluation& e, bool gradi
   // scalar constraints: peak lift and duration at the check height
   Eigen::Matrix<double, 4, Eigen::Dynamic> rows4(4, nv);
   std::array<double, 4> cst{};
+  Status scalar_status = Status::success();
+  const std::vector<double> coef = coefficients(u);
   auto lift_at = [&](double deg, int k) {
-    lift_.rows(deg, cst, rows4);
+    if (swing_) {  // at the full-lift position
+      double mo[4];
+      if (Status st = swing_->evaluate_at(0, deg, coef, mo, rows4); !st.ok()) {
+        if (scalar_status.ok()) scalar_status = st;
+        return 0.0;
+      }
+      return mo[k];
+    }
+    lift_->rows(deg, cst, rows4);
     return cst[static_cast<std::size_t>(k)] + rows4.row(k).dot(us * coef_scale_);
   };
   for (; r < m; ++r) {
@@ -528,7 +674,7 @@ Status CamProblem::evaluate(std::span<const double> u, Evaluation& e, bool gradi
     if (kind == ConstraintKind::peak_lift_min) {
       std::size_t best = 0;
       for (std::size_t i = 1; i < np; ++i)
-        if (motion[i][0] > motion[best][0]) best = i;
+        if (scalar_point(i) && motion[i][0] > motion[best][0]) best = i;
       double th = points_[best].deg;
       for (int it = 0; it < 20; ++it) {  // newton on L' = 0
         const double d1 = lift_at(th, 1), d2 = lift_at(th, 2);
@@ -548,6 +694,7 @@ Status CamProblem::evaluate(std::span<const double> u, Evaluation& e, bool gradi
       // first and last crossing of the check height, refined by newton on the lift model
       int first = -1, last = -1;
       for (std::size_t i = 0; i + 1 < np; ++i) {
+        if (!scalar_point(i) || !adjacent(i)) continue;
         if (first < 0 && motion[i][0] < h && motion[i + 1][0] >= h) first = static_cast<int>(i);
         if (motion[i][0] >= h && motion[i + 1][0] < h) last = static_cast<int>(i);
       }
@@ -579,7 +726,7 @@ Status CamProblem::evaluate(std::span<const double> u, Evaluation& e, bool gradi
       if (gradients) e.jacobian.row(ri).head(nv) = (is_min ? -grad : grad) / lim_d;
     }
   }
-  return Status::success();
+  return scalar_status;
 }
 
 }  // namespace camopt::opt

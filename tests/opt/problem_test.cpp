@@ -213,3 +213,31 @@ TEST_CASE("maximum lift area under acceleration, curvature, pressure-angle and s
     CHECK(amin == Approx(-0.007).epsilon(1e-5));
   }
 }
+
+TEST_CASE("objective hessian of a target fit equals central differences of the gradient", "[opt][problem]") {
+  opt::OptimizationSpec s = base_spec();
+  s.limits.acc_max_mm_per_deg2 = 0.02;
+  s.objective.target_weight = 1.0;
+  s.objective.target_file = "(in memory)";
+  s.objective.area_weight = 0.5;  // linear: adds nothing to the hessian
+  const PeriodicSpline target = target_lift();
+  opt::CamProblem p(rff(), s, &target);
+  std::vector<double> u = p.start();
+  opt::Evaluation e;
+  REQUIRE(p.evaluate(u, e, true).ok());
+  const Eigen::MatrixXd h = p.objective_hessian();
+  const double step = 1e-4;
+  double scale = h.cwiseAbs().maxCoeff();
+  REQUIRE(scale > 0.0);
+  for (int j = 0; j < p.variables(); ++j) {
+    std::vector<double> up = u, um = u;
+    up[static_cast<std::size_t>(j)] += step;
+    um[static_cast<std::size_t>(j)] -= step;
+    opt::Evaluation ep, em;
+    REQUIRE(p.evaluate(up, ep, true).ok());
+    REQUIRE(p.evaluate(um, em, true).ok());
+    const Eigen::VectorXd fd = (ep.gradient - em.gradient) / (2 * step);
+    INFO("column " << j);
+    CHECK((h.col(j) - fd).cwiseAbs().maxCoeff() < 1e-8 * scale);
+  }
+}

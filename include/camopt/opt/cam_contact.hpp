@@ -74,6 +74,8 @@ class CamContactModel {
   CamContactModel& operator=(const CamContactModel&) = delete;
 
   ContactWorkspace make_workspace() const;
+  // a workspace at other control positions (every control, design order)
+  ContactWorkspace make_workspace(const std::vector<double>& controls) const;
 
   // the contact at driver angle cam_rad [rad] for valve motion lift[0..2] = L [mm],
   // dL/dtheta [mm/rad], d2L/dtheta2 [mm/rad^2]. a failing inversion returns its status.

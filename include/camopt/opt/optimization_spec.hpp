@@ -9,6 +9,7 @@
 
 #include "camopt/core/error.hpp"
 #include "camopt/opt/lift_model.hpp"
+#include "camopt/opt/swing_lift.hpp"
 
 namespace camopt::opt {
 
@@ -65,7 +66,11 @@ struct ObjectiveSpec {
 
 struct OptimizationSpec {
   std::string name, description, file, directory;
+  // "rotational": the driver's cam, variables = the valve lift (event); "swing": a swing cam
+  // of a VVA design, variables = its pitch curve (swing_profile), every control position
+  std::string cam = "rotational";
   EventSpec event;
+  SwingProfileSpec swing;
   double initial_max_lift_mm = 0.0;  // initial design without a target: 4-5-6-7 event of this lift
   double rpm = 0.0;                  // engine speed [crank rpm] for the speed-dependent limits and the load
   double grid_step_deg = 0.5;        // constraints are evaluated every this many cam deg

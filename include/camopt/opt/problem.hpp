@@ -10,6 +10,7 @@
 // through the lift rows: dg/du = dg/dL row_0 + dg/dL' row_1 + dg/dL'' row_2.
 #include <Eigen/Core>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -46,6 +47,7 @@ struct ConstraintRow {
   ConstraintKind kind;
   double cam_deg = 0.0;  // where it is evaluated [cam deg]; scalar constraints: where it is attained
   int grid = -1;         // grid index (-1: a scalar constraint)
+  int position = 0;      // swing cam: control position index (SwingCamLift::positions); scalar rows: 0
 };
 
 struct Evaluation {
@@ -68,13 +70,14 @@ class CamProblem {
   CamProblem& operator=(const CamProblem&) = delete;
 
   int variables() const noexcept { return n_; }
-  int spline_variables() const noexcept { return lift_.variables(); }
-  bool has_peak_variable() const noexcept { return n_ > lift_.variables(); }
+  int spline_variables() const noexcept { return nv_; }
+  bool has_peak_variable() const noexcept { return n_ > nv_; }
+  bool is_swing() const noexcept { return swing_ != nullptr; }
   const std::vector<ConstraintRow>& rows() const noexcept { return rows_; }
   const std::vector<double>& lower() const noexcept { return lower_; }
   const std::vector<double>& upper() const noexcept { return upper_; }
   const std::vector<double>& start() const noexcept { return start_; }
-  // closure A u = b
+  // closure A u = b (conventional cam: 2 rows; swing cam: none)
   const Eigen::MatrixXd& equality_matrix() const noexcept { return eq_a_; }
   const Eigen::VectorXd& equality_rhs() const noexcept { return eq_b_; }
   // structural nonzeros of the inequality jacobian, row-major (row, column)
@@ -85,9 +88,17 @@ class CamProblem {
   // envelope returns its status (the caller rejects the step)
   Status evaluate(std::span<const double> u, Evaluation& out, bool gradients);
 
-  // coefficients [mm/deg^2] of the lift model for u
+  // hessian of the objective at the last evaluate(): the target term's gauss-newton matrix
+  // 2 w sum_i r_i r_i^T (exact for a conventional cam, whose lift is linear in u); the area
+  // and peak terms are linear (zero). n x n
+  Eigen::MatrixXd objective_hessian() const;
+
+  // coefficients of the lift model (conventional: acceleration [mm/deg^2]; swing: pitch-curve
+  // lift h [mm]) for u
   std::vector<double> coefficients(std::span<const double> u) const;
-  const AccelerationSplineLift& lift_model() const noexcept { return lift_; }
+  const AccelerationSplineLift& lift_model() const noexcept { return *lift_; }
+  // swing cam: the pitch-curve model (null for a conventional cam); every evaluation solves it
+  SwingCamLift* swing() const noexcept { return swing_.get(); }
   const CamContactModel& contact() const noexcept { return *contact_; }
   const OptimizationSpec& spec() const noexcept { return spec_; }
   // unit and limit of a row's physical value, and whether the limit is an upper bound
@@ -99,10 +110,18 @@ class CamProblem {
  private:
   struct GridPoint;
   void build_rows();
+  // valve lift and derivatives at every grid point [mm/deg^k] (swing: also the rows)
+  Status motions(std::span<const double> u, std::vector<std::array<double, 4>>& motion);
+  // scalar constraints look at these points only (swing: the full-lift position 0)
+  bool scalar_point(std::size_t i) const noexcept;
+  // consecutive grid points i, i + 1 of one position one grid step apart
+  bool adjacent(std::size_t i) const noexcept;
   OptimizationSpec spec_;
-  AccelerationSplineLift lift_;
+  std::optional<AccelerationSplineLift> lift_;
+  std::unique_ptr<SwingCamLift> swing_;
   std::unique_ptr<CamContactModel> contact_;
-  std::unique_ptr<ContactWorkspace> contact_ws_;
+  std::vector<ContactWorkspace> contact_ws_;  // per control position
+  std::vector<SwingContact> swing_contact_;   // swing: the pitch curve at each grid point
   std::vector<double> grid_;                // event grid [cam deg]
   std::vector<GridPoint> points_;
   std::vector<ConstraintRow> rows_;
@@ -111,7 +130,7 @@ class CamProblem {
   Eigen::MatrixXd eq_a_;
   Eigen::VectorXd eq_b_;
   std::vector<double> target_;              // target lift at the grid [mm]
-  int n_ = 0;
+  int n_ = 0, nv_ = 0;
   double coef_scale_ = 1.0;                 // [mm/deg^2] per unit of u
   double omega_ = 0.0;                      // cam speed [rad/s]
   double e_star_MPa_ = 0.0, width_mm_ = 0.0;

@@ -30,6 +30,9 @@ struct SolverOptions {
   double constraint_tolerance = 1e-8;  // on the normalised constraints (fraction of each limit)
   int starts = 6;                  // global: number of starts, the initial design included
   double time_limit_s = 300.0;
+  // ipopt: false = limited-memory quasi-newton hessian; true = the objective's own
+  // (gauss-newton) hessian with the constraints' curvature left out (CamProblem::objective_hessian)
+  bool ipopt_objective_hessian = false;
 };
 
 struct SolveResult {

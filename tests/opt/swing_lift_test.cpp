@@ -1,0 +1,159 @@
+// the swing-cam lift model (opt::SwingCamLift) on the bundled CVVL: its valve motion
+// against the kinematic solver run on the profile it writes, and its coefficient
+// sensitivities against central finite differences.
+#include <catch2/catch.hpp>
+#include <Eigen/Core>
+#include <array>
+#include <cmath>
+
+#include "camopt/io/design_file.hpp"
+#include "camopt/kinematics/mechanism.hpp"
+#include "camopt/kinematics/solver.hpp"
+#include "camopt/opt/cam_contact.hpp"
+#include "camopt/opt/swing_lift.hpp"
+#include "camopt/synthesis/envelope.hpp"
+
+using namespace camopt;
+
+namespace {
+
+DesignSpec cvvl() { return io::load_design(std::string(CAMOPT_SOURCE_DIR) + "/designs/cvvl_swing_cam.toml"); }
+
+opt::SwingProfileSpec three_positions() {
+  opt::SwingProfileSpec s;
+  s.positions = {0.0, 8.0, 16.0};
+  return s;
+}
+
+// the initial coefficients with a smooth change, so the check does not sit on the fit
+std::vector<double> perturbed(const opt::SwingCamLift& m) {
+  std::vector<double> c = m.initial();
+  for (std::size_t j = 0; j < c.size(); ++j) c[j] *= 1.0 + 0.03 * std::sin(0.7 * static_cast<double>(j));
+  return c;
+}
+
+}  // namespace
+
+TEST_CASE("swing lift: valve motion equals the kinematic solver on the written profile", "[opt][swing]") {
+  const DesignSpec d = cvvl();
+  opt::SwingCamLift model(d, three_positions(), 1.0);
+  REQUIRE(model.variables() == 16);
+  const std::vector<double> c = perturbed(model);
+  // the new design: the swing profile replaced by the model's polar table
+  ProfileSpec prof;
+  for (const auto& p : d.profiles)
+    if (p.name == model.profile_name()) prof = p;
+  prof.source_file.clear();
+  model.profile_table(c, 7200, prof.angle_deg, prof.radius_mm);
+  const DesignSpec made = synthesis::with_profile(d, prof);
+  const kin::Mechanism mech = kin::compile(made);
+  const int valve = mech.nodes[static_cast<std::size_t>(mech.node_index("valve"))].first_variable;
+  Eigen::Matrix<double, 4, Eigen::Dynamic> rows(4, model.variables());
+  int compared = 0;
+  double worst_lift = 0.0, worst_acc = 0.0, peak = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    kin::Workspace ws(mech);
+    ws.set_controls(model.controls(k));
+    // the kinematic solver sweeps every degree from the dwell before the position's first
+    // working point (its warm starts follow the contact); compare where the valve is open
+    std::size_t first = 0;
+    while (model.points()[first].position != k) ++first;
+    const double start = model.points()[first].cam_deg - 20.0;
+    std::size_t i = first;
+    for (int step = 0; step <= 360; ++step) {
+      const double deg = start + step;
+      const Status st = kin::solve(mech, ws, deg * M_PI / 180.0, {3, false});
+      INFO(st.str() << " at cam " << deg << " position " << k);
+      REQUIRE(st.ok());
+      if (i >= model.points().size() || model.points()[i].position != k ||
+          std::abs(model.points()[i].cam_deg - deg) > 1e-9)
+        continue;
+      double mo[4];
+      REQUIRE(model.evaluate(static_cast<int>(i), c, mo, rows).ok());
+      ++i;
+      const double lift = mo[0];
+      const auto& v = ws.vars[static_cast<std::size_t>(valve)];
+      if (lift < 1e-3) continue;  // the valve on its seat
+      worst_lift = std::max(worst_lift, std::abs(v.value() - lift));
+      // [mm/rad^2] -> [mm/deg^2]
+      worst_acc = std::max(worst_acc, std::abs(v.derivative(2) * std::pow(M_PI / 180.0, 2) - mo[2]));
+      peak = std::max(peak, lift);
+      ++compared;
+    }
+  }
+  INFO("compared " << compared << " points, peak lift " << peak);
+  CHECK(compared > 150);
+  CHECK(peak > 8.0);
+  // the profile table (7200 points, quintic spline) is the only approximation in between
+  CHECK(worst_lift < 2e-6);
+  CHECK(worst_acc < 1e-6);
+}
+
+TEST_CASE("swing lift: coefficient sensitivities match central finite differences", "[opt][swing]") {
+  const DesignSpec d = cvvl();
+  opt::SwingCamLift model(d, three_positions(), 2.0);
+  const std::vector<double> c = perturbed(model);
+  const int n = model.variables();
+  Eigen::Matrix<double, 4, Eigen::Dynamic> rows(4, n), scratch(4, n);
+  const double h = 1e-5;  // [mm]
+  int checked = 0;
+  std::array<double, 4> worst{}, scale{};
+  for (std::size_t i = 0; i < model.points().size(); i += 3) {
+    double mo[4];
+    REQUIRE(model.evaluate(static_cast<int>(i), c, mo, rows).ok());
+    for (int j = 0; j < n; ++j) {
+      std::vector<double> cp = c, cm = c;
+      cp[static_cast<std::size_t>(j)] += h;
+      cm[static_cast<std::size_t>(j)] -= h;
+      double mp[4], mm[4];
+      REQUIRE(model.evaluate(static_cast<int>(i), cp, mp, scratch).ok());
+      REQUIRE(model.evaluate(static_cast<int>(i), cm, mm, scratch).ok());
+      for (std::size_t k = 0; k < 4; ++k) {
+        const double fd = (mp[k] - mm[k]) / (2 * h);
+        worst[k] = std::max(worst[k], std::abs(rows(static_cast<Eigen::Index>(k), j) - fd));
+        scale[k] = std::max(scale[k], std::abs(fd));
+      }
+    }
+    ++checked;
+  }
+  // per derivative order: the largest error against the largest sensitivity
+  for (std::size_t k = 0; k < 4; ++k) {
+    INFO("derivative " << k << ": worst " << worst[k] << " of " << scale[k]);
+    CHECK(worst[k] < 1e-7 * scale[k]);
+  }
+  CHECK(checked > 40);
+}
+
+TEST_CASE("swing lift: contact quantities agree with the envelope model away from the swing's reversal",
+          "[opt][swing]") {
+  // opt::CamContactModel finds the same quantities from the valve motion by envelope theory;
+  // it loses accuracy where the swing reverses (the roller's relative speed -> 0)
+  const DesignSpec d = cvvl();
+  opt::SwingCamLift model(d, three_positions(), 1.0);
+  const std::vector<double> c = perturbed(model);
+  Eigen::Matrix<double, 4, Eigen::Dynamic> rows(4, model.variables());
+  int compared = 0;
+  for (int k = 0; k < 3; ++k) {
+    opt::CamContactModel env(d, model.controls(k), "swing");
+    opt::ContactWorkspace ws = env.make_workspace();
+    for (std::size_t i = 0; i < model.points().size(); ++i) {
+      const opt::SwingPoint& sp = model.points()[i];
+      if (sp.position != k) continue;
+      double mo[4];
+      opt::SwingContact sc;
+      REQUIRE(model.evaluate(static_cast<int>(i), c, mo, rows, &sc).ok());
+      if (mo[0] < 0.05 || sc.s_rad <= model.start_rad()) continue;
+      const double r1 = 180.0 / M_PI, lift[3] = {mo[0], mo[1] * r1, mo[2] * r1 * r1};
+      opt::ContactQuantities cq;
+      REQUIRE(env.evaluate(sp.cam_deg * M_PI / 180.0, lift, ws, cq).ok());
+      if (std::abs(mo[1]) < 0.02) continue;  // near the reversal at peak lift
+      INFO("position " << k << " cam " << sp.cam_deg << " lift " << mo[0]);
+      CHECK(sc.curvature == Approx(cq.pitch_curvature.v).epsilon(1e-6));
+      CHECK(sc.pressure_angle == Approx(cq.pressure_angle.v).margin(1e-7));
+      CHECK(sc.force_ratio == Approx(cq.force_ratio.v).epsilon(1e-6));
+      CHECK(sc.roller_speed == Approx(cq.roller_speed.v).epsilon(1e-6));
+      ++compared;
+    }
+  }
+  CHECK(compared > 100);
+}
