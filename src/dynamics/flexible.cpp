@@ -787,6 +787,7 @@ Status run_flexible(const kin::Mechanism& mech, const Model& model, const std::v
       CVodeSVtolerances(su.cvode, options.relative_tolerance, su.atol) != CV_SUCCESS ||
       CVodeSetUserData(su.cvode, &s) != CV_SUCCESS || CVodeSetLinearSolver(su.cvode, su.ls, su.a) != CV_SUCCESS ||
       CVodeSetMaxNumSteps(su.cvode, options.max_steps) != CV_SUCCESS ||
+      CVodeSetMaxStep(su.cvode, detail::path_max_step_s(s.grid_step, s.omega)) != CV_SUCCESS ||
       (nroots > 0 && CVodeRootInit(su.cvode, nroots, root_callback) != CV_SUCCESS) ||
       (nroots > 0 && CVodeSetNoInactiveRootWarn(su.cvode) != CV_SUCCESS) ||
       CVodeSetErrHandlerFn(su.cvode, detail::silent_error_handler, nullptr) != CV_SUCCESS)
@@ -829,7 +830,12 @@ Status run_flexible(const kin::Mechanism& mech, const Model& model, const std::v
                       " deg, " + format_number(engine_rpm_value) + " rpm, state [x; dx/dt] = [" + state + "]"};
   };
   double t = 0.0;
-  long steps_total = 0;
+  long steps_total = 0, events_total = 0;
+  auto last_root = [&](const std::vector<int>& roots_found) {
+    for (int r = nroots - 1; r > 0; --r)
+      if (roots_found[r] != 0) return r;
+    return 0;
+  };
   for (std::size_t i = 0; i < points; ++i) {
     const double deg = start_deg + step_deg * static_cast<double>(i);
     const double tout = (deg - first_deg) * kDeg / s.omega;
@@ -848,9 +854,10 @@ Status run_flexible(const kin::Mechanism& mech, const Model& model, const std::v
           // penetration (coil: overlap) falling through zero: the pair opens
           out.events.push_back({t, first_deg + t * s.omega / kDeg, s.root_name(rt), found[r] < 0, speed});
         }
-        long steps = 0;
-        CVodeGetNumSteps(su.cvode, &steps);
-        steps_total += steps;
+        ++events_total;  // every revolution's events count towards the budget
+        const std::string chatter =
+            detail::count_steps_at_root(su.cvode, steps_total, events_total, options.max_steps, s.root_name(s.root_list[last_root(found)]));
+        if (!chatter.empty()) return failure(chatter, t);
         if (CVodeReInit(su.cvode, t, su.y) != CV_SUCCESS)
           return failure("CVodeReInit failed", t);
         continue;
