@@ -345,8 +345,9 @@ Status run_compliant(const kin::Mechanism& mech, const Model& model, const std::
           // penetration falling through zero: the contact opens
           out.events.push_back({t, start_deg + t * p.omega / kDeg, name, found[r] < 0});
         }
-        const std::string chatter = detail::count_steps_at_root(s.cvode, out.steps, static_cast<long>(out.events.size()),
-                                                                options.max_steps, out.events.back().contact);
+        out.steps += detail::steps_since_restart(s.cvode);
+        const std::string chatter = detail::step_budget_exceeded(out.steps, static_cast<long>(out.events.size()),
+                                                                 options.max_steps, out.events.back().contact);
         if (!chatter.empty())
           return {StatusCode::integrator_failure, chatter,
                   "t = " + detail::format_number(t) + " s, cam " +

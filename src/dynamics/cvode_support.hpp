@@ -61,19 +61,22 @@ inline double path_max_step_s(double grid_step_rad, double omega_rad_per_s) {
   return 4.0 * grid_step_rad / omega_rad_per_s;
 }
 
-// after a root return, before CVodeReInit (which restarts CVODE's step counter): add the steps
-// taken since the last (re)start to steps_total and check the budget of the whole run.
-// max_steps bounds steps plus events: a chattering contact (an event every step or two) would
-// otherwise restart the budget at every event and never end. Returns an empty string, or the
-// failure message (the caller adds where: time, cam angle, rpm).
-inline std::string count_steps_at_root(void* cvode, long& steps_total, long events, long max_steps,
-                                       const std::string& last_event) {
+// steps since the last CVodeInit / CVodeReInit (which restarts CVODE's counter)
+inline long steps_since_restart(void* cvode) {
   long steps = 0;
   CVodeGetNumSteps(cvode, &steps);
-  steps_total += steps;
-  if (steps_total + events <= max_steps) return {};
+  return steps;
+}
+
+// the whole run's budget: max_steps bounds steps plus events over the run. CVODE's own limit
+// counts per call and restarts with CVodeReInit, so a chattering contact (an event every step
+// or two) would never reach it. Returns an empty string, or the failure message (the caller
+// adds where: time, cam angle, rpm).
+inline std::string step_budget_exceeded(long steps, long events, long max_steps, const std::string& last_event) {
+  if (steps + events <= max_steps) return {};
   return "more than " + std::to_string(max_steps) + " steps and events (" + std::to_string(events) +
-         " contact events, last '" + last_event + "'): the contacts chatter; raise max_steps or the contact damping";
+         " contact events" + (last_event.empty() ? "" : ", last '" + last_event + "'") +
+         "): the contacts chatter or the motion is too fast for the step; raise max_steps or the contact damping";
 }
 
 // Catmull-Rom weights of the four points around u in [0, 1) (p_{i-1}, p_i, p_{i+1}, p_{i+2}),
