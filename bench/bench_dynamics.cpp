@@ -6,7 +6,12 @@
 //  - mode (b), stiff contacts with CVODE, at the default tolerances (rtol 1e-6, path table
 //    0.25 deg) and tighter ones: run time, max contact-force error over the cycle and error
 //    of the peak forces against a tight run (rtol 1e-10, table 0.05 deg), relative to the
-//    peak force.
+//    peak force;
+//  - the flexible model (issue #7): time per cycle against tolerance (rtol 1e-4 .. 1e-8) with
+//    the error of the valve lift and of the peak contact force against rtol 1e-10, steps,
+//    RHS and Jacobian evaluations, with and without a CVODE restart at each contact event.
+//    The time per cycle is the whole run (tabulation plus `revolutions` revolutions) divided
+//    by the revolutions integrated.
 // usage: bench_dynamics [--repeat N] [--csv FILE]
 #include <algorithm>
 #include <chrono>
@@ -20,6 +25,7 @@
 
 #include "bench_support.hpp"
 #include "camopt/dynamics/compliant.hpp"
+#include "camopt/dynamics/flexible.hpp"
 #include "camopt/dynamics/rigid.hpp"
 #include "camopt/io/design_file.hpp"
 
@@ -138,6 +144,53 @@ int main(int argc, char** argv) {
                    num(err / peak) + "," + std::to_string(r.steps) + "," + std::to_string(r.rhs_evaluations));
     rows.push_back("b,rtol " + num(rtol) + " atol " + num(atol) + " table " + num(table) + " deg," + num(t * 1e3) + ",peak contact force err / peak," +
                    num(peak_err) + "," + std::to_string(r.steps) + "," + std::to_string(r.rhs_evaluations));
+  }
+  // ---- flexible ----
+  constexpr int kRevolutions = 3;
+  auto run_flex = [&](double rtol, bool restart, dynamics::FlexibleResult& r) {
+    dynamics::FlexibleOptions opt;
+    opt.revolutions = kRevolutions;
+    opt.relative_tolerance = rtol;
+    opt.absolute_tolerance = 1e-9;
+    opt.restart_at_events = restart;
+    check(dynamics::run_flexible(mech, model, controls, kRpm, 0, 360, 1, opt, r));
+  };
+  dynamics::FlexibleResult ref_flex;
+  run_flex(1e-10, true, ref_flex);
+  const auto peak_force = [](const dynamics::FlexibleResult& r) {
+    return *std::max_element(r.force.begin(), r.force.end());
+  };
+  const double ref_peak = peak_force(ref_flex);
+  std::printf("\nflexible model, same cycle after %d revolutions (the last reported), atol 1e-9, output every 1 cam deg;"
+              " reference rtol 1e-10 (peak contact force %.1f N, %zu events)\n",
+              kRevolutions, ref_peak, ref_flex.events.size());
+  std::printf("%-22s %-12s %-18s %-22s %-8s %-8s %-8s %-8s\n", "rtol / restart", "ms/cycle", "max lift err [mm]",
+              "peak force err / peak", "steps", "rhs", "jac", "events");
+  for (const bool restart : {true, false})
+    for (const double rtol : {1e-4, 1e-5, 1e-6, 1e-7, 1e-8}) {
+      dynamics::FlexibleResult r;
+      const double t = seconds_of([&] { run_flex(rtol, restart, r); }, repeat) / kRevolutions;
+      double lift_err = 0;
+      for (std::size_t i = 0; i < r.lift.size(); ++i) lift_err = std::max(lift_err, std::abs(r.lift[i] - ref_flex.lift[i]));
+      const double peak_err = std::abs(peak_force(r) - ref_peak) / ref_peak;
+      const std::string setting = "rtol " + num(rtol) + (restart ? " restart" : " no restart");
+      std::printf("%-22s %-12.3f %-18.3g %-22.3g %-8ld %-8ld %-8ld %-8zu\n", setting.c_str(), t * 1e3, lift_err,
+                  peak_err, r.steps, r.rhs_evaluations, r.jacobian_evaluations, r.events.size());
+      rows.push_back("flexible," + setting + "," + num(t * 1e3) + ",max valve lift err mm," + num(lift_err) + "," +
+                     std::to_string(r.steps) + "," + std::to_string(r.rhs_evaluations));
+      rows.push_back("flexible," + setting + "," + num(t * 1e3) + ",peak contact force err / peak," + num(peak_err) +
+                     "," + std::to_string(r.steps) + "," + std::to_string(r.rhs_evaluations));
+    }
+  {  // rigid vs flexible cost of one cycle
+    dynamics::RigidSweep s;
+    const double t_rigid = seconds_of([&] { check(dynamics::rigid_sweep(mech, model, controls, 0, 360, 1, s)); }, repeat);
+    dynamics::FlexibleResult r;
+    const double t_flex = seconds_of([&] { run_flex(1e-6, true, r); }, repeat) / kRevolutions;
+    std::printf("\nrigid (a) 1 deg: %.3f ms/cycle; flexible rtol 1e-6: %.3f ms/cycle (x %.0f)\n", t_rigid * 1e3,
+                t_flex * 1e3, t_flex / t_rigid);
+    rows.push_back("rigid vs flexible,rigid step 1 deg," + num(t_rigid * 1e3) + ",,,,");
+    rows.push_back("rigid vs flexible,flexible rtol 1e-6," + num(t_flex * 1e3) + ",,," + std::to_string(r.steps) + "," +
+                   std::to_string(r.rhs_evaluations));
   }
   if (!csv_path.empty()) {
     std::ofstream f(csv_path);

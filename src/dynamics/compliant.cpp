@@ -312,10 +312,7 @@ Status run_compliant(const kin::Mechanism& mech, const Model& model, const std::
       CVodeSVtolerances(s.cvode, options.relative_tolerance, s.atol) != CV_SUCCESS ||
       CVodeSetUserData(s.cvode, &p) != CV_SUCCESS || CVodeSetLinearSolver(s.cvode, s.ls, s.a) != CV_SUCCESS ||
       CVodeSetMaxNumSteps(s.cvode, options.max_steps) != CV_SUCCESS ||
-      // the cam forcing enters only through the tabulated path: a step longer than a few
-      // table intervals can pass over a whole lift event unseen (found at 10-160 rpm, where
-      // the contact dynamics no longer limit the step)
-      CVodeSetMaxStep(s.cvode, 4 * p.grid_step / p.omega) != CV_SUCCESS ||
+      CVodeSetMaxStep(s.cvode, detail::path_max_step_s(p.grid_step, p.omega)) != CV_SUCCESS ||
       (p.roots > 0 && CVodeRootInit(s.cvode, p.roots, root_callback) != CV_SUCCESS) ||
       (p.roots > 0 && CVodeSetNoInactiveRootWarn(s.cvode) != CV_SUCCESS) ||
       CVodeSetErrHandlerFn(s.cvode, detail::silent_error_handler, nullptr) != CV_SUCCESS)
@@ -348,17 +345,14 @@ Status run_compliant(const kin::Mechanism& mech, const Model& model, const std::
           // penetration falling through zero: the contact opens
           out.events.push_back({t, start_deg + t * p.omega / kDeg, name, found[r] < 0});
         }
-        long steps = 0;
-        CVodeGetNumSteps(s.cvode, &steps);
-        out.steps += steps;  // the counter restarts with CVodeReInit
-        // max_steps bounds the whole run: a chattering contact (an event every step or two)
-        // would otherwise restart the budget at every event and never end
-        if (out.steps + static_cast<long>(out.events.size()) > options.max_steps)
-          return {StatusCode::integrator_failure,
-                  "more than " + std::to_string(options.max_steps) + " steps and events (" +
-                      std::to_string(out.events.size()) + " contact events, last '" + out.events.back().contact +
-                      "'): the contacts chatter; raise max_steps or the contact damping",
-                  "t = " + detail::format_number(t) + " s, cam " + detail::format_number(start_deg + t * p.omega / kDeg) + " deg"};
+        out.steps += detail::steps_since_restart(s.cvode);
+        const std::string chatter = detail::step_budget_exceeded(out.steps, static_cast<long>(out.events.size()),
+                                                                 options.max_steps, out.events.back().contact);
+        if (!chatter.empty())
+          return {StatusCode::integrator_failure, chatter,
+                  "t = " + detail::format_number(t) + " s, cam " +
+                      detail::format_number(start_deg + t * p.omega / kDeg) + " deg, " +
+                      detail::format_number(engine_rpm_value) + " rpm"};
         if (CVodeReInit(s.cvode, t, s.y) != CV_SUCCESS)
           return {StatusCode::integrator_failure, "CVodeReInit failed", "t = " + detail::format_number(t) + " s"};
         continue;

@@ -54,6 +54,31 @@ inline std::string cvode_flag_name(int flag) {
   return why;
 }
 
+// the longest CVODE step [s] for a model whose cam forcing enters only through a kinematic
+// path tabulated every grid_step_rad: a longer step can pass over a whole lift event unseen
+// (found at 10-160 rpm, where the contact dynamics no longer limit the step)
+inline double path_max_step_s(double grid_step_rad, double omega_rad_per_s) {
+  return 4.0 * grid_step_rad / omega_rad_per_s;
+}
+
+// steps since the last CVodeInit / CVodeReInit (which restarts CVODE's counter)
+inline long steps_since_restart(void* cvode) {
+  long steps = 0;
+  CVodeGetNumSteps(cvode, &steps);
+  return steps;
+}
+
+// the whole run's budget: max_steps bounds steps plus events over the run. CVODE's own limit
+// counts per call and restarts with CVodeReInit, so a chattering contact (an event every step
+// or two) would never reach it. Returns an empty string, or the failure message (the caller
+// adds where: time, cam angle, rpm).
+inline std::string step_budget_exceeded(long steps, long events, long max_steps, const std::string& last_event) {
+  if (steps + events <= max_steps) return {};
+  return "more than " + std::to_string(max_steps) + " steps and events (" + std::to_string(events) +
+         " contact events" + (last_event.empty() ? "" : ", last '" + last_event + "'") +
+         "): the contacts chatter or the motion is too fast for the step; raise max_steps or the contact damping";
+}
+
 // Catmull-Rom weights of the four points around u in [0, 1) (p_{i-1}, p_i, p_{i+1}, p_{i+2}),
 // and of the derivative d/du
 inline void catmull_rom_weights(double u, double w[4]) {

@@ -787,6 +787,7 @@ Status run_flexible(const kin::Mechanism& mech, const Model& model, const std::v
       CVodeSVtolerances(su.cvode, options.relative_tolerance, su.atol) != CV_SUCCESS ||
       CVodeSetUserData(su.cvode, &s) != CV_SUCCESS || CVodeSetLinearSolver(su.cvode, su.ls, su.a) != CV_SUCCESS ||
       CVodeSetMaxNumSteps(su.cvode, options.max_steps) != CV_SUCCESS ||
+      CVodeSetMaxStep(su.cvode, detail::path_max_step_s(s.grid_step, s.omega)) != CV_SUCCESS ||
       (nroots > 0 && CVodeRootInit(su.cvode, nroots, root_callback) != CV_SUCCESS) ||
       (nroots > 0 && CVodeSetNoInactiveRootWarn(su.cvode) != CV_SUCCESS) ||
       CVodeSetErrHandlerFn(su.cvode, detail::silent_error_handler, nullptr) != CV_SUCCESS)
@@ -821,7 +822,9 @@ Status run_flexible(const kin::Mechanism& mech, const Model& model, const std::v
   auto read_state = [&] {
     for (int i = 0; i < N; ++i) q(i) = NV_Ith_S(su.y, i), qd(i) = NV_Ith_S(su.y, N + i);
   };
+  long steps_total = 0, events_total = 0;
   auto failure = [&](const std::string& what, double t) {
+    out.steps = steps_total + detail::steps_since_restart(su.cvode);
     std::string state;
     for (int i = 0; i < 2 * N; ++i) state += (i ? ", " : "") + format_number(NV_Ith_S(su.y, i));
     return Status{StatusCode::integrator_failure, what,
@@ -829,7 +832,11 @@ Status run_flexible(const kin::Mechanism& mech, const Model& model, const std::v
                       " deg, " + format_number(engine_rpm_value) + " rpm, state [x; dx/dt] = [" + state + "]"};
   };
   double t = 0.0;
-  long steps_total = 0;
+  auto last_root = [&](const std::vector<int>& roots_found) {
+    for (int r = nroots - 1; r > 0; --r)
+      if (roots_found[r] != 0) return r;
+    return 0;
+  };
   for (std::size_t i = 0; i < points; ++i) {
     const double deg = start_deg + step_deg * static_cast<double>(i);
     const double tout = (deg - first_deg) * kDeg / s.omega;
@@ -848,14 +855,28 @@ Status run_flexible(const kin::Mechanism& mech, const Model& model, const std::v
           // penetration (coil: overlap) falling through zero: the pair opens
           out.events.push_back({t, first_deg + t * s.omega / kDeg, s.root_name(rt), found[r] < 0, speed});
         }
-        long steps = 0;
-        CVodeGetNumSteps(su.cvode, &steps);
-        steps_total += steps;
-        if (CVodeReInit(su.cvode, t, su.y) != CV_SUCCESS)
-          return failure("CVodeReInit failed", t);
+        ++events_total;  // every revolution's events count towards the budget
+        const std::string chatter = detail::step_budget_exceeded(
+            steps_total + detail::steps_since_restart(su.cvode), events_total, options.max_steps,
+            s.root_name(s.root_list[last_root(found)]));
+        if (!chatter.empty()) return failure(chatter, t);
+        // a restart drops the history across the force law's kink (contact damping switches
+        // on at touch-down); without it CVODE cuts its step through the kink instead
+        if (options.restart_at_events) {
+          steps_total += detail::steps_since_restart(su.cvode);
+          long jacobians = 0;
+          CVodeGetNumJacEvals(su.cvode, &jacobians);
+          out.jacobian_evaluations += jacobians;
+          if (CVodeReInit(su.cvode, t, su.y) != CV_SUCCESS) return failure("CVodeReInit failed", t);
+        }
         continue;
       }
       if (flag < 0) return failure("CVODE failed: " + detail::cvode_flag_name(flag), t);
+    }
+    {  // the budget holds between events too (CVODE's own limit is per output interval)
+      const std::string over = detail::step_budget_exceeded(steps_total + detail::steps_since_restart(su.cvode),
+                                                            events_total, options.max_steps, "");
+      if (!over.empty()) return failure(over, t);
     }
     s.evaluate(tout);
     read_state();
@@ -919,10 +940,11 @@ Status run_flexible(const kin::Mechanism& mech, const Model& model, const std::v
     }
     out.energy[i] = energy;
   }
-  long steps = 0;
-  CVodeGetNumSteps(su.cvode, &steps);
-  out.steps = steps_total + steps;
+  out.steps = steps_total + detail::steps_since_restart(su.cvode);
   out.rhs_evaluations = s.rhs_calls;
+  long jacobians = 0;
+  CVodeGetNumJacEvals(su.cvode, &jacobians);
+  out.jacobian_evaluations += jacobians;
   return Status::success();
 }
 

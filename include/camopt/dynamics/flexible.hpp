@@ -41,7 +41,8 @@ struct FlexibleOptions {
   double coil_clash_stiffness = 1e4;   // whole spring once a coil gap closes [N/mm]
   double reference_force = 500.0;      // damping from the tangent stiffness at this load [N]
   double table_step_deg = 0.25;        // kinematic path tabulated on this grid (one revolution)
-  long max_steps = 2000000;
+  long max_steps = 2000000;            // steps plus contact events over the whole run
+  bool restart_at_events = true;       // CVodeReInit at every contact / seat / coil event
 };
 
 struct FlexibleEvent {
@@ -82,7 +83,8 @@ struct FlexibleResult {
   std::vector<FlexibleEvent> events;  // in the reported revolution
   std::vector<double> contact_damping;  // per connection [N s/mm]
   double start_time_s = 0.0;          // time of the reported revolution's first point
-  long steps = 0, rhs_evaluations = 0;
+  long steps = 0, rhs_evaluations = 0;  // rhs includes the finite-difference Jacobian's
+  long jacobian_evaluations = 0;
 };
 
 // integrate `options.revolutions` cam revolutions ending at stop_deg at one engine speed
