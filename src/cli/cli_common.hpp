@@ -16,7 +16,6 @@ enum ExitCode : int {
   exit_usage_error = 2,
   exit_input_error = 3,
   exit_numerical_failure = 4,
-  exit_not_built = 5,
 };
 
 struct GlobalOptions {
@@ -45,11 +44,6 @@ class Progress {
   long total_ = 0, done_ = 0;
   int last_percent_ = -1;
   bool enabled_ = false;
-};
-
-// thrown by a subcommand that is not built yet; main maps it to exit_not_built
-struct NotBuilt {
-  std::string what;
 };
 
 // subcommand registration: one file per subcommand (<verb>_command.cpp)

@@ -38,9 +38,6 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     app.exit(e);
     return exit_usage_error;
-  } catch (const NotBuilt& e) {
-    std::fprintf(stderr, "camopt: %s\n", e.what.c_str());
-    return exit_not_built;
   } catch (const camopt::InputError& e) {
     std::fprintf(stderr, "camopt: input error: %s\n", e.what());
     return exit_input_error;
