@@ -305,17 +305,8 @@ Status run_compliant(const kin::Mechanism& mech, const Model& model, const std::
     NV_Ith_S(s.atol, r) = options.absolute_tolerance;
     NV_Ith_S(s.atol, p.rows + r) = options.absolute_tolerance * 1e4;  // rates [per s]
   }
-  s.cvode = CVodeCreate(CV_BDF, s.ctx);
-  s.a = SUNDenseMatrix(n, n, s.ctx);
-  s.ls = SUNLinSol_Dense(s.y, s.a, s.ctx);
-  if (!s.cvode || !s.a || !s.ls || CVodeInit(s.cvode, rhs_callback, 0.0, s.y) != CV_SUCCESS ||
-      CVodeSVtolerances(s.cvode, options.relative_tolerance, s.atol) != CV_SUCCESS ||
-      CVodeSetUserData(s.cvode, &p) != CV_SUCCESS || CVodeSetLinearSolver(s.cvode, s.ls, s.a) != CV_SUCCESS ||
-      CVodeSetMaxNumSteps(s.cvode, options.max_steps) != CV_SUCCESS ||
-      CVodeSetMaxStep(s.cvode, detail::path_max_step_s(p.grid_step, p.omega)) != CV_SUCCESS ||
-      (p.roots > 0 && CVodeRootInit(s.cvode, p.roots, root_callback) != CV_SUCCESS) ||
-      (p.roots > 0 && CVodeSetNoInactiveRootWarn(s.cvode) != CV_SUCCESS) ||
-      CVodeSetErrHandlerFn(s.cvode, detail::silent_error_handler, nullptr) != CV_SUCCESS)
+  if (!s.create_bdf(rhs_callback, root_callback, p.roots, &p, options.relative_tolerance, options.max_steps,
+                    detail::path_max_step_s(p.grid_step, p.omega)))
     return {StatusCode::integrator_failure, "CVODE setup failed", ""};
 
   const auto points = static_cast<std::size_t>(std::floor((stop_deg - start_deg) / step_deg + 1e-9)) + 1;

@@ -16,6 +16,9 @@
 
 namespace camopt::dynamics::detail {
 
+// CVODE's error messages go into the returned Status, not to stderr
+inline void silent_error_handler(int, const char*, const char*, char*, void*) {}
+
 // owned SUNDIALS objects (CVODE, dense matrix and solver, state and tolerance vectors)
 struct Sundials {
   SUNContext ctx = nullptr;
@@ -26,6 +29,23 @@ struct Sundials {
   Sundials() = default;
   Sundials(const Sundials&) = delete;
   Sundials& operator=(const Sundials&) = delete;
+  // CVODE BDF with a dense direct solver on y (filled by the caller, with atol), the
+  // callbacks' user data, root functions, a step budget and a maximum step [s]; errors go
+  // into the caller's Status. False when any SUNDIALS call fails.
+  bool create_bdf(CVRhsFn rhs, CVRootFn roots, int root_count, void* user_data, double relative_tolerance,
+                  long max_steps, double max_step_s) {
+    const sunindextype n = N_VGetLength(y);
+    cvode = CVodeCreate(CV_BDF, ctx);
+    a = SUNDenseMatrix(n, n, ctx);
+    ls = SUNLinSol_Dense(y, a, ctx);
+    return cvode && a && ls && CVodeInit(cvode, rhs, 0.0, y) == CV_SUCCESS &&
+           CVodeSVtolerances(cvode, relative_tolerance, atol) == CV_SUCCESS &&
+           CVodeSetUserData(cvode, user_data) == CV_SUCCESS && CVodeSetLinearSolver(cvode, ls, a) == CV_SUCCESS &&
+           CVodeSetMaxNumSteps(cvode, max_steps) == CV_SUCCESS && CVodeSetMaxStep(cvode, max_step_s) == CV_SUCCESS &&
+           (root_count == 0 || (CVodeRootInit(cvode, root_count, roots) == CV_SUCCESS &&
+                                CVodeSetNoInactiveRootWarn(cvode) == CV_SUCCESS)) &&
+           CVodeSetErrHandlerFn(cvode, silent_error_handler, nullptr) == CV_SUCCESS;
+  }
   ~Sundials() {
     if (cvode) CVodeFree(&cvode);
     if (ls) SUNLinSolFree(ls);
@@ -36,9 +56,6 @@ struct Sundials {
     if (ctx) SUNContext_Free(&ctx);
   }
 };
-
-// CVODE's error messages go into the returned Status, not to stderr
-inline void silent_error_handler(int, const char*, const char*, char*, void*) {}
 
 inline std::string format_number(double v) {
   std::ostringstream s;

@@ -780,17 +780,8 @@ Status run_flexible(const kin::Mechanism& mech, const Model& model, const std::v
   out.initial_state.resize(2 * N);
   for (int i = 0; i < 2 * N; ++i) out.initial_state[i] = NV_Ith_S(su.y, i);
   const int nroots = static_cast<int>(s.root_list.size());
-  su.cvode = CVodeCreate(CV_BDF, su.ctx);
-  su.a = SUNDenseMatrix(n, n, su.ctx);
-  su.ls = SUNLinSol_Dense(su.y, su.a, su.ctx);
-  if (!su.cvode || !su.a || !su.ls || CVodeInit(su.cvode, rhs_callback, 0.0, su.y) != CV_SUCCESS ||
-      CVodeSVtolerances(su.cvode, options.relative_tolerance, su.atol) != CV_SUCCESS ||
-      CVodeSetUserData(su.cvode, &s) != CV_SUCCESS || CVodeSetLinearSolver(su.cvode, su.ls, su.a) != CV_SUCCESS ||
-      CVodeSetMaxNumSteps(su.cvode, options.max_steps) != CV_SUCCESS ||
-      CVodeSetMaxStep(su.cvode, detail::path_max_step_s(s.grid_step, s.omega)) != CV_SUCCESS ||
-      (nroots > 0 && CVodeRootInit(su.cvode, nroots, root_callback) != CV_SUCCESS) ||
-      (nroots > 0 && CVodeSetNoInactiveRootWarn(su.cvode) != CV_SUCCESS) ||
-      CVodeSetErrHandlerFn(su.cvode, detail::silent_error_handler, nullptr) != CV_SUCCESS)
+  if (!su.create_bdf(rhs_callback, root_callback, nroots, &s, options.relative_tolerance, options.max_steps,
+                     detail::path_max_step_s(s.grid_step, s.omega)))
     return {StatusCode::integrator_failure, "CVODE setup failed", ""};
 
   const auto points = static_cast<std::size_t>(std::floor((stop_deg - start_deg) / step_deg + 1e-9)) + 1;
