@@ -294,8 +294,15 @@ TargetLift fit_target_lift(std::span<const double> cam_deg, std::span<const doub
   // zero-lift points at about spacing h strictly inside (a, b)
   std::vector<Site> sites;
   sites.reserve(data.size() * 2);
+  constexpr double kMaxFillPoints = 1e5;  // far above any real table (0.01 deg over a 360 deg gap: 3.6e4)
   const auto fill = [&](double a, double b) {
-    const int k = std::max(1, static_cast<int>(std::ceil((b - a) / h - 1e-9)));
+    const double count = std::ceil((b - a) / h - 1e-9);
+    if (!(count <= kMaxFillPoints))
+      throw InputError(where(file, 0) + ": the gap " + fmt(a) + " .. " + fmt(b) +
+                       " cam deg would be filled with zero lift at the table's median spacing " + fmt(h) +
+                       " deg, i.e. " + fmt(count) + " points (more than " + fmt(kMaxFillPoints) +
+                       "); the angles are too close together for a lift table: check the angle column");
+    const int k = std::max(1, static_cast<int>(count));
     for (int j = 1; j < k; ++j) sites.push_back({a + (b - a) * j / k, 0.0, -1});
   };
   const auto on_base_circle = [&](const Site& s) { return s.lift <= tol; };
