@@ -18,6 +18,7 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 constexpr double kDegToRad = kPi / 180.0;
 constexpr double kCycleDeg = 360.0;
+constexpr double kMaxLift = 1000.0;  // [mm] no valve lifts a metre: larger values are a unit or column mistake
 constexpr double kRoundingNegative = 1e-3;  // [mm] negatives treated as rounding of 0 (1 um: exported or measured tables)
 constexpr double kSpanRelTol = 1e-9;        // |span - 360| <= this * 360: exactly one cycle
 constexpr double kWrapGapFactor = 1.5;      // wrap interval / median spacing above which the cycle is not covered
@@ -245,6 +246,10 @@ TargetLift fit_target_lift(std::span<const double> cam_deg, std::span<const doub
       throw InputError(at_row(i) + ": lift " + fmt(y) + " mm at " + fmt(cam_deg[i]) +
                        " cam deg: lift must be >= 0 (base circle)" +
                        (options.smooth ? " (smoothing keeps noise down to -" + fmt(negative_limit) + " mm)" : ""));
+    }
+    if (!(y <= kMaxLift)) {  // also keeps the spline arithmetic far from overflow
+      throw InputError(at_row(i) + ": lift " + fmt(y) + " mm at " + fmt(cam_deg[i]) + " cam deg: lift must be <= " +
+                       fmt(kMaxLift) + " mm (check the unit and the column)");
     }
     if (y < 0 && !options.smooth) y = 0.0;
     data.push_back({cam_deg[i], y, static_cast<int>(i)});
