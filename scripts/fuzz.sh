@@ -71,10 +71,15 @@ for target in "${targets[@]}"; do
   fi
   echo "== fuzzing $target for $seconds s (corpus $(find "$corpus" -type f | wc -l) files)"
   # libFuzzer resolves relative profile paths of designs against the source tree (fuzz_entry.cpp)
+  log="$build_dir/fuzz_$target.log"
   if ! (cd "$REPO" && "$build_dir/tests/fuzz/fuzz_$target" "$corpus" -max_total_time="$seconds" -max_len=16384 \
-    -timeout=20 -rss_limit_mb=4096 -print_final_stats=1 -artifact_prefix="$crashes/" 2>&1 | tail -n 25); then
-    echo "== $target: FAILED; crash inputs in $crashes/ (copy them to tests/fuzz/regressions/$target/)"
+    -timeout=20 -rss_limit_mb=4096 -print_final_stats=1 -artifact_prefix="$crashes/" >"$log" 2>&1); then
+    grep -E "fuzz target|ERROR|runtime error" "$log" | head -n 5 || true
+    tail -n 25 "$log"
+    echo "== $target: FAILED (log $log); crash inputs in $crashes/ (copy them to tests/fuzz/regressions/$target/)"
     status=1
+  else
+    grep -E "^stat::(number_of_executed_units|average_exec_per_sec|new_units_added)" "$log" || true
   fi
 done
 exit "$status"
