@@ -353,6 +353,30 @@ void run_rigid(const DynamicsOptions& o) {
        o.out_dir + "/dynamics.csv, summary.json");
 }
 
+// one time-integrated run per (rpm, control position) of the setup, in that nesting order
+template <class Result>
+struct GridRun {
+  double rpm;
+  std::size_t position;
+  Result result;
+};
+
+// runs `integrate(rpm, controls, result)` over the grid; a failure stops with its position
+template <class Result, class Integrate>
+std::vector<GridRun<Result>> run_grid(const Setup& su, Integrate&& integrate) {
+  std::vector<GridRun<Result>> runs;
+  Progress progress("dynamics", static_cast<long>(su.rpms.size() * su.positions.size()));
+  for (double rpm : su.rpms)
+    for (std::size_t p = 0; p < su.positions.size(); ++p) {
+      GridRun<Result> r{rpm, p, {}};
+      const Status st = integrate(rpm, su.positions[p], r.result);
+      if (!st.ok()) fail_at(su, st, p);
+      runs.push_back(std::move(r));
+      progress.advance();
+    }
+  return runs;
+}
+
 // mode (b): stiff separable contacts integrated in time, one run per (rpm, control)
 void run_compliant_contacts(const DynamicsOptions& o) {
   const Setup su = make_setup(o);
@@ -365,22 +389,12 @@ void run_compliant_contacts(const DynamicsOptions& o) {
     const Status st = dynamics::rigid_sweep(mech, model, su.positions[p], su.start, su.stop, su.step, rigid[p]);
     if (!st.ok()) fail_at(su, st, p);
   }
-  struct Run {
-    double rpm;
-    std::size_t position;
-    dynamics::CompliantResult result;
-  };
-  std::vector<Run> runs;
-  Progress progress("dynamics", static_cast<long>(su.rpms.size() * su.positions.size()));
-  for (double rpm : su.rpms)
-    for (std::size_t p = 0; p < su.positions.size(); ++p) {
-      Run r{rpm, p, {}};
-      const Status st = dynamics::run_compliant(mech, model, su.positions[p], rpm, su.start, su.stop, su.step,
-                                                dynamics::CompliantOptions{}, r.result);
-      if (!st.ok()) fail_at(su, st, p);
-      runs.push_back(std::move(r));
-      progress.advance();
-    }
+  using Run = GridRun<dynamics::CompliantResult>;
+  const std::vector<Run> runs =
+      run_grid<dynamics::CompliantResult>(su, [&](double rpm, const std::vector<double>& controls, auto& result) {
+        return dynamics::run_compliant(mech, model, controls, rpm, su.start, su.stop, su.step,
+                                       dynamics::CompliantOptions{}, result);
+      });
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
   // ---- dynamics.csv ----
@@ -481,22 +495,11 @@ void run_flexible_model(const DynamicsOptions& o) {
   const dynamics::Model& model = su.model;
   const std::size_t nc = mech.connections.size();
   const auto t0 = std::chrono::steady_clock::now();
-  struct Run {
-    double rpm;
-    std::size_t position;
-    dynamics::FlexibleResult result;
-  };
-  std::vector<Run> runs;
-  Progress progress("dynamics", static_cast<long>(su.rpms.size() * su.positions.size()));
-  for (double rpm : su.rpms)
-    for (std::size_t p = 0; p < su.positions.size(); ++p) {
-      Run r{rpm, p, {}};
-      const Status st =
-          dynamics::run_flexible(mech, model, su.positions[p], rpm, su.start, su.stop, su.step, o.flexible, r.result);
-      if (!st.ok()) fail_at(su, st, p);
-      runs.push_back(std::move(r));
-      progress.advance();
-    }
+  using Run = GridRun<dynamics::FlexibleResult>;
+  const std::vector<Run> runs =
+      run_grid<dynamics::FlexibleResult>(su, [&](double rpm, const std::vector<double>& controls, auto& result) {
+        return dynamics::run_flexible(mech, model, controls, rpm, su.start, su.stop, su.step, o.flexible, result);
+      });
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const bool angle_out = mech.nodes[mech.output_node].kind != NodeKind::translational;
   const std::string lift_unit = angle_out ? "deg" : "mm";
