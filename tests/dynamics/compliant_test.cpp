@@ -2,6 +2,8 @@
 // contact stiffness grows, finds contact opening / closing events above the separation
 // speed, and reports an integrator failure with its time and state.
 #include <catch2/catch.hpp>
+
+#include "dynamics/dynamics_test_support.hpp"
 #include <cmath>
 #include <string>
 
@@ -14,32 +16,9 @@ using namespace camopt::kin_test;
 
 namespace {
 
-// direct-acting valve: eccentric disc (R 18, e 4) on a flat tappet, spring 40 N/mm, 250 N
-DesignSpec valve() {
-  const oracles::EccentricFlatFollower o{18, 4, -90 * deg};
-  const double h = o.face_height(0)[0];
-  DesignSpec d = design("direct_valve", "cam", "tappet");
-  d.nodes = {rotational("cam", {0, 0}), translational("tappet", {0, h}, {0, 1})};
-  d.nodes[1].mass_kg = 0.07;
-  d.profiles = {eccentric_profile("disc", 18, 4)};
-  ConnectionSpec k = contact("cam_tappet", profile_surface("cam", "disc", {0, 0}, -90),
-                             line_surface("tappet", {0, h}, {0, -1}));
-  k.material_a = k.material_b = "steel";
-  k.width_mm = 8;
-  d.connections = {k};
-  MaterialSpec steel;
-  steel.name = "steel";
-  steel.youngs_modulus_GPa = 210;
-  steel.poisson_ratio = 0.3;
-  d.materials = {steel};
-  SpringSpec s;
-  s.name = "valve_spring";
-  s.node = "tappet";
-  s.rate_N_per_mm = 40;
-  s.preload_N = 250;
-  d.springs = {s};
-  return d;
-}
+// the direct-acting valve with a 40 N/mm, 250 N spring
+DesignSpec valve() { return dyn_test::direct_valve(40, 250); }
+
 
 // largest |mode (b) - mode (a)| contact force over the cycle [N], and the peak of mode (a)
 std::pair<double, double> force_error(const kin::Mechanism& mech, const dynamics::Model& model, double rpm,

@@ -3,6 +3,8 @@
 // shared/data/real/published_valvetrain_specs CDH11), a single-mass follower against an
 // RK4 integration written here, the power balance, and the low-speed limit (mode a).
 #include <catch2/catch.hpp>
+
+#include "dynamics/dynamics_test_support.hpp"
 #include <cmath>
 #include <string>
 
@@ -14,39 +16,12 @@
 
 using namespace camopt;
 using namespace camopt::kin_test;
+using camopt::dyn_test::direct_valve;
+using camopt::dyn_test::steel;
 
 namespace {
 
-MaterialSpec steel() {
-  MaterialSpec m;
-  m.name = "steel";
-  m.youngs_modulus_GPa = 210;
-  m.poisson_ratio = 0.3;
-  return m;
-}
 
-// direct-acting valve: eccentric disc (R 18, e 4) on a flat tappet (mass 0.07 kg)
-DesignSpec valve(double rate, double preload) {
-  const oracles::EccentricFlatFollower o{18, 4, -90 * deg};
-  const double h = o.face_height(0)[0];
-  DesignSpec d = design("direct_valve", "cam", "tappet");
-  d.nodes = {rotational("cam", {0, 0}), translational("tappet", {0, h}, {0, 1})};
-  d.nodes[1].mass_kg = 0.07;
-  d.profiles = {eccentric_profile("disc", 18, 4)};
-  ConnectionSpec k = contact("cam_tappet", profile_surface("cam", "disc", {0, 0}, -90),
-                             line_surface("tappet", {0, h}, {0, -1}));
-  k.material_a = k.material_b = "steel";
-  k.width_mm = 8;
-  d.connections = {k};
-  d.materials = {steel()};
-  SpringSpec s;
-  s.name = "valve_spring";
-  s.node = "tappet";
-  s.rate_N_per_mm = rate;
-  s.preload_N = preload;
-  d.springs = {s};
-  return d;
-}
 
 // independent Hertz line law: solve delta = a (ln(4R/a) - 1) for a by the fixed point
 // a = delta / (ln(4R/a) - 1) (contraction ~ 1/ln(4R/a) < 0.1), F = pi L E* a
@@ -85,7 +60,7 @@ TEST_CASE("Hertz line law: force and approach are inverse, stiffness and energy 
 
 TEST_CASE("flexible: multi-mass spring surge frequencies (lumped chain and f1 = 1/2 sqrt(k/m))") {
   for (int masses : {4, 40}) {
-    DesignSpec d = valve(40, 250);
+    DesignSpec d = direct_valve(40, 250);
     d.springs[0].mass_kg = 0.045;
     d.springs[0].surge_masses = masses;
     const kin::Mechanism mech = kin::compile(d);
@@ -176,7 +151,7 @@ TEST_CASE("flexible: the Cam Design Handbook pushrod valve gear (CDH11) has mode
 
 TEST_CASE("flexible: single-mass follower against an RK4 integration with tiny steps") {
   // soft spring: the follower leaves the cam near the nose above ~8800 rpm
-  DesignSpec d = valve(5, 20);
+  DesignSpec d = direct_valve(5, 20);
   d.connections[0].contact_damping_N_s_per_mm = 0.0;  // a continuous force (RK4 steps over impacts)
   const kin::Mechanism mech = kin::compile(d);
   const dynamics::Model model = dynamics::compile_dynamics(mech);
@@ -241,7 +216,7 @@ TEST_CASE("flexible: single-mass follower against an RK4 integration with tiny s
 }
 
 TEST_CASE("flexible: power balance over a revolution (drive work = energy change + losses)") {
-  DesignSpec d = valve(40, 250);
+  DesignSpec d = direct_valve(40, 250);
   d.nodes[1].axial_stiffness_N_per_mm = 60000;
   d.springs[0].mass_kg = 0.045;
   d.springs[0].surge_masses = 6;
@@ -271,7 +246,7 @@ TEST_CASE("flexible: power balance over a revolution (drive work = energy change
 }
 
 TEST_CASE("flexible: at low speed the contact forces approach mode (a)") {
-  DesignSpec d = valve(40, 250);
+  DesignSpec d = direct_valve(40, 250);
   d.nodes[1].axial_stiffness_N_per_mm = 60000;
   d.springs[0].mass_kg = 0.045;
   d.springs[0].surge_masses = 4;
@@ -312,7 +287,7 @@ TEST_CASE("flexible: at 10-50 rpm the contact force is mode (a) less spring rate
   // the deficit k_s delta ~ 0.13 N: the "0.5 N floor" of the test above is this effect
   // plus the inertia left at 500 rpm. Without a maximum step CVODE stepped over the lift
   // at these speeds and the force stayed at the preload (mode (b) had the same bug).
-  DesignSpec d = valve(40, 250);
+  DesignSpec d = direct_valve(40, 250);
   d.nodes[1].axial_stiffness_N_per_mm = 60000;
   d.springs[0].mass_kg = 0.045;
   d.springs[0].surge_masses = 4;

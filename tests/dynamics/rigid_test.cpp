@@ -5,6 +5,8 @@
 // losses), exact separation speeds, and Hertz line contact against a hand computation.
 #include <Eigen/Geometry>
 #include <catch2/catch.hpp>
+
+#include "dynamics/dynamics_test_support.hpp"
 #include <cmath>
 #include <numbers>
 #include <string>
@@ -17,6 +19,7 @@
 
 using namespace camopt;
 using namespace camopt::kin_test;
+using camopt::dyn_test::steel;
 using camopt::oracles::wrap_angle;
 
 namespace {
@@ -29,13 +32,6 @@ constexpr double kRpm = 6000.0;
 Vector2d polar(double r, double a) { return {r * std::cos(a), r * std::sin(a)}; }
 double cross2(const Vector2d& a, const Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
 
-MaterialSpec steel() {
-  MaterialSpec m;
-  m.name = "steel";
-  m.youngs_modulus_GPa = 210;
-  m.poisson_ratio = 0.3;
-  return m;
-}
 
 // ---- direct-acting valve: eccentric disc + flat tappet (oracle (a)) ----
 struct ValveCase {

@@ -1,0 +1,41 @@
+#pragma once
+// shared designs of the dynamics tests (built in code, like the kinematics tests)
+#include "camopt/core/design_spec.hpp"
+#include "kinematics/kinematics_test_support.hpp"
+
+namespace camopt::dyn_test {
+
+inline MaterialSpec steel() {
+  MaterialSpec m;
+  m.name = "steel";
+  m.youngs_modulus_GPa = 210;
+  m.poisson_ratio = 0.3;
+  return m;
+}
+
+// direct-acting valve: eccentric disc (R 18, e 4) on a flat tappet (mass 0.07 kg, steel
+// line contact 8 mm wide), valve spring rate [N/mm] and preload [N]
+inline DesignSpec direct_valve(double rate_N_per_mm, double preload_N) {
+  using namespace kin_test;
+  const oracles::EccentricFlatFollower o{18, 4, -90 * deg};
+  const double h = o.face_height(0)[0];
+  DesignSpec d = design("direct_valve", "cam", "tappet");
+  d.nodes = {rotational("cam", {0, 0}), translational("tappet", {0, h}, {0, 1})};
+  d.nodes[1].mass_kg = 0.07;
+  d.profiles = {eccentric_profile("disc", 18, 4)};
+  ConnectionSpec k = contact("cam_tappet", profile_surface("cam", "disc", {0, 0}, -90),
+                             line_surface("tappet", {0, h}, {0, -1}));
+  k.material_a = k.material_b = "steel";
+  k.width_mm = 8;
+  d.connections = {k};
+  d.materials = {steel()};
+  SpringSpec s;
+  s.name = "valve_spring";
+  s.node = "tappet";
+  s.rate_N_per_mm = rate_N_per_mm;
+  s.preload_N = preload_N;
+  d.springs = {s};
+  return d;
+}
+
+}  // namespace camopt::dyn_test
