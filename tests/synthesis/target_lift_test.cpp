@@ -383,3 +383,16 @@ TEST_CASE("target lift: periodic b-spline fit reproduces a spline in its space",
   std::vector<double> vals = {1.0, 2.0, 3.0};
   CHECK_THROWS_AS(fit_periodic_bspline(sparse, vals, 10.0, "sparse.csv"), InputError);
 }
+
+TEST_CASE("target lift: absurd values and crowded angles are input errors naming the row", "[synthesis][target]") {
+  TargetLiftOptions opt;
+  opt.source = "t.csv";
+  // a lift cell of 1.4e301 mm (found by the fuzzer: the spline overflowed to NaN)
+  const std::string big = error_of({0, 90, 180, 270}, {0, 5, 1.4e301, 5}, {2, 3, 4, 5}, opt);
+  CHECK_THAT(big, Catch::Contains("t.csv:4"));
+  CHECK_THAT(big, Catch::Contains("lift must be <= 1000 mm"));
+  // two angles 1e-12 deg apart: closing the cycle at that spacing would take 3.6e14 points
+  const std::string crowded = error_of({0, 1e-12}, {0, 0}, {2, 3}, opt);
+  CHECK_THAT(crowded, Catch::Contains("t.csv"));
+  CHECK_THAT(crowded, Catch::Contains("too close together"));
+}
