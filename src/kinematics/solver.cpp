@@ -162,6 +162,7 @@ class Kernel {
       if (m_.variables[v].node >= 0) ws_.invalidate_pose(m_.variables[v].node);
   }
   Status solve_values(Workspace::Block& b, double driver);
+  template <int M>
   Status solve_offset_contact(Workspace::Block& b, double driver, bool& solved);
   static void remember_jacobian(Workspace::Block& b, double driver) {
     const int n = static_cast<int>(b.unknowns.size());
@@ -521,55 +522,26 @@ Status Kernel::differentiate(Workspace::Block& b, double driver) {
 
 // ---- one-equation form of a curve-circle contact (Workspace::Block::OffsetContact) ----
 
-// the circle centre that touches the curve at parameter u: C = p(u) + offset n(u), n the
-// curve's outward unit normal (right of its counter-clockwise tangent)
-template <class T>
-V2<T> offset_centre(const Mechanism& m, const Surface& s, double offset, const detail::Pose<T>& pose, const T& u) {
+// the circle centre that touches the curve at parameter u, in the curve body's drawing
+// frame [mm]: C = p(u) + offset n(u), n the curve's outward unit normal (right of its
+// counter-clockwise tangent), as its taylor series of order M in u
+template <int M>
+V2<Jet<M>> offset_local(const Mechanism& m, const Surface& s, double offset, double u) {
   using std::sqrt;
-  const CurvePoint<T> c = m.profiles[s.profile].point(u, false);
-  const T k = offset / sqrt(c.dx * c.dx + c.dy * c.dy);
+  using T = Jet<M>;
+  const CurvePoint<T> c = m.profiles[s.profile].point_series<M>(u);
+  const T len = sqrt(c.dx * c.dx + c.dy * c.dy);
+  const T k = offset / len;
   const T qx = c.x + k * c.dy, qy = c.y - k * c.dx;
   const double co = s.cos_orient, so = s.sin_orient;
-  return pose.apply(s.origin.x() + co * qx - so * qy, s.origin.y() + so * qx + co * qy);
-}
-
-// the same centre in values, with dC/du and the curve's unit tangent [global], and the
-// centre in the curve body's drawing frame: the newton iteration needs nothing more
-struct OffsetCentre {
-  V2<double> centre, centre_u, tangent, local;
-};
-// memo: through the spline memo, when jet sweeps at the converged u reuse this evaluation
-OffsetCentre offset_centre_value(const Mechanism& m, const Surface& s, double offset, const detail::Pose<double>& pose,
-                                 double u, bool memo) {
-  const CurvePoint<double> c = m.profiles[s.profile].point(u, true, memo);
-  const double len = std::sqrt(c.dx * c.dx + c.dy * c.dy);
-  const V2<double> t{c.dx / len, c.dy / len};
-  // d t / du = (c'' - t (t . c'')) / |c'|, n = (t_y, -t_x)
-  const double along = t.x * c.ddx + t.y * c.ddy;
-  const V2<double> dt{(c.ddx - t.x * along) / len, (c.ddy - t.y * along) / len};
-  const V2<double> q{c.x + offset * t.y, c.y - offset * t.x};
-  const V2<double> q_u{c.dx + offset * dt.y, c.dy - offset * dt.x};
-  const double co = s.cos_orient, so = s.sin_orient;
-  auto orient = [&](const V2<double>& v) { return V2<double>{co * v.x - so * v.y, so * v.x + co * v.y}; };
-  OffsetCentre out;
-  const V2<double> local = orient(q), local_u = orient(q_u), tangent = orient(t);
-  out.local = {s.origin.x() + local.x, s.origin.y() + local.y};
-  out.centre = pose.apply(out.local.x, out.local.y);
-  out.centre_u = pose.rotate(local_u.x, local_u.y);
-  out.tangent = pose.rotate(tangent.x, tangent.y);
-  return out;
+  return {s.origin.x() + co * qx - so * qy, s.origin.y() + so * qx + co * qy};
 }
 
 // the one equation [mm]: the centre at its distance from the unknown body's pivot
 // (rotational) or on the unknown body's line of travel (translational)
-template <class T>
-T offset_residual(const Workspace::Block::OffsetContact& oc, const Node& node, const Eigen::Vector2d& pivot,
-                  const V2<T>& centre) {
-  using std::sqrt;
-  if (node.kind == NodeKind::rotational) {
-    const T dx = centre.x - pivot.x(), dy = centre.y - pivot.y();
-    return sqrt(dx * dx + dy * dy) - oc.arm;
-  }
+double offset_residual(const Workspace::Block::OffsetContact& oc, const Node& node, const Eigen::Vector2d& pivot,
+                       const V2<double>& centre) {
+  if (node.kind == NodeKind::rotational) return std::hypot(centre.x - pivot.x(), centre.y - pivot.y()) - oc.arm;
   return node.direction.x() * (centre.y - oc.centre.y()) - node.direction.y() * (centre.x - oc.centre.x());
 }
 
@@ -591,13 +563,18 @@ detail::Pose<To> convert_pose(const detail::Pose<Jet<N>>& p) {
   return out;
 }
 
-// solves the block through its one equation g(u) = 0 by newton from the predicted u; its
-// taylor coefficients by implicit differentiation g_u u_k = -r_k; the body's displacement
-// in closed form from the centre. solved = false (values untouched) leaves the block to
-// the general solver.
-// kept out of line: inlined into run() it changes the inlining of its own callees (callgrind: +1 k
-// instructions per point)
+// solves the block through its one equation g(u) = 0 by newton from the predicted u. One
+// evaluation gives the centre as a taylor series of order M in u; while a newton step du is
+// below `shift_limit` the series is shifted to the new u instead of evaluating the curve
+// again (the truncation, ~ q^(M+1) du^(M+1-k) in the k-th coefficient, is below round-off).
+// The taylor coefficients in the driver follow order by order, each linear in its u_k:
+// C(t) = T(t) + R(t) (Q(u(t)) - r) (Faa di Bruno for Q), g_k = 0 for u_k. The body's
+// displacement follows in closed form from the centre. solved = false (values untouched)
+// leaves the block to the general solver.
+// kept out of line: inlined into run() it changes the inlining of its own callees
+template <int M>
 [[gnu::noinline]] Status Kernel::solve_offset_contact(Workspace::Block& b, double driver, bool& solved) {
+  constexpr double shift_limit = 1e-7;  // [rad or 2 pi chord fraction]
   const auto& oc = b.offset;
   const Connection& c = m_.connections[oc.connection];
   const Surface& curve = oc.curve_on_a ? c.surface_a : c.surface_b;
@@ -617,30 +594,51 @@ detail::Pose<To> convert_pose(const detail::Pose<Jet<N>>& p) {
     return V2<double>{dx / dist, dy / dist};
   };
   double u = ws_.values[oc.curve_variable];
-  OffsetCentre at;
+  V2<Jet<M>> q;  // the centre in the curve body's frame, series in u
+  V2<double> centre, centre_u;
   double g = 0.0, gu = 0.0;
   bool converged = false;
-  constexpr int max_iterations = 6;
-  for (int it = 0; it < max_iterations; ++it) {
-    at = offset_centre_value(m_, curve, oc.centre_offset, pose0, u, order > 0);
-    g = offset_residual(oc, node, pivot, at.centre);
-    gu = detail::dot(gradient(at.centre), at.centre_u);
-    if (!std::isfinite(g) || !std::isfinite(gu) || gu == 0.0) break;
-    if (std::abs(g) <= tolerance()) {
-      converged = true;
-      break;
+  constexpr int max_evaluations = 6, max_shifts = 3;
+  double evaluated_at = u;
+  for (int ev = 0; ev < max_evaluations && !converged; ++ev) {
+    evaluated_at = u;
+    q = offset_local<M>(m_, curve, oc.centre_offset, u);
+    bool reevaluate = false;
+    for (int shifts = 0; shifts <= max_shifts && !reevaluate; ++shifts) {
+      centre = pose0.apply(q.x.c[0], q.y.c[0]);
+      centre_u = pose0.rotate(q.x.c[1], q.y.c[1]);
+      g = offset_residual(oc, node, pivot, centre);
+      gu = detail::dot(gradient(centre), centre_u);
+      if (!std::isfinite(g) || !std::isfinite(gu) || gu == 0.0) return Status::success();
+      if (std::abs(g) <= tolerance()) {
+        converged = true;
+        break;
+      }
+      if (shifts == max_shifts) break;
+      ++ws_.stats.newton_iterations;
+      const double du = -g / gu;
+      u += du;
+      reevaluate = std::abs(du) > shift_limit;
+      if (!reevaluate) {
+        taylor_shift(q.x, du);
+        taylor_shift(q.y, du);
+      }
     }
-    ++ws_.stats.newton_iterations;
-    u -= g / gu;
   }
   if (!converged) return Status::success();
+  // the contact outputs evaluate the curve at the shifted u
+  if (order > 0 && u != evaluated_at) m_.profiles[curve.profile].shift_memo(evaluated_at, u - evaluated_at);
+  // the curve's unit tangent: along dC/du (the offset curve is parallel to the curve; a
+  // reversed sign leaves the condition number below unchanged)
+  const double centre_u_norm = std::hypot(centre_u.x, centre_u.y);
+  const V2<double> tangent{centre_u.x / centre_u_norm, centre_u.y / centre_u_norm};
   // the block's 2 x 2 jacobian of (tangency, closure) in (displacement, u), for its
   // condition: d/dq = (X_q . t, X_q . n), d/du = (-C_u . t, 0) with n = (t_y, -t_x)
   if (order > 0) {
-    const V2<double> xq = rotational ? V2<double>{-(at.centre.y - pivot.y()), at.centre.x - pivot.x()}
+    const V2<double> xq = rotational ? V2<double>{-(centre.y - pivot.y()), centre.x - pivot.x()}
                                      : V2<double>{node.direction.x(), node.direction.y()};
-    const V2<double> n{at.tangent.y, -at.tangent.x};
-    const double a = detail::dot(xq, at.tangent), bb = -detail::dot(at.centre_u, at.tangent);
+    const V2<double> n{tangent.y, -tangent.x};
+    const double a = detail::dot(xq, tangent), bb = -detail::dot(centre_u, tangent);
     const double cc = detail::dot(xq, n);
     const double det = -bb * cc;
     // |J|_1 |J^-1|_1, J^-1 = [[0, -b], [-c, a]] / det
@@ -653,50 +651,69 @@ detail::Pose<To> convert_pose(const detail::Pose<Jet<N>>& p) {
                   "): a pressure angle reached 90 deg or a linkage is at toggle",
               driver_text(m_, driver)};
   }
-  const V2<double> grad = gradient(at.centre);
-  // taylor coefficients of u and of the centre
-  Jet3 uj(u), cx(at.centre.x), cy(at.centre.y);
-  if (order >= 1) {
-    // the centre's rate with u held: the known body's motion alone
-    const auto moving = convert_pose<Jet<1>>(pose3).apply(at.local.x, at.local.y);
-    const V2<double> centre_t{moving.x.c[1], moving.y.c[1]};
-    uj.c[1] = -detail::dot(grad, centre_t) / gu;
-    cx.c[1] = centre_t.x + at.centre_u.x * uj.c[1];
-    cy.c[1] = centre_t.y + at.centre_u.y * uj.c[1];
-  }
-  if (order >= 2) {
-    const auto pose2 = convert_pose<Jet<2>>(pose3);
-    Jet<2> u2(u);
-    u2.c[1] = uj.c[1];
-    const auto c2 = offset_centre(m_, curve, oc.centre_offset, pose2, u2);
-    uj.c[2] = -offset_residual(oc, node, pivot, c2).c[2] / gu;
-    cx.c[2] = c2.x.c[2] + at.centre_u.x * uj.c[2];
-    cy.c[2] = c2.y.c[2] + at.centre_u.y * uj.c[2];
-  }
-  if (order >= 3) {
-    Jet3 u3 = uj;
-    u3.c[3] = 0.0;
-    const auto c3 = offset_centre(m_, curve, oc.centre_offset, pose3, u3);
-    uj.c[3] = -offset_residual(oc, node, pivot, c3).c[3] / gu;
-    cx.c[3] = c3.x.c[3] + at.centre_u.x * uj.c[3];
-    cy.c[3] = c3.y.c[3] + at.centre_u.y * uj.c[3];
+  // taylor coefficients in the driver, order by order: u_k, the centre C_k and the
+  // body-frame lever L = Q - r (Q_k from Q(u(t)), Faa di Bruno up to order 3)
+  Jet3 uj(u), cx(centre.x), cy(centre.y);
+  V2<double> lever[4] = {{q.x.c[0] - pose3.rx, q.y.c[0] - pose3.ry}, {0, 0}, {0, 0}, {0, 0}};
+  const V2<double> q1{q.x.c[1], q.y.c[1]};
+  const V2<double> d0{centre.x - pivot.x(), centre.y - pivot.y()};  // rotational: centre - pivot
+  const V2<double> travel_normal{-node.direction.y(), node.direction.x()};
+  for (int k = 1; k <= order; ++k) {
+    // Q_k without its u_k term
+    const double u1 = uj.c[1], u2 = uj.c[2];
+    V2<double> known{0.0, 0.0};
+    if constexpr (M >= 2) {
+      if (k == 2) known = {q.x.c[2] * u1 * u1, q.y.c[2] * u1 * u1};
+    }
+    if constexpr (M >= 3) {
+      if (k == 3) {
+        const double a2 = 2.0 * u1 * u2, a3 = u1 * u1 * u1;
+        known = {q.x.c[2] * a2 + q.x.c[3] * a3, q.y.c[2] * a2 + q.y.c[3] * a3};
+      }
+    }
+    // C_k without its u_k term: T_k + sum_{i=1..k} R_i L_{k-i} + R_0 known
+    V2<double> ck{pose3.tx.c[k], pose3.ty.c[k]};
+    for (int i = 1; i <= k; ++i) {
+      const double ci = pose3.c.c[i], si = pose3.s.c[i];
+      const V2<double>& l = lever[k - i];
+      ck.x += ci * l.x - si * l.y;
+      ck.y += si * l.x + ci * l.y;
+    }
+    ck.x += pose0.c * known.x - pose0.s * known.y;
+    ck.y += pose0.s * known.x + pose0.c * known.y;
+    // g_k = 0, linear in u_k through C_u u_k
+    double uk;
+    if (rotational) {
+      // |C - P|^2 = arm^2: 2 D_0 . D_k + sum_{0<i<k} D_i . D_{k-i} = 0
+      double rest = 2.0 * detail::dot(d0, ck);
+      const V2<double> d1{cx.c[1], cy.c[1]}, d2{cx.c[2], cy.c[2]};
+      if (k == 2) rest += detail::dot(d1, d1);
+      if (k == 3) rest += 2.0 * detail::dot(d1, d2);
+      uk = -rest / (2.0 * detail::dot(d0, centre_u));
+    } else {
+      uk = -detail::dot(travel_normal, ck) / detail::dot(travel_normal, centre_u);
+    }
+    uj.c[k] = uk;
+    lever[k] = {known.x + q1.x * uk, known.y + q1.y * uk};
+    cx.c[k] = ck.x + centre_u.x * uk;
+    cy.c[k] = ck.y + centre_u.y * uk;
   }
   // the body's displacement from its circle centre
-  Jet3 q;
-  if (node.kind == NodeKind::rotational) {
-    q = order > 0 ? atan2(cy - pivot.y(), cx - pivot.x()) - oc.arm_angle
-                  : Jet3(std::atan2(cy.value() - pivot.y(), cx.value() - pivot.x()) - oc.arm_angle);
+  Jet3 qn;
+  if (rotational) {
+    qn = order > 0 ? atan2(cy - pivot.y(), cx - pivot.x()) - oc.arm_angle
+                   : Jet3(std::atan2(cy.value() - pivot.y(), cx.value() - pivot.x()) - oc.arm_angle);
     // the branch nearest the prediction (the general solver tracks it continuously)
-    const double turns = std::round((ws_.values[oc.node_variable] - q.value()) / (2 * pi));
-    q.c[0] += turns * 2 * pi;
+    const double turns = std::round((ws_.values[oc.node_variable] - qn.value()) / (2 * pi));
+    qn.c[0] += turns * 2 * pi;
   } else {
-    q = node.direction.x() * (cx - oc.centre.x()) + node.direction.y() * (cy - oc.centre.y());
+    qn = node.direction.x() * (cx - oc.centre.x()) + node.direction.y() * (cy - oc.centre.y());
   }
-  for (int k = order + 1; k <= 3; ++k) q.c[k] = 0.0;
+  for (int k = order + 1; k <= 3; ++k) qn.c[k] = 0.0;
   ws_.values[oc.curve_variable] = u;
-  ws_.values[oc.node_variable] = q.value();
+  ws_.values[oc.node_variable] = qn.value();
   ws_.vars[oc.curve_variable] = uj;
-  ws_.vars[oc.node_variable] = q;
+  ws_.vars[oc.node_variable] = qn;
   solved = true;
   return Status::success();
 }
@@ -1031,7 +1048,9 @@ Status Kernel::run(double driver) {
     }
     if (b.offset.active && !fresh && ws_.offset_contacts) {
       bool solved = false;
-      Status st = solve_offset_contact(b, driver, solved);
+      // values need the centre's series to order 2 in u, derivatives to order 4 (see there)
+      Status st = rq_.derivative_order > 0 ? solve_offset_contact<4>(b, driver, solved)
+                                           : solve_offset_contact<2>(b, driver, solved);
       if (!st.ok()) return st;
       if (solved) {
         finish_block(b);
@@ -1396,20 +1415,21 @@ Status step_to(const Mechanism& m, Workspace& ws, double target, const Request& 
   return st;
 }
 
-// the first point away from the drawing (driver 0, default controls, where every node is
-// at its drawing position): the drawing is solved, the controls moved to theirs in steps,
-// then the driver continued to `driver`, all under the trust check, so the first point is
-// on the drawing's assembly branch rather than wherever Newton from the drawing lands
-Status assemble(const Mechanism& m, Workspace& ws, double driver, const Request& rq) {
-  const std::vector<double> target = ws.controls();
-  std::vector<double> controls(target.size());
-  for (std::size_t i = 0; i < target.size(); ++i) controls[i] = m.controls[i].default_value;
-  const std::vector<double> defaults = controls;
+std::vector<double> default_controls(const Mechanism& m) {
+  std::vector<double> controls(m.controls.size());
+  for (std::size_t i = 0; i < controls.size(); ++i) controls[i] = m.controls[i].default_value;
+  return controls;
+}
+
+// from the solved drawing (driver 0, default controls, where every node is at its drawing
+// position): the controls moved to `target` in steps, then the driver continued to
+// `driver`, all under the trust check, so the first point is on the drawing's assembly
+// branch rather than wherever Newton from the drawing lands
+Status continue_from_drawing(const Mechanism& m, Workspace& ws, const std::vector<double>& target, double driver,
+                             const Request& rq) {
+  const std::vector<double> defaults = default_controls(m);
+  std::vector<double> controls = defaults;
   const Request inner{3, false};
-  ws.set_controls(controls, true);
-  place_pivots(m, ws);
-  Status st = Kernel(m, ws, inner).run(0.0);
-  if (!st.ok()) return st;
   double done = 0.0, step = 1.0;  // fraction of the control move
   while (done < 1.0) {
     const double next = std::min(1.0, done + step);
@@ -1417,7 +1437,7 @@ Status assemble(const Mechanism& m, Workspace& ws, double driver, const Request&
       controls[i] = next == 1.0 ? target[i] : defaults[i] + next * (target[i] - defaults[i]);
     ws.set_controls(controls, true);
     TrustOutcome trust;
-    st = attempt(m, ws, 0.0, inner, trust);
+    Status st = attempt(m, ws, 0.0, inner, trust);
     if (!st.ok()) return st;
     if (!trust.rejected) {
       done = next;
@@ -1431,13 +1451,17 @@ Status assemble(const Mechanism& m, Workspace& ws, double driver, const Request&
   return step_to(m, ws, driver, rq);
 }
 
-}  // namespace
-
-namespace {
-// a fresh workspace away from the drawing: assembled by continuation, else directly
-Status solve_fresh(const Mechanism& mech, Workspace& ws, double driver, const Request& request) {
+// a fresh workspace away from the drawing: assembled by continuation from the drawing
+// (solved here, or copied from `drawing`), else directly
+Status solve_fresh(const Mechanism& mech, Workspace& ws, double driver, const Request& request,
+                   const Workspace* drawing) {
   const std::vector<double> target = ws.controls();
-  Status st = assemble(mech, ws, driver, request);
+  Status st = Status::success();
+  if (drawing != nullptr)
+    ws = *drawing;
+  else
+    st = solve_drawing(mech, ws);
+  if (st.ok()) st = continue_from_drawing(mech, ws, target, driver, request);
   if (st.ok()) return st;
   // the drawing does not assemble or continue: assemble at the point directly
   ws.set_controls(target);
@@ -1447,13 +1471,21 @@ Status solve_fresh(const Mechanism& mech, Workspace& ws, double driver, const Re
 }
 }  // namespace
 
-Status solve(const Mechanism& mech, Workspace& ws, double driver, const Request& request) {
+Status solve_drawing(const Mechanism& mech, Workspace& ws) {
+  ws.set_controls(default_controls(mech));
+  place_pivots(mech, ws);
+  Status st = Kernel(mech, ws, Request{3, false}).run(0.0);
+  if (!st.ok()) ws.reset();
+  return st;
+}
+
+Status solve(const Mechanism& mech, Workspace& ws, double driver, const Request& request, const Workspace* drawing) {
   CAMOPT_ASSERT(request.derivative_order >= 0 && request.derivative_order <= 3);
   CAMOPT_ASSERT(!request.contacts || request.derivative_order >= 1);
   if (ws.history == 0) {
     bool at_drawing = driver == 0.0;
     for (std::size_t i = 0; i < mech.controls.size(); ++i) at_drawing &= ws.controls()[i] == mech.controls[i].default_value;
-    if (!at_drawing) return solve_fresh(mech, ws, driver, request);
+    if (!at_drawing) return solve_fresh(mech, ws, driver, request, drawing);
   }
   Status st = step_to(mech, ws, driver, request);
   if (!st.ok()) ws.reset();

@@ -10,7 +10,9 @@ namespace camopt::kin {
 namespace {
 constexpr double deg = std::numbers::pi / 180.0;
 
-void run_position(const Mechanism& m, const SweepSpec& spec, const std::vector<double>& driver, PositionResult& out) {
+// drawing: the solved drawing to continue from (nullptr: solve() solves it itself)
+void run_position(const Mechanism& m, const SweepSpec& spec, const std::vector<double>& driver, PositionResult& out,
+                  const Workspace* drawing) {
   Workspace ws(m);
   ws.set_controls(out.controls);
   const std::size_t nv = m.variables.size(), nc = m.connections.size();
@@ -19,7 +21,7 @@ void run_position(const Mechanism& m, const SweepSpec& spec, const std::vector<d
   if (spec.request.contacts) out.contacts.assign(driver.size() * nc, ContactState{});
   const double unit = m.driver_is_angle() ? deg : 1.0;  // driver deg -> rad
   for (std::size_t i = 0; i < driver.size(); ++i) {
-    Status st = solve(m, ws, driver[i] * unit, spec.request);
+    Status st = solve(m, ws, driver[i] * unit, spec.request, drawing);
     if (!st.ok()) {
       out.status = st;
       break;
@@ -64,8 +66,12 @@ SweepResult sweep(const Mechanism& m, const SweepSpec& spec) {
   for (std::size_t p = 0; p < positions.size(); ++p) r.positions[p].controls = positions[p];
   std::atomic<std::size_t> next{0};
   auto worker = [&] {
+    // every position starts from the same drawing: solved once per thread (the
+    // continuation from it, and so each result, does not depend on the thread)
+    Workspace drawing(m);
+    const bool have_drawing = solve_drawing(m, drawing).ok();
     for (std::size_t p = next++; p < positions.size(); p = next++) {
-      run_position(m, spec, r.driver, r.positions[p]);
+      run_position(m, spec, r.driver, r.positions[p], have_drawing ? &drawing : nullptr);
       if (spec.on_position_done) spec.on_position_done();
     }
   };

@@ -379,6 +379,14 @@ inline Jet<N> hypot(const Jet<N>& x, const Jet<N>& y) noexcept {
   return sqrt_from(square(x) + square(y), std::hypot(x.c[0], y.c[0]));
 }
 
+// the same truncated series about t = h: c_k <- sum_j binom(j, k) c_j h^(j - k) (taylor shift
+// by repeated synthetic division, O(N^2)); exact for a polynomial of degree <= N
+template <int N>
+constexpr void taylor_shift(Jet<N>& x, double h) noexcept {
+  for (int i = 0; i < N; ++i)
+    for (int k = N - 1; k >= i; --k) x.c[k] += h * x.c[k + 1];
+}
+
 // f(x(t)) from f, f', ..., f^(N) at x0 = x.value():
 // f(x) = sum_k f^(k)(x0) / k! (x - x0)^k, truncated at order N (faa di bruno by powers)
 template <int N>

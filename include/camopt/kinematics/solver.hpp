@@ -144,6 +144,14 @@ class Workspace {
 
 // solve every node at driver displacement [rad for a rotational driver, mm otherwise].
 // On failure the status names the connection, the driver position and the residual.
-Status solve(const Mechanism& mech, Workspace& ws, double driver, const Request& request);
+// A fresh workspace away from the drawing is assembled by continuation from the drawing;
+// `drawing` (a workspace after solve_drawing) saves solving the drawing again.
+Status solve(const Mechanism& mech, Workspace& ws, double driver, const Request& request,
+             const Workspace* drawing = nullptr);
+
+// the drawing (driver 0, every control at its default) solved in `ws` with derivatives: the
+// start of every continuation. A control sweep solves it once per thread and passes it to
+// solve() for each position.
+Status solve_drawing(const Mechanism& mech, Workspace& ws);
 
 }  // namespace camopt::kin
