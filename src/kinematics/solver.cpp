@@ -90,6 +90,8 @@ Workspace::Block::OffsetContact offset_contact(const Mechanism& m, const SolveSt
     const Eigen::Vector2d arm = circle.origin - node.pivot;
     oc.arm = arm.norm();
     oc.arm_angle = std::atan2(arm.y(), arm.x());
+    oc.cos_arm = std::cos(oc.arm_angle);
+    oc.sin_arm = std::sin(oc.arm_angle);
     // a circle centred on the pivot does not move its body: leave the block to the general solver
     if (!(oc.arm > 1e-9 * m.length_scale)) return oc;
   }
@@ -541,7 +543,10 @@ V2<Jet<M>> offset_local(const Mechanism& m, const Surface& s, double offset, dou
 // (rotational) or on the unknown body's line of travel (translational)
 double offset_residual(const Workspace::Block::OffsetContact& oc, const Node& node, const Eigen::Vector2d& pivot,
                        const V2<double>& centre) {
-  if (node.kind == NodeKind::rotational) return std::hypot(centre.x - pivot.x(), centre.y - pivot.y()) - oc.arm;
+  if (node.kind == NodeKind::rotational) {
+    const double dx = centre.x - pivot.x(), dy = centre.y - pivot.y();  // [mm]: no overflow
+    return std::sqrt(dx * dx + dy * dy) - oc.arm;
+  }
   return node.direction.x() * (centre.y - oc.centre.y()) - node.direction.y() * (centre.x - oc.centre.x());
 }
 
@@ -630,7 +635,7 @@ template <int M>
   if (order > 0 && u != evaluated_at) m_.profiles[curve.profile].shift_memo(evaluated_at, u - evaluated_at);
   // the curve's unit tangent: along dC/du (the offset curve is parallel to the curve; a
   // reversed sign leaves the condition number below unchanged)
-  const double centre_u_norm = std::hypot(centre_u.x, centre_u.y);
+  const double centre_u_norm = std::sqrt(centre_u.x * centre_u.x + centre_u.y * centre_u.y);
   const V2<double> tangent{centre_u.x / centre_u_norm, centre_u.y / centre_u_norm};
   // the block's 2 x 2 jacobian of (tangency, closure) in (displacement, u), for its
   // condition: d/dq = (X_q . t, X_q . n), d/du = (-C_u . t, 0) with n = (t_y, -t_x)
@@ -706,6 +711,11 @@ template <int M>
     // the branch nearest the prediction (the general solver tracks it continuously)
     const double turns = std::round((ws_.values[oc.node_variable] - qn.value()) / (2 * pi));
     qn.c[0] += turns * 2 * pi;
+    // sin and cos of the body's angle from the arm's direction d0 / |d0| turned back by the
+    // arm angle: the body's pose then needs no libm call
+    const double dist = std::sqrt(d0.x * d0.x + d0.y * d0.y);
+    const double ca = d0.x / dist, sa = d0.y / dist;
+    memo_sin_cos_insert(qn.value(), sa * oc.cos_arm - ca * oc.sin_arm, ca * oc.cos_arm + sa * oc.sin_arm);
   } else {
     qn = node.direction.x() * (cx - oc.centre.x()) + node.direction.y() * (cy - oc.centre.y());
   }
@@ -1456,6 +1466,7 @@ Status continue_from_drawing(const Mechanism& m, Workspace& ws, const std::vecto
 Status solve_fresh(const Mechanism& mech, Workspace& ws, double driver, const Request& request,
                    const Workspace* drawing) {
   const std::vector<double> target = ws.controls();
+  CamProfile::clear_thread_memo();  // the continuation does not depend on the thread's past
   Status st = Status::success();
   if (drawing != nullptr)
     ws = *drawing;
@@ -1472,6 +1483,7 @@ Status solve_fresh(const Mechanism& mech, Workspace& ws, double driver, const Re
 }  // namespace
 
 Status solve_drawing(const Mechanism& mech, Workspace& ws) {
+  CamProfile::clear_thread_memo();  // the drawing does not depend on the thread's past
   ws.set_controls(default_controls(mech));
   place_pivots(mech, ws);
   Status st = Kernel(mech, ws, Request{3, false}).run(0.0);

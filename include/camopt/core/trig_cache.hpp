@@ -2,7 +2,7 @@
 // sin and cos of recently seen angles. One kinematic point evaluates the same angles many
 // times (value, jacobian and derivative sweeps all share the value point), so a small
 // per-thread memo saves most libm calls. Results are bit-identical to std::sin/std::cos,
-// except for entries moved by memo_sin_cos_shift.
+// except for entries moved by memo_sin_cos_shift or put in by memo_sin_cos_insert.
 #include <cmath>
 #include <limits>
 
@@ -23,10 +23,17 @@ struct SinCosMemo {
     thread_local SinCosMemo memo;
     return memo;
   }
+  // an entry at x replaces one already there (the newest values win)
   void add(double x, double s, double c) noexcept {
+    for (auto& e : entries)
+      if (e.x == x) {
+        e = {x, s, c};
+        return;
+      }
     entries[next] = {x, s, c};
     next = (next + 1) % size;
   }
+  void clear() noexcept { *this = SinCosMemo{}; }
 };
 
 inline void memo_sin_cos(double x, double& s, double& c) noexcept {
@@ -41,6 +48,10 @@ inline void memo_sin_cos(double x, double& s, double& c) noexcept {
   c = std::cos(x);
   memo.add(x, s, c);
 }
+
+// sin and cos of x known from elsewhere (e.g. a unit vector at angle x): later calls at x
+// take them from the memo
+inline void memo_sin_cos_insert(double x, double s, double c) noexcept { SinCosMemo::local().add(x, s, c); }
 
 // the memo's entry at x, if any, rotated to x + h (|h| <= 1e-3 rad: the series of sin h
 // and cos h below are exact to round-off; the result is within an ulp or two of libm)

@@ -77,6 +77,17 @@ class CamProfile {
     unsigned next = 0;
   };
   static Memo& memo() noexcept;  // per thread
+
+ public:
+  // empties this thread's memos (splines and sin/cos): a computation that starts here gives
+  // the same bits whatever ran on the thread before (shifted and inserted entries are
+  // within round-off of, not equal to, a fresh evaluation)
+  static void clear_thread_memo() noexcept {
+    memo() = Memo{};
+    SinCosMemo::local().clear();
+  }
+
+ private:
   static std::uint64_t next_memo_id() noexcept {
     static std::atomic<std::uint64_t> counter{0};
     return counter.fetch_add(1, std::memory_order_relaxed) + 1;
@@ -133,11 +144,17 @@ inline void CamProfile::shift_memo(double u, double h) const {
       for (int m = n - 1; m >= k; --m) acc = from->d[m] + acc * h_over[m - k + 1];
       shifted[k] = acc;
     }
-    Memo::Entry& to = memo.entries[memo.next];
-    memo.next = (memo.next + 1) % Memo::size;
-    std::copy(shifted, shifted + PeriodicSpline::degree + 1, to.d);
-    to.key = key;
-    to.u = u + h;
+    // an entry already at u + h is replaced (the newest values win)
+    Memo::Entry* to = nullptr;
+    for (Memo::Entry& e : memo.entries)
+      if (e.key == key && e.u == u + h) to = &e;
+    if (to == nullptr) {
+      to = &memo.entries[memo.next];
+      memo.next = (memo.next + 1) % Memo::size;
+    }
+    std::copy(shifted, shifted + PeriodicSpline::degree + 1, to->d);
+    to->key = key;
+    to->u = u + h;
   }
   if (polar_ || is_disc_) memo_sin_cos_shift(u, h);
 }

@@ -92,6 +92,7 @@ class Workspace {
       double centre_offset = 0.0;       // circle radius - lash [mm] along the curve's outward normal
       Eigen::Vector2d centre{0, 0};     // circle centre, drawing [mm]
       double arm = 0.0, arm_angle = 0.0;  // rotational: centre about the pivot [mm], [rad]
+      double cos_arm = 1.0, sin_arm = 0.0;  // of arm_angle
     } offset;
   };
   std::vector<Block> full_blocks;      // per plan step
