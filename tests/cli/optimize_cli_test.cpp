@@ -138,4 +138,35 @@ TEST_CASE("optimize --cam swing: the CVVL swing cam at 17 control positions, che
   // the kinematic solver on the written design (7200-point polar table) reproduces the
   // optimiser's peak lift at every position
   CHECK(report["verify"]["kinematics"]["max_lift_difference_mm"].get<double>() < 1e-5);
+  CHECK(report["verify"]["kinematics"]["max_lift_curve_difference_mm"].get<double>() < 1e-5);
+}
+
+TEST_CASE("optimize --cam swing: the VVLD working curve at its 11 control positions, checked by the kinematic solver",
+          "[cli][opt][swing][vvld]") {
+  TempDir tmp;
+  // the bundled set on a 2 deg grid (the 0.5 deg set: bench_optimize)
+  const std::string set = (tmp / "vvld.toml").string();
+  write_text(tmp / "vvld.toml", with_line(read_file(source_dir() / "constraints/vvld_swing_cam.toml"), "grid_step_deg",
+                                          "grid_step_deg = 2.0"));
+  const auto r = run_camopt({"optimize", (source_dir() / "designs/vvld.toml").string(), "--cam", "swing",
+                             "--constraints", set, "--solver", "slsqp", "--out", (tmp / "out").string(), "--verify"});
+  INFO(r.all());
+  REQUIRE(r.exit_code == 0);
+  const auto report = nlohmann::json::parse(read_file(tmp / "out/report.json"));
+  CHECK(report["status"] == "converged");
+  CHECK(report["max_violation_normalised"].get<double>() <= 1e-6);
+  for (auto& [name, c] : report["constraints"].items()) {
+    INFO(name);
+    CHECK(c["normalised"].get<double>() <= 1e-6);
+  }
+  CHECK(report["swing"]["connection"] == "arm_roller");
+  const auto& pos = report["swing"]["positions"];
+  REQUIRE(pos.size() == 11);
+  CHECK(pos[0]["control"].get<double>() == 0.0);
+  CHECK(pos[10]["control"].get<double>() == 100.0);
+  CHECK(pos[0]["max_lift_mm"].get<double>() > pos[5]["max_lift_mm"].get<double>());
+  CHECK(pos[5]["max_lift_mm"].get<double>() > pos[10]["max_lift_mm"].get<double>());
+  // the kinematic solver on the written design: the lift at every working point of every position
+  CHECK(report["verify"]["kinematics"]["positions"].size() == 11);
+  CHECK(report["verify"]["kinematics"]["max_lift_curve_difference_mm"].get<double>() < 1e-5);
 }
