@@ -176,6 +176,8 @@ void run_ipopt(CamProblem& problem, const SolverOptions& options, const std::vec
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
   app->Options()->SetIntegerValue("print_level", std::getenv("CAMOPT_IPOPT_PRINT") ? 5 : 0);
   app->Options()->SetStringValue("sb", "yes");
+  // CAMOPT_IPOPT_PRINT: ipopt's iteration log and where its time goes (profiling)
+  if (std::getenv("CAMOPT_IPOPT_PRINT")) app->Options()->SetStringValue("print_timing_statistics", "yes");
   app->Options()->SetStringValue("hessian_approximation", options.ipopt_objective_hessian ? "exact" : "limited-memory");
   app->Options()->SetNumericValue("tol", options.tolerance);
   app->Options()->SetNumericValue("constr_viol_tol", options.constraint_tolerance);

@@ -633,6 +633,15 @@ Status CamProblem::evaluate(std::span<const double> u, Evaluation& e, bool gradi
                 const double inv = 1.0 / (rf - rf * rf * sc.curvature), dinv = rf * rf * inv * inv;
                 const double p2 = fn * inv;
                 set_row((p2 - s2) / s2, (fn_row * inv + fn * dinv * kappa_u()) / s2, std::sqrt(std::max(0.0, p2)));
+              } else if (!roller_like) {
+                // flat face: p0^2 = F' / R, R = r_b + L + L'' linear in the lift, has a pole
+                // at R = 0 on the way from a pointed initial lobe (R < 0) to a feasible one,
+                // which stalls an interior-point solver. the row times R / R_ref instead:
+                // (F' - s2 R) / (s2 R_ref), linear in the lift; the same sign wherever R > 0,
+                // and at least as large as (p0^2 - s2) / s2 wherever R >= R_ref (the radius limit)
+                const Grad3 p2 = hertz_p0_squared();
+                const double r_ref = lim.min_radius_of_curvature_mm.value_or(1.0);
+                set_contact((hertz_load() - cq.cam_radius * s2) / (s2 * r_ref), std::sqrt(std::max(0.0, p2.v)));
               } else {
                 const Grad3 p2 = hertz_p0_squared();
                 set_contact((p2 - s2) / s2, std::sqrt(std::max(0.0, p2.v)));
