@@ -149,9 +149,9 @@ class CamTnlp : public Ipopt::TNLP {
  private:
   Index neq() { return static_cast<Index>(cache_.problem().equality_matrix().rows()); }
 
-  // one ipopt row per inequality, except that two linear rows at one grid angle whose
-  // gradients are opposite (acc_max / acc_min, the two jerk rows, lift_max /
-  // lift_nonnegative) become one two-sided row: g1 <= 0 and g2 = a g1 + b <= 0 (a < 0) is
+  // one ipopt row per inequality, except that two rows at one grid angle, affine in one
+  // another with opposite gradients (acc_max / acc_min, the two jerk rows, lift_max /
+  // lift_nonnegative, a roller's radius_min / concave_radius) become one two-sided row: g1 <= 0 and g2 = a g1 + b <= 0 (a < 0) is
   // -b / a <= g1 <= 0. ipopt's time goes into factorising its KKT system (MUMPS), one row per
   // constraint: this drops a quarter of them on a conventional cam.
   void pair_rows() {
@@ -159,21 +159,31 @@ class CamTnlp : public Ipopt::TNLP {
     const auto& rows = p.rows();
     ip_rows_.clear();
     std::vector<char> taken(rows.size(), 0);
-    const bool linear_ok = !p.is_swing() && guarded(start_.data(), true);
-    auto linear = [](ConstraintKind k) {
-      return k == ConstraintKind::acc_max || k == ConstraintKind::acc_min || k == ConstraintKind::jerk_max ||
-             k == ConstraintKind::lift_max || k == ConstraintKind::lift_nonnegative;
+    const bool can_pair = !p.is_swing() && guarded(start_.data(), true);
+    // rows that are affine in one another wherever they are evaluated: the valve-motion rows
+    // (linear in u), and the two radius rows of a roller (both affine in the pitch curvature)
+    auto family = [](ConstraintKind k) {
+      switch (k) {
+        case ConstraintKind::acc_max:
+        case ConstraintKind::acc_min:
+        case ConstraintKind::jerk_max:
+        case ConstraintKind::lift_max:
+        case ConstraintKind::lift_nonnegative: return 1;
+        case ConstraintKind::radius_min:
+        case ConstraintKind::concave_radius: return 2;
+        default: return 0;
+      }
     };
     std::vector<int> slot(rows.size(), -1);
     for (std::size_t r = 0; r < rows.size(); ++r) {
       if (taken[r]) continue;
       IpRow ip{static_cast<int>(r), -2e19};
-      if (linear_ok && linear(rows[r].kind) && rows[r].grid >= 0) {
+      if (can_pair && family(rows[r].kind) != 0 && rows[r].grid >= 0) {
         const Evaluation& e = cache_.eval();
         const auto j1 = e.jacobian.row(static_cast<Eigen::Index>(r));
         const double n1 = j1.squaredNorm();
         for (std::size_t q = r + 1; q < rows.size() && rows[q].grid == rows[r].grid && n1 > 0; ++q) {
-          if (taken[q] || !linear(rows[q].kind)) continue;
+          if (taken[q] || family(rows[q].kind) != family(rows[r].kind)) continue;
           const auto j2 = e.jacobian.row(static_cast<Eigen::Index>(q));
           const double a = j2.dot(j1) / n1;
           if (!(a < 0) || (j2 - a * j1).cwiseAbs().maxCoeff() > 1e-12 * j2.cwiseAbs().maxCoeff()) continue;
