@@ -65,9 +65,11 @@ int main(int argc, char** argv) {
     opt::CamProblem problem(d, set, nullptr);
     for (const auto& s : solvers) {
       opt::SolverOptions so;
-      // "ipopt-h": ipopt with the objective's own hessian instead of limited-memory bfgs
-      so.solver = opt::parse_solver(s == "ipopt-h" ? "ipopt" : s);
-      so.ipopt_objective_hessian = s == "ipopt-h";
+      // "ipopt-h" / "ipopt-lbfgs": ipopt with the objective's own hessian / limited-memory bfgs
+      // ("ipopt": the default, the objective's for a conventional cam, bfgs for a swing cam)
+      so.solver = opt::parse_solver(s.rfind("ipopt", 0) == 0 ? "ipopt" : s);
+      if (s == "ipopt-h") so.ipopt_hessian = opt::IpoptHessian::objective;
+      if (s == "ipopt-lbfgs") so.ipopt_hessian = opt::IpoptHessian::limited_memory;
       const std::clock_t c0 = std::clock();
       const auto r = opt::optimize(problem, so);
       const double cpu = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;

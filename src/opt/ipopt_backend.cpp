@@ -235,13 +235,16 @@ const char* describe(Ipopt::SolverReturn s) {
 }  // namespace
 
 void run_ipopt(CamProblem& problem, const SolverOptions& options, const std::vector<double>& start, SolveResult& result) {
-  Ipopt::SmartPtr<CamTnlp> nlp = new CamTnlp(problem, start, options.time_limit_s, options.ipopt_objective_hessian);
+  const bool objective_hessian =
+      options.ipopt_hessian == IpoptHessian::objective ||
+      (options.ipopt_hessian == IpoptHessian::automatic && !problem.is_swing());
+  Ipopt::SmartPtr<CamTnlp> nlp = new CamTnlp(problem, start, options.time_limit_s, objective_hessian);
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
   app->Options()->SetIntegerValue("print_level", std::getenv("CAMOPT_IPOPT_PRINT") ? 5 : 0);
   app->Options()->SetStringValue("sb", "yes");
   // CAMOPT_IPOPT_PRINT: ipopt's iteration log and where its time goes (profiling)
   if (std::getenv("CAMOPT_IPOPT_PRINT")) app->Options()->SetStringValue("print_timing_statistics", "yes");
-  app->Options()->SetStringValue("hessian_approximation", options.ipopt_objective_hessian ? "exact" : "limited-memory");
+  app->Options()->SetStringValue("hessian_approximation", objective_hessian ? "exact" : "limited-memory");
   app->Options()->SetNumericValue("tol", options.tolerance);
   app->Options()->SetNumericValue("constr_viol_tol", options.constraint_tolerance);
   app->Options()->SetNumericValue("acceptable_tol", 1e3 * options.tolerance);
