@@ -60,6 +60,19 @@ PeriodicSpline target_lift() {
   return PeriodicSpline::interpolate(x, y, 2 * std::numbers::pi);
 }
 
+// SLSQP on p: converged, with every row at every position within 1e-6 of its limit (normalised)
+opt::SolveResult solve_within_limits(opt::CamProblem& p) {
+  opt::SolverOptions so;
+  so.solver = opt::SolverKind::slsqp;
+  so.max_iterations = 400;
+  opt::SolveResult r = opt::optimize(p, so);
+  INFO(r.status.str() << " " << r.solver_message << " iterations " << r.iterations);
+  REQUIRE(r.evaluated);
+  CHECK(r.status.ok());
+  CHECK(r.final.g.maxCoeff() <= 1e-6);
+  return r;
+}
+
 }  // namespace
 
 TEST_CASE("swing problem jacobian matches central finite differences", "[opt][swing]") {
@@ -124,15 +137,7 @@ TEST_CASE("swing problem: the optimised profile satisfies every constraint at al
   REQUIRE(p.swing()->positions().size() == 17);
   opt::Evaluation e0;
   REQUIRE(p.evaluate(p.start(), e0, false).ok());
-  opt::SolverOptions so;
-  so.solver = opt::SolverKind::slsqp;
-  so.max_iterations = 400;
-  const opt::SolveResult r = opt::optimize(p, so);
-  INFO(r.status.str() << " " << r.solver_message << " iterations " << r.iterations);
-  REQUIRE(r.evaluated);
-  CHECK(r.status.ok());
-  // every row at every position within 1e-6 of its limit (normalised)
-  CHECK(r.final.g.maxCoeff() <= 1e-6);
+  const opt::SolveResult r = solve_within_limits(p);
   int positions_seen = 0;
   std::vector<char> seen(17, 0);
   for (const auto& row : p.rows()) seen[static_cast<std::size_t>(row.position)] = 1;
@@ -155,14 +160,7 @@ TEST_CASE("swing problem: the VVLD working curve optimised at 4 control position
   opt::Evaluation e0;
   REQUIRE(p.evaluate(p.start(), e0, false).ok());
   CHECK(e0.g.maxCoeff() > 0.5);  // the design's own arm breaks the set (acceleration by 67 %)
-  opt::SolverOptions so;
-  so.solver = opt::SolverKind::slsqp;
-  so.max_iterations = 400;
-  const opt::SolveResult r = opt::optimize(p, so);
-  INFO(r.status.str() << " " << r.solver_message << " iterations " << r.iterations);
-  REQUIRE(r.evaluated);
-  CHECK(r.status.ok());
-  CHECK(r.final.g.maxCoeff() <= 1e-6);
+  const opt::SolveResult r = solve_within_limits(p);
   CHECK(r.final.objective < e0.objective);
 
   // the written profile through the kinematic solver at every position: the optimiser's lift
