@@ -61,7 +61,7 @@ int main(int argc, char** argv) {
     // the synthesizer's own (not fixed by the lift): no profile error against the original
     const bool own_stretch = swing || std::string(name) == "valvetronic";
     DesignSpec d = io::load_design(std::string(CAMOPT_SOURCE_DIR) + "/designs/" + name + ".toml");
-    for (auto& c : d.connections) c.lash_mm = 0.0;
+    for (auto& conn : d.connections) conn.lash_mm = 0.0;
     const PeriodicSpline target = forward_lift(d);
     const auto m = kin::compile(d);
     for (int points : {720, 1440, 2880}) {

@@ -240,7 +240,7 @@ CamProblem::CamProblem(const DesignSpec& design, const OptimizationSpec& spec, c
       throw NumericalError({st.code, "the initial design: " + st.message, st.where});
     double worst = 0.0;
     for (std::size_t r = 0; r < rows_.size(); ++r)
-      if (rows_[r].kind == ConstraintKind::peak_bound) worst = std::max(worst, e.g(static_cast<Eigen::Index>(r)));
+      if (rows_[r].kind == ConstraintKind::peak_bound) worst = std::max(worst, e.physical(static_cast<Eigen::Index>(r)));
     peak_scale_ = worst > 0 ? worst : 1.0;
     start_[static_cast<std::size_t>(n_ - 1)] = 1.0;
     lower_[static_cast<std::size_t>(n_ - 1)] = -10.0;
@@ -573,7 +573,16 @@ Status CamProblem::evaluate(std::span<const double> u, Evaluation& e, bool gradi
               case Quantity::roller_speed: v = cq.roller_speed * cq.roller_speed; break;
               case Quantity::sliding_speed: v = cq.sliding * cq.sliding; break;
               case Quantity::curvature: v = roller_like ? cq.pitch_curvature : 1.0 / cq.cam_radius; break;
-              default: v = hertz_p0_squared(); break;
+              default:
+                if (!roller_like) {
+                  // flat face: p0^2 / s - t <= 0 times R / R_ref, as the hertz row (no pole at R = 0)
+                  const double r_ref = lim.min_radius_of_curvature_mm.value_or(1.0);
+                  set_contact((hertz_load() / peak_scale_ - cq.cam_radius * t) / r_ref, hertz_p0_squared().v);
+                  if (gradients) e.jacobian(ri, n_ - 1) = -cq.cam_radius.v / r_ref;
+                  continue;
+                }
+                v = hertz_p0_squared();
+                break;
             }
             set_contact(v / peak_scale_, v.v);
             e.g(ri) -= t;
@@ -633,6 +642,15 @@ Status CamProblem::evaluate(std::span<const double> u, Evaluation& e, bool gradi
                 const double inv = 1.0 / (rf - rf * rf * sc.curvature), dinv = rf * rf * inv * inv;
                 const double p2 = fn * inv;
                 set_row((p2 - s2) / s2, (fn_row * inv + fn * dinv * kappa_u()) / s2, std::sqrt(std::max(0.0, p2)));
+              } else if (!roller_like) {
+                // flat face: p0^2 = F' / R, R = r_b + L + L'' linear in the lift, has a pole
+                // at R = 0 on the way from a pointed initial lobe (R < 0) to a feasible one,
+                // which stalls an interior-point solver. the row times R / R_ref instead:
+                // (F' - s2 R) / (s2 R_ref), linear in the lift; the same sign wherever R > 0,
+                // and at least as large as (p0^2 - s2) / s2 wherever R >= R_ref (the radius limit)
+                const Grad3 p2 = hertz_p0_squared();
+                const double r_ref = lim.min_radius_of_curvature_mm.value_or(1.0);
+                set_contact((hertz_load() - cq.cam_radius * s2) / (s2 * r_ref), std::sqrt(std::max(0.0, p2.v)));
               } else {
                 const Grad3 p2 = hertz_p0_squared();
                 set_contact((p2 - s2) / s2, std::sqrt(std::max(0.0, p2.v)));

@@ -109,20 +109,23 @@ TEST_CASE("optimize: an infeasible set exits 4 and its report names the conflict
   CHECK(names_lift_or_acc);
 }
 
-TEST_CASE("optimize --cam swing: the CVVL swing cam at 17 control positions, checked by the kinematic solver",
-          "[cli][opt][swing]") {
-  TempDir tmp;
-  // the bundled set on a 2 deg grid (the 0.5 deg set: bench_optimize)
-  const std::string set = (tmp / "cvvl.toml").string();
-  write_text(tmp / "cvvl.toml", with_line(read_file(source_dir() / "constraints/cvvl_swing_cam.toml"), "grid_step_deg",
-                                          "grid_step_deg = 2.0"));
-  const auto r = run_camopt({"optimize", (source_dir() / "designs/cvvl_swing_cam.toml").string(), "--cam", "swing",
-                             "--constraints", set, "--solver", "slsqp", "--out", (tmp / "out").string(), "--verify",
-                             "--points", "3600"});
+namespace {
+
+// optimize --cam swing --solver slsqp --verify on a bundled design with its bundled constraint
+// set on a 2 deg grid (the 0.5 deg set: bench_optimize); checks that it converged and that
+// every constraint is met, and returns report.json
+nlohmann::json optimize_swing_cli(const TempDir& tmp, const std::string& design, const std::string& set_name,
+                                  const std::vector<std::string>& extra) {
+  const std::string set = (tmp / set_name).string();
+  write_text(tmp / set_name, with_line(read_file(source_dir() / "constraints" / set_name), "grid_step_deg",
+                                       "grid_step_deg = 2.0"));
+  std::vector<std::string> args = {"optimize", (source_dir() / "designs" / design).string(), "--cam", "swing",
+                                   "--constraints", set, "--solver", "slsqp", "--out", (tmp / "out").string(),
+                                   "--verify"};
+  args.insert(args.end(), extra.begin(), extra.end());
+  const auto r = run_camopt(args);
   INFO(r.all());
   REQUIRE(r.exit_code == 0);
-  for (const char* f : {"lift.csv", "swing_pitch.csv", "profile.csv", "report.json", "design.toml", "profile.dxf"})
-    CHECK(fs::exists(tmp / "out" / f));
   const auto report = nlohmann::json::parse(read_file(tmp / "out/report.json"));
   CHECK(report["status"] == "converged");
   CHECK(report["max_violation_normalised"].get<double>() <= 1e-6);
@@ -130,12 +133,40 @@ TEST_CASE("optimize --cam swing: the CVVL swing cam at 17 control positions, che
     INFO(name);
     CHECK(c["normalised"].get<double>() <= 1e-6);
   }
+  return report;
+}
+
+}  // namespace
+
+TEST_CASE("optimize --cam swing: the CVVL swing cam at 17 control positions, checked by the kinematic solver",
+          "[cli][opt][swing]") {
+  TempDir tmp;
+  const auto report = optimize_swing_cli(tmp, "cvvl_swing_cam.toml", "cvvl_swing_cam.toml", {"--points", "3600"});
+  for (const char* f : {"lift.csv", "swing_pitch.csv", "profile.csv", "report.json", "design.toml", "profile.dxf"})
+    CHECK(fs::exists(tmp / "out" / f));
   REQUIRE(report["swing"]["positions"].size() == 17);
   // full lift at control 0 deg falls to the least at 16 deg
   const auto& pos = report["swing"]["positions"];
   CHECK(pos[0]["max_lift_mm"].get<double>() > 9.5);
   CHECK(pos[16]["max_lift_mm"].get<double>() < 3.0);
-  // the kinematic solver on the written design (7200-point polar table) reproduces the
-  // optimiser's peak lift at every position
+  // the kinematic solver on the written design (polar table) reproduces the optimiser's peak
+  // lift, and its lift at every working point, at every position
   CHECK(report["verify"]["kinematics"]["max_lift_difference_mm"].get<double>() < 1e-5);
+  CHECK(report["verify"]["kinematics"]["max_lift_curve_difference_mm"].get<double>() < 1e-5);
+}
+
+TEST_CASE("optimize --cam swing: the VVLD working curve at its 11 control positions, checked by the kinematic solver",
+          "[cli][opt][swing][vvld]") {
+  TempDir tmp;
+  const auto report = optimize_swing_cli(tmp, "vvld.toml", "vvld_swing_cam.toml", {});
+  CHECK(report["swing"]["connection"] == "arm_roller");
+  const auto& pos = report["swing"]["positions"];
+  REQUIRE(pos.size() == 11);
+  CHECK(pos[0]["control"].get<double>() == 0.0);
+  CHECK(pos[10]["control"].get<double>() == 100.0);
+  CHECK(pos[0]["max_lift_mm"].get<double>() > pos[5]["max_lift_mm"].get<double>());
+  CHECK(pos[5]["max_lift_mm"].get<double>() > pos[10]["max_lift_mm"].get<double>());
+  // the kinematic solver on the written design: the lift at every working point of every position
+  CHECK(report["verify"]["kinematics"]["positions"].size() == 11);
+  CHECK(report["verify"]["kinematics"]["max_lift_curve_difference_mm"].get<double>() < 1e-5);
 }

@@ -6,9 +6,13 @@
 #include <cmath>
 #include <numbers>
 
+#include "camopt/io/constraint_file.hpp"
 #include "camopt/io/design_file.hpp"
+#include "camopt/kinematics/mechanism.hpp"
+#include "camopt/kinematics/sweep.hpp"
 #include "camopt/opt/problem.hpp"
 #include "camopt/opt/solve.hpp"
+#include "camopt/synthesis/envelope.hpp"
 #include "camopt/synthesis/lift_law_event.hpp"
 
 using namespace camopt;
@@ -54,6 +58,19 @@ PeriodicSpline target_lift() {
     y.push_back(ev.evaluate(i * 0.25).lift);
   }
   return PeriodicSpline::interpolate(x, y, 2 * std::numbers::pi);
+}
+
+// SLSQP on p: converged, with every row at every position within 1e-6 of its limit (normalised)
+opt::SolveResult solve_within_limits(opt::CamProblem& p) {
+  opt::SolverOptions so;
+  so.solver = opt::SolverKind::slsqp;
+  so.max_iterations = 400;
+  opt::SolveResult r = opt::optimize(p, so);
+  INFO(r.status.str() << " " << r.solver_message << " iterations " << r.iterations);
+  REQUIRE(r.evaluated);
+  CHECK(r.status.ok());
+  CHECK(r.final.g.maxCoeff() <= 1e-6);
+  return r;
 }
 
 }  // namespace
@@ -120,15 +137,7 @@ TEST_CASE("swing problem: the optimised profile satisfies every constraint at al
   REQUIRE(p.swing()->positions().size() == 17);
   opt::Evaluation e0;
   REQUIRE(p.evaluate(p.start(), e0, false).ok());
-  opt::SolverOptions so;
-  so.solver = opt::SolverKind::slsqp;
-  so.max_iterations = 400;
-  const opt::SolveResult r = opt::optimize(p, so);
-  INFO(r.status.str() << " " << r.solver_message << " iterations " << r.iterations);
-  REQUIRE(r.evaluated);
-  CHECK(r.status.ok());
-  // every row at every position within 1e-6 of its limit (normalised)
-  CHECK(r.final.g.maxCoeff() <= 1e-6);
+  const opt::SolveResult r = solve_within_limits(p);
   int positions_seen = 0;
   std::vector<char> seen(17, 0);
   for (const auto& row : p.rows()) seen[static_cast<std::size_t>(row.position)] = 1;
@@ -136,4 +145,68 @@ TEST_CASE("swing problem: the optimised profile satisfies every constraint at al
   CHECK(positions_seen == 17);
   // more lift area at full lift than the design's own swing cam
   CHECK(r.final.objective < e0.objective - 0.02);
+}
+
+TEST_CASE("swing problem: the VVLD working curve optimised at 4 control positions, checked by the kinematic solver",
+          "[opt][swing][vvld]") {
+  const DesignSpec d = io::load_design(std::string(CAMOPT_SOURCE_DIR) + "/designs/vvld.toml");
+  // the bundled set on a 1 deg grid at 4 of its 11 positions (all of them: the CLI test and
+  // bench_optimize)
+  opt::OptimizationSpec s = io::load_constraints(std::string(CAMOPT_SOURCE_DIR) + "/constraints/vvld_swing_cam.toml");
+  s.cam = "swing";
+  s.grid_step_deg = 1.0;
+  s.swing.positions = {0.0, 30.0, 70.0, 100.0};
+  opt::CamProblem p(d, s, nullptr);
+  opt::Evaluation e0;
+  REQUIRE(p.evaluate(p.start(), e0, false).ok());
+  CHECK(e0.g.maxCoeff() > 0.5);  // the design's own arm breaks the set (acceleration by 67 %)
+  const opt::SolveResult r = solve_within_limits(p);
+  CHECK(r.final.objective < e0.objective);
+
+  // the written profile through the kinematic solver at every position: the optimiser's lift
+  // at every working point
+  opt::SwingCamLift& model = *p.swing();
+  const std::vector<double> c = p.coefficients(r.u);
+  ProfileSpec prof;
+  for (const auto& pr : d.profiles)
+    if (pr.name == model.profile_name()) prof = pr;
+  prof.source_file.clear();
+  model.profile_table(c, 7200, prof.angle_deg, prof.radius_mm);
+  const kin::Mechanism mech = kin::compile(synthesis::with_profile(d, prof));
+  const std::size_t nv = mech.variables.size();
+  const int valve = mech.nodes[static_cast<std::size_t>(mech.output_node)].first_variable;
+  Eigen::Matrix<double, 4, Eigen::Dynamic> rows(4, model.variables());
+  double worst = 0.0;
+  std::vector<double> peak(4, 0.0);
+  int compared = 0;
+  for (int k = 0; k < 4; ++k) {
+    kin::SweepSpec sw;
+    sw.start = 0;
+    sw.stop = 360;
+    sw.step = 1.0;
+    sw.control_positions = {model.controls(k)};
+    sw.request = {0, false};
+    const kin::SweepResult sr = kin::sweep(mech, sw);
+    INFO("position " << k << ": " << sr.positions[0].status.str());
+    REQUIRE(sr.positions[0].status.ok());
+    for (std::size_t i = 0; i < model.points().size(); ++i) {
+      if (model.points()[i].position != k) continue;
+      double mo[4];
+      REQUIRE(model.evaluate(static_cast<int>(i), c, mo, rows).ok());
+      const auto at = static_cast<std::size_t>(std::lround(std::fmod(model.points()[i].cam_deg, 360.0)));
+      worst = std::max(worst, std::abs(sr.positions[0].at(at % 360, nv, valve, 0) - mo[0]));
+      peak[static_cast<std::size_t>(k)] = std::max(peak[static_cast<std::size_t>(k)], mo[0]);
+      ++compared;
+    }
+  }
+  INFO("compared " << compared << " points; peak lift " << peak[0] << " / " << peak[1] << " / " << peak[2] << " / "
+                     << peak[3] << " mm at control 0 / 30 / 70 / 100");
+  CHECK(compared > 300);
+  CHECK(worst < 2e-6);
+  CHECK(peak[0] == Approx(10.5).margin(1e-6));  // the lift cap is active at full lift
+  // lift falls with the control shaft (the design's own arm: 10.69 .. 0.58 mm)
+  CHECK(peak[1] < peak[0]);
+  CHECK(peak[2] < peak[1]);
+  CHECK(peak[3] < peak[2]);
+  CHECK(peak[3] < 1.0);
 }

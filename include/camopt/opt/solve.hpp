@@ -1,7 +1,7 @@
 #pragma once
 // run a CamProblem through a solver backend:
 //   ipopt   interior point (Ipopt 3.11 TNLP): exact first derivatives, sparse jacobian,
-//           limited-memory quasi-newton hessian
+//           the objective's hessian or a limited-memory quasi-newton one (IpoptHessian)
 //   slsqp   NLopt sequential quadratic programming (Kraft 1988), exact gradients
 //   mma     NLopt method of moving asymptotes (Svanberg 2002); the closure equalities go
 //           through NLopt's augmented lagrangian (AUGLAG_EQ) around MMA
@@ -23,6 +23,8 @@ const char* to_string(SolverKind s);
 // InputError "--solver: unknown solver 'x' (allowed: ...)"
 SolverKind parse_solver(const std::string& name);
 
+enum class IpoptHessian { automatic, limited_memory, objective };
+
 struct SolverOptions {
   SolverKind solver = SolverKind::ipopt;
   int max_iterations = 3000;       // ipopt iterations / nlopt evaluations
@@ -30,9 +32,11 @@ struct SolverOptions {
   double constraint_tolerance = 1e-8;  // on the normalised constraints (fraction of each limit)
   int starts = 6;                  // global: number of starts, the initial design included
   double time_limit_s = 300.0;
-  // ipopt: false = limited-memory quasi-newton hessian; true = the objective's own
-  // (gauss-newton) hessian with the constraints' curvature left out (CamProblem::objective_hessian)
-  bool ipopt_objective_hessian = false;
+  // ipopt's hessian of the lagrangian: limited_memory = quasi-newton (L-BFGS); objective = the
+  // objective's own (gauss-newton) hessian with the constraints' curvature left out
+  // (CamProblem::objective_hessian); automatic = objective for a conventional cam (whose lift is
+  // linear in u: faster, bench/README.md), limited_memory for a swing cam
+  IpoptHessian ipopt_hessian = IpoptHessian::automatic;
 };
 
 struct SolveResult {
