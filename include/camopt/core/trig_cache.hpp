@@ -23,13 +23,9 @@ struct SinCosMemo {
     thread_local SinCosMemo memo;
     return memo;
   }
-  // an entry at x replaces one already there (the newest values win)
+  // (an older entry at the same x may remain: lookups take the first; both are within
+  // round-off, and clear() at the start of a computation keeps the choice deterministic)
   void add(double x, double s, double c) noexcept {
-    for (auto& e : entries)
-      if (e.x == x) {
-        e = {x, s, c};
-        return;
-      }
     entries[next] = {x, s, c};
     next = (next + 1) % size;
   }

@@ -144,14 +144,8 @@ inline void CamProfile::shift_memo(double u, double h) const {
       for (int m = n - 1; m >= k; --m) acc = from->d[m] + acc * h_over[m - k + 1];
       shifted[k] = acc;
     }
-    // an entry already at u + h is replaced (the newest values win)
-    Memo::Entry* to = nullptr;
-    for (Memo::Entry& e : memo.entries)
-      if (e.key == key && e.u == u + h) to = &e;
-    if (to == nullptr) {
-      to = &memo.entries[memo.next];
-      memo.next = (memo.next + 1) % Memo::size;
-    }
+    Memo::Entry* to = &memo.entries[memo.next];
+    memo.next = (memo.next + 1) % Memo::size;
     std::copy(shifted, shifted + PeriodicSpline::degree + 1, to->d);
     to->key = key;
     to->u = u + h;
