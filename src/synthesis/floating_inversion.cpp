@@ -126,8 +126,10 @@ Status invert_floating_follower(const DesignSpec& spec, const MechanismCut& cut,
       q -= miss / rho.c[1];
     }
   }
-  // the probe through the rest pose (the drawing's own when the lever rests as drawn)
-  const kin::Mechanism m = rest_x == c0x && rest_y == c0y ? std::move(m0) : make_probe(rest_x, rest_y);
+  // the probe through the rest pose (the drawing's own when the lever rests as drawn, to
+  // the rest newton's tolerance)
+  const bool rests_as_drawn = std::hypot(rest_x - c0x, rest_y - c0y) < 1e-12 * base;
+  const kin::Mechanism m = rests_as_drawn ? std::move(m0) : make_probe(rest_x, rest_y);
   kin::Workspace ws(m);
   ws.set_controls(controls);
   const int lift_var = m.nodes[static_cast<std::size_t>(m.node_index(target_node))].first_variable;
