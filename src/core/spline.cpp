@@ -346,13 +346,19 @@ PeriodicSpline PeriodicSpline::interpolate_periodic(std::span<const double> x, s
 
   // collocation at the knots: row i uses b-splines i-5 .. i (b_i(t_i) = 0), so with the
   // unknowns shifted by 3 (b-spline j -> column j + 3) the system is cyclic pentadiagonal
-  double ders[6][6];
+  // (the basis triangle at each knot is kept for the taylor coefficients below:
+  // triangle[i][q (q + 1) / 2 + r] = N_{i-q+r, q}(t_i))
+  std::vector<std::array<double, (p + 1) * (p + 2) / 2>> triangle(static_cast<std::size_t>(n));
   std::vector<std::array<double, 5>> band(static_cast<std::size_t>(n));
   Eigen::VectorXd b(n);
   for (int i = 0; i < n; ++i) {
-    basis_derivatives(T.data(), i + p, T[static_cast<std::size_t>(i + p)], 0, ders);
-    CAMOPT_ASSERT(ders[0][p] == 0.0);
-    for (int r = 0; r < p; ++r) band[static_cast<std::size_t>(i)][static_cast<std::size_t>(r)] = ders[0][r];
+    double ndu[p + 1][p + 1];
+    basis_triangle(T.data(), i + p, T[static_cast<std::size_t>(i + p)], ndu);
+    CAMOPT_ASSERT(ndu[p][p] == 0.0);
+    auto& tri = triangle[static_cast<std::size_t>(i)];
+    for (int q = 0; q <= p; ++q)
+      for (int r = 0; r <= q; ++r) tri[static_cast<std::size_t>(q * (q + 1) / 2 + r)] = ndu[r][q];
+    for (int r = 0; r < p; ++r) band[static_cast<std::size_t>(i)][static_cast<std::size_t>(r)] = ndu[r][p];
     b[i] = y[static_cast<std::size_t>(i)];
   }
   Eigen::VectorXd shifted, c(n);
@@ -394,13 +400,13 @@ PeriodicSpline PeriodicSpline::interpolate_periodic(std::span<const double> x, s
   s.period_ = period;
   s.x_.assign(x.begin(), x.end());
   s.coef_.resize(static_cast<std::size_t>(n));
-  double ndu[p + 1][p + 1];
   for (int i = 0; i < n; ++i) {
-    basis_triangle(T.data(), i + p, T[static_cast<std::size_t>(i + p)], ndu);
+    const auto& tri = triangle[static_cast<std::size_t>(i)];
     for (int k = 0; k <= p; ++k) {
       const int q = p - k;
       double v = 0.0;
-      for (int r = 0; r <= q; ++r) v += ndu[r][q] * diff[static_cast<std::size_t>(wrap(i - q + r))][static_cast<std::size_t>(k)];
+      for (int r = 0; r <= q; ++r)
+        v += tri[static_cast<std::size_t>(q * (q + 1) / 2 + r)] * diff[static_cast<std::size_t>(wrap(i - q + r))][static_cast<std::size_t>(k)];
       s.coef_[static_cast<std::size_t>(i)][static_cast<std::size_t>(k)] = v * kInvFactorial[k];
     }
   }
