@@ -5,7 +5,7 @@
 //    lift: target = the design's own forward lift at 0.25 deg; error = round trip (forward
 //    lift of the new cam against the target).
 // resolution: 360 / points deg (polar angle, cam angle and tangent turn); samples = points.
-// usage: bench_synthesis [--repeat N] [--csv FILE]
+// usage: bench_synthesis [--repeat N] [--csv FILE] [--only TEXT]
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -34,12 +34,13 @@ PeriodicSpline forward_lift(const DesignSpec& d) {
 
 int main(int argc, char** argv) {
   int repeat = 5;
-  std::string csv_path;
+  std::string csv_path, only;  // only: the cases whose "design:cam" contains this text
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--repeat") && i + 1 < argc) repeat = std::atoi(argv[++i]);
     else if (!std::strcmp(argv[i], "--csv") && i + 1 < argc) csv_path = argv[++i];
+    else if (!std::strcmp(argv[i], "--only") && i + 1 < argc) only = argv[++i];
     else {
-      std::fprintf(stderr, "usage: bench_synthesis [--repeat N] [--csv FILE]\n");
+      std::fprintf(stderr, "usage: bench_synthesis [--repeat N] [--csv FILE] [--only TEXT]\n");
       return 2;
     }
   }
@@ -57,6 +58,7 @@ int main(int argc, char** argv) {
                         Case{"valvetronic", "rotational"}}) {
     const char* name = c.name;
     const bool swing = std::string(c.cam) == "swing";
+    if (!only.empty() && (std::string(name) + ":" + c.cam).find(only) == std::string::npos) continue;
     // the swing cam's untouched stretch and the Valvetronic lobe's idle-travel stretch are
     // the synthesizer's own (not fixed by the lift): no profile error against the original
     const bool own_stretch = swing || std::string(name) == "valvetronic";
@@ -64,7 +66,7 @@ int main(int argc, char** argv) {
     for (auto& conn : d.connections) conn.lash_mm = 0.0;
     const PeriodicSpline target = forward_lift(d);
     const auto m = kin::compile(d);
-    for (int points : {720, 1440, 2880}) {
+    for (int points : {360, 720, 1440}) {
       synthesis::SynthesisOptions o;
       o.points = points;
       o.samples = points;

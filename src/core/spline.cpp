@@ -1,8 +1,10 @@
 #include "camopt/core/spline.hpp"
 
+#include <Eigen/Dense>
 #include <Eigen/SparseCore>
 #include <Eigen/SparseLU>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -35,9 +37,10 @@ constexpr std::array<double, 6> kInvFactorial = {1.0,       1.0,        1.0 / 2.
 // b-spline basis functions of degree 5 and their derivatives at u in knot span `span`
 // (U[span] <= u <= U[span+1], nonzero length): ders[k][r] = d^k/du^k N_{span-5+r}(u).
 // Piegl & Tiller, "The NURBS Book", 2nd ed., algorithm A2.3.
-void basis_derivatives(const double* U, int span, double u, int nd, double ders[6][6]) {
+// the triangle of basis functions of every degree at u (the first half of algorithm A2.3):
+// ndu[r][j] (r <= j) = N_{span-j+r, j}(u); below the diagonal, knot differences
+void basis_triangle(const double* U, int span, double u, double ndu[6][6]) {
   constexpr int p = kDegree;
-  double ndu[p + 1][p + 1];
   double left[p + 1];
   double right[p + 1];
   ndu[0][0] = 1.0;
@@ -54,6 +57,12 @@ void basis_derivatives(const double* U, int span, double u, int nd, double ders[
     }
     ndu[j][j] = saved;
   }
+}
+
+void basis_derivatives(const double* U, int span, double u, int nd, double ders[6][6]) {
+  constexpr int p = kDegree;
+  double ndu[p + 1][p + 1];
+  basis_triangle(U, span, u, ndu);
   for (int j = 0; j <= p; ++j) ders[0][j] = ndu[j][p];
 
   double a[2][p + 1];
@@ -119,6 +128,17 @@ void check_data(const char* who, std::span<const double> x, std::span<const doub
 
 Eigen::VectorXd solve(const char* who, const Eigen::SparseMatrix<double>& A,
                       const Eigen::VectorXd& b) {
+  if (A.rows() <= 64) {
+    // small systems: dense LU with partial pivoting (the sparse LU's ordering and symbolic
+    // analysis cost more than the factorisation itself at this size)
+    const Eigen::PartialPivLU<Eigen::MatrixXd> dense{Eigen::MatrixXd(A)};
+    const auto pivots = dense.matrixLU().diagonal().cwiseAbs();
+    if (!(pivots.minCoeff() > 1e-14 * pivots.maxCoeff()))
+      throw std::invalid_argument(std::string(who) + ": singular collocation system (nearly coincident x?)");
+    Eigen::VectorXd c = dense.solve(b);
+    if (!c.allFinite()) throw std::invalid_argument(std::string(who) + ": collocation solve failed");
+    return c;
+  }
   Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> lu;
   lu.compute(A);
   if (lu.info() != Eigen::Success) {
@@ -130,6 +150,83 @@ Eigen::VectorXd solve(const char* who, const Eigen::SparseMatrix<double>& A,
     throw std::invalid_argument(std::string(who) + ": collocation solve failed");
   }
   return c;
+}
+
+// a cyclic pentadiagonal system: row i holds band[i][d] at column (i - 2 + d) mod n, d = 0..4
+// (n >= 6). Block elimination: the first N = n - 4 unknowns form a plain pentadiagonal
+// block A11 (no wrap), solved by banded LU without pivoting (stable: it is a contiguous
+// block of a totally positive b-spline collocation matrix, de Boor, "A Practical Guide to
+// Splines", ch. XIII), the last 4 through their 4 x 4 Schur complement (partial pivoting).
+// O(n) against the general sparse LU's ordering and symbolic analysis. Returns false when a
+// pivot vanishes or the residual is not at round-off; the caller then uses the sparse LU.
+bool solve_cyclic_pentadiagonal(const std::vector<std::array<double, 5>>& band, const Eigen::VectorXd& b,
+                                Eigen::VectorXd& x) {
+  constexpr int m = 4;
+  const int n = static_cast<int>(band.size());
+  const int N = n - m;
+  // A11 (band, N rows), [b1 | A12] (N x 5), A21 (4 x N), A22 (4 x 4)
+  std::vector<std::array<double, 5>> lu(band.begin(), band.begin() + N);
+  Eigen::Matrix<double, Eigen::Dynamic, 5> rhs = Eigen::Matrix<double, Eigen::Dynamic, 5>::Zero(N, 5);
+  Eigen::Matrix<double, m, Eigen::Dynamic> a21 = Eigen::Matrix<double, m, Eigen::Dynamic>::Zero(m, N);
+  Eigen::Matrix4d a22 = Eigen::Matrix4d::Zero();
+  for (int i = 0; i < n; ++i)
+    for (int d = 0; d < 5; ++d) {
+      const int k = ((i - 2 + d) % n + n) % n;
+      const double v = band[static_cast<std::size_t>(i)][static_cast<std::size_t>(d)];
+      if (i < N && k >= N) {
+        rhs(i, 1 + k - N) = v;
+        lu[static_cast<std::size_t>(i)][static_cast<std::size_t>(d)] = 0.0;
+      } else if (i < N && (k - i < -2 || k - i > 2)) {
+        return false;  // cannot happen for n >= 6 (wrapped columns are >= N)
+      } else if (i >= N && k < N) {
+        a21(i - N, k) += v;
+      } else if (i >= N) {
+        a22(i - N, k - N) += v;
+      }
+    }
+  for (int i = 0; i < N; ++i) rhs(i, 0) = b[i];
+  // banded LU (no pivoting), applied to the 5 right-hand sides as it goes
+  for (int i = 0; i < N; ++i) {
+    const double pivot = lu[static_cast<std::size_t>(i)][2];
+    if (!(std::abs(pivot) > 0.0) || !std::isfinite(pivot)) return false;
+    for (int j = i + 1; j <= std::min(i + 2, N - 1); ++j) {
+      auto& row = lu[static_cast<std::size_t>(j)];
+      const double l = row[static_cast<std::size_t>(2 - (j - i))] / pivot;
+      if (l == 0.0) continue;
+      for (int c = i; c <= std::min(i + 2, N - 1); ++c)
+        row[static_cast<std::size_t>(c - j + 2)] -= l * lu[static_cast<std::size_t>(i)][static_cast<std::size_t>(c - i + 2)];
+      rhs.row(j) -= l * rhs.row(i);
+    }
+  }
+  for (int i = N - 1; i >= 0; --i) {
+    const auto& row = lu[static_cast<std::size_t>(i)];
+    for (int c = i + 1; c <= std::min(i + 2, N - 1); ++c) rhs.row(i) -= row[static_cast<std::size_t>(c - i + 2)] * rhs.row(c);
+    rhs.row(i) /= row[2];
+  }
+  // Schur complement S = A22 - A21 A11^-1 A12; x2 = S^-1 (b2 - A21 A11^-1 b1)
+  const Eigen::Matrix4d schur = a22 - a21 * rhs.rightCols<4>();
+  Eigen::Vector4d b2;
+  for (int i = 0; i < m; ++i) b2[i] = b[N + i];
+  b2 -= a21 * rhs.col(0);
+  const Eigen::PartialPivLU<Eigen::Matrix4d> s_lu(schur);
+  const Eigen::Vector4d x2 = s_lu.solve(b2);
+  x.resize(n);
+  x.head(N) = rhs.col(0) - rhs.rightCols<4>() * x2;
+  x.tail(m) = x2;
+  if (!x.allFinite()) return false;
+  // residual at round-off, else let the sparse LU (with its messages) decide
+  double residual = 0.0, scale = 0.0;
+  for (int i = 0; i < n; ++i) {
+    double r = -b[i], size = std::abs(b[i]);
+    for (int d = 0; d < 5; ++d) {
+      const double term = band[static_cast<std::size_t>(i)][static_cast<std::size_t>(d)] * x[((i - 2 + d) % n + n) % n];
+      r += term;
+      size += std::abs(term);
+    }
+    residual = std::max(residual, std::abs(r));
+    scale = std::max(scale, size);
+  }
+  return residual <= 1e-12 * scale;
 }
 
 }  // namespace
@@ -217,6 +314,16 @@ double detail::PiecewiseQuintic::integrate_piece(std::size_t i, double s) const 
 
 PeriodicSpline PeriodicSpline::interpolate(std::span<const double> x, std::span<const double> y,
                                            double period) {
+  return interpolate_periodic(x, y, period, false);
+}
+
+PeriodicSpline PeriodicSpline::interpolate_banded(std::span<const double> x, std::span<const double> y,
+                                                  double period) {
+  return interpolate_periodic(x, y, period, true);
+}
+
+PeriodicSpline PeriodicSpline::interpolate_periodic(std::span<const double> x, std::span<const double> y,
+                                                    double period, bool banded) {
   constexpr const char* who = "PeriodicSpline::interpolate";
   check_data(who, x, y, 6);
   if (!std::isfinite(period) || !(x.back() - x.front() < period)) {
@@ -237,32 +344,69 @@ PeriodicSpline PeriodicSpline::interpolate(std::span<const double> x, std::span<
   }
   const auto wrap = [n](int j) { return (j % n + n) % n; };
 
-  // collocation at the knots: row i uses b-splines i-5 .. i (b_i(t_i) = 0)
-  double ders[6][6];
-  std::vector<Eigen::Triplet<double>> triplets;
-  triplets.reserve(static_cast<std::size_t>(n) * (p + 1));
+  // collocation at the knots: row i uses b-splines i-5 .. i (b_i(t_i) = 0), so with the
+  // unknowns shifted by 3 (b-spline j -> column j + 3) the system is cyclic pentadiagonal
+  // (the basis triangle at each knot is kept for the taylor coefficients below:
+  // triangle[i][q (q + 1) / 2 + r] = N_{i-q+r, q}(t_i))
+  std::vector<std::array<double, (p + 1) * (p + 2) / 2>> triangle(static_cast<std::size_t>(n));
+  std::vector<std::array<double, 5>> band(static_cast<std::size_t>(n));
   Eigen::VectorXd b(n);
   for (int i = 0; i < n; ++i) {
-    basis_derivatives(T.data(), i + p, T[static_cast<std::size_t>(i + p)], 0, ders);
-    for (int r = 0; r <= p; ++r) {
-      if (ders[0][r] != 0.0) triplets.emplace_back(i, wrap(i - p + r), ders[0][r]);
-    }
+    double ndu[p + 1][p + 1];
+    basis_triangle(T.data(), i + p, T[static_cast<std::size_t>(i + p)], ndu);
+    CAMOPT_ASSERT(ndu[p][p] == 0.0);
+    auto& tri = triangle[static_cast<std::size_t>(i)];
+    for (int q = 0; q <= p; ++q)
+      for (int r = 0; r <= q; ++r) tri[static_cast<std::size_t>(q * (q + 1) / 2 + r)] = ndu[r][q];
+    for (int r = 0; r < p; ++r) band[static_cast<std::size_t>(i)][static_cast<std::size_t>(r)] = ndu[r][p];
     b[i] = y[static_cast<std::size_t>(i)];
   }
-  Eigen::SparseMatrix<double> A(n, n);
-  A.setFromTriplets(triplets.begin(), triplets.end());  // sums duplicates
-  const Eigen::VectorXd c = solve(who, A, b);
+  Eigen::VectorXd shifted, c(n);
+  if (banded && solve_cyclic_pentadiagonal(band, b, shifted)) {
+    for (int j = 0; j < n; ++j) c[j] = shifted[wrap(j + 3)];
+  } else {
+    std::vector<Eigen::Triplet<double>> triplets;
+    triplets.reserve(static_cast<std::size_t>(n) * p);
+    for (int i = 0; i < n; ++i)
+      for (int r = 0; r < p; ++r) {
+        const double v = band[static_cast<std::size_t>(i)][static_cast<std::size_t>(r)];
+        if (v != 0.0) triplets.emplace_back(i, wrap(i - p + r), v);
+      }
+    Eigen::SparseMatrix<double> A(n, n);
+    A.setFromTriplets(triplets.begin(), triplets.end());  // sums duplicates
+    c = solve(who, A, b);
+  }
 
-  // taylor coefficients at the left end of each piece
+  // taylor coefficients at the left end of each piece. The k-th derivative is a spline of
+  // degree p - k with the differenced coefficients (The NURBS Book, eq. 3.8)
+  //   c^(k)_j = (p - k + 1) (c^(k-1)_j - c^(k-1)_{j-1}) / (t_{j+p-k+1} - t_j),
+  // so f^(k)(t_i) = sum_r N_{i-q+r, q}(t_i) c^(k)_{i-q+r}, q = p - k: one basis triangle per
+  // knot instead of the basis derivatives
+  auto knot = [&](int m) { return T[static_cast<std::size_t>(m + p)]; };  // t_m, m = -p .. n + p
+  std::vector<std::array<double, p + 1>> diff(static_cast<std::size_t>(n));  // [j mod n][k] = c^(k)_j
+  for (int j = 0; j < n; ++j) diff[static_cast<std::size_t>(j)][0] = c[j];
+  for (int k = 1; k <= p; ++k) {
+    const int q = p - k;
+    // c^(k)_j for j = 0 .. n - 1 from c^(k-1)_j and c^(k-1)_{j-1} (periodic in j); the knot
+    // difference t_{j+q+1} - t_j is periodic too (it only needs j in 0 .. n - 1, j - 1 wraps)
+    double prev = diff[static_cast<std::size_t>(n - 1)][static_cast<std::size_t>(k - 1)];
+    for (int j = 0; j < n; ++j) {
+      const double cur = diff[static_cast<std::size_t>(j)][static_cast<std::size_t>(k - 1)];
+      diff[static_cast<std::size_t>(j)][static_cast<std::size_t>(k)] = (q + 1) * (cur - prev) / (knot(j + q + 1) - knot(j));
+      prev = cur;
+    }
+  }
   PeriodicSpline s;
   s.period_ = period;
   s.x_.assign(x.begin(), x.end());
   s.coef_.resize(static_cast<std::size_t>(n));
   for (int i = 0; i < n; ++i) {
-    basis_derivatives(T.data(), i + p, T[static_cast<std::size_t>(i + p)], p, ders);
+    const auto& tri = triangle[static_cast<std::size_t>(i)];
     for (int k = 0; k <= p; ++k) {
+      const int q = p - k;
       double v = 0.0;
-      for (int r = 0; r <= p; ++r) v += ders[k][r] * c[wrap(i - p + r)];
+      for (int r = 0; r <= q; ++r)
+        v += tri[static_cast<std::size_t>(q * (q + 1) / 2 + r)] * diff[static_cast<std::size_t>(wrap(i - q + r))][static_cast<std::size_t>(k)];
       s.coef_[static_cast<std::size_t>(i)][static_cast<std::size_t>(k)] = v * kInvFactorial[k];
     }
   }

@@ -30,6 +30,9 @@ constexpr double pi = std::numbers::pi;
 // (septic hermite between them: for the bundled designs the round trip is unchanged from
 // a solve at every sample to 1e-12 mm)
 constexpr int kInversionLevels = 64;
+// [rad] spacing of the upstream solves for a cam that is not the driver (a swing cam, a
+// floating lever); septic hermite in the driver angle between them
+constexpr double kUpstreamSpacing = 1.0 * pi / 180;
 using Jet3 = Jet<3>;
 using Jet2 = Jet<2>;
 
@@ -216,7 +219,7 @@ void finish_from_polar(SynthesisResult& result, double wheel_radius) {
   const int m = static_cast<int>(result.angle_deg.size());
   std::vector<double> u(m);
   for (int k = 0; k < m; ++k) u[k] = result.angle_deg[k] * pi / 180;
-  const PeriodicSpline r = PeriodicSpline::interpolate(u, result.radius_mm, 2 * pi);
+  const PeriodicSpline r = PeriodicSpline::interpolate_banded(u, result.radius_mm, 2 * pi);
   result.x_mm.resize(m);
   result.y_mm.resize(m);
   result.radius_of_curvature_mm.resize(m);
@@ -483,7 +486,11 @@ Status swing_profile(const DesignSpec& spec, const kin::Mechanism& up, const Mec
     if (a0 >= 2 * pi) a0 = 0.0;
     table.push_back({a0, r});
   }
-  std::sort(table.begin(), table.end());
+  // the table runs once round in polar angle (either sense) from the rest point: reversed
+  // and rotated it ascends (sorted only if rounding left it out of order)
+  if (dir < 0) std::reverse(table.begin(), table.end());
+  std::rotate(table.begin(), std::min_element(table.begin(), table.end()), table.end());
+  if (!std::is_sorted(table.begin(), table.end())) std::sort(table.begin(), table.end());
   table.erase(std::unique(table.begin(), table.end(), [](auto a, auto b) { return a.first == b.first; }), table.end());
   result.angle_deg.clear();
   result.radius_mm.clear();
@@ -630,7 +637,22 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
     const Status st = kin::solve(up, up_ws, 0.0, {3, false});
     if (!st.ok()) return {st.code, st.message, "cam 0 deg"};
   }
+  // the cam's motion depends on the driver alone (not on the target): solved upstream every
+  // `stride` samples (and at 2 pi) with its jets, septic hermite in theta in between
+  const kin::Node& cn = up.nodes[cam];
+  const int stride = cam_is_lone_driver ? 1 : std::max(1, static_cast<int>(std::lround(kUpstreamSpacing * n / (2 * pi))));
+  const int upstream_nodes = cam_is_lone_driver ? 0 : (n + stride - 1) / stride + 1;  // the last at theta = 2 pi
+  auto node_sample = [&](int j) { return std::min(j * stride, n); };
+  std::vector<double> cam_motion(static_cast<std::size_t>(upstream_nodes * cn.dof * 4));  // [node][dof][derivative]
+  for (int j = 0; j < upstream_nodes; ++j) {
+    const double at = 2 * pi * node_sample(j) / n;
+    const Status st = kin::solve(up, up_ws, at, {3, false});
+    if (!st.ok()) return {st.code, st.message, "cam " + fmt(at * 180 / pi) + " deg"};
+    for (int k = 0; k < cn.dof; ++k)
+      for (int d = 0; d < 4; ++d) cam_motion[(j * cn.dof + k) * 4 + d] = up_ws.vars[cn.first_variable + k].derivative(d);
+  }
   const double step_power[4] = {1.0, level_step, level_step * level_step, level_step * level_step * level_step};
+  std::vector<Jet3> up_vars_at(up.variables.size(), Jet3(0.0));
   std::vector<Jet3> vars(down.variables.size(), Jet3(0.0));
   for (int i = 0; i < n; ++i) {
     const Jet3& L = motion[i];
@@ -648,13 +670,20 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
       vars[fn.first_variable + k] = compose(d, L);  // follower(theta) = F(L(theta))
     }
     const auto fpose = kin::detail::node_pose(down, follower, vars.data(), down_ws.pivots.data());
-    // the cam's motion: the driver itself (its angle is theta), or solved upstream
+    // the cam's motion: the driver itself (its angle is theta), or interpolated from upstream
     const Jet3* up_vars = &driver_alone;
     driver_alone = Jet3::variable(theta[i]);
     if (!cam_is_lone_driver) {
-      const Status st = kin::solve(up, up_ws, theta[i], {3, false});
-      if (!st.ok()) return {st.code, st.message, "cam " + fmt(theta[i] * 180 / pi) + " deg"};
-      up_vars = up_ws.vars.data();
+      const int j = i / stride, a = node_sample(j), b = node_sample(j + 1);
+      for (int k = 0; k < cn.dof; ++k) {
+        double d[4];
+        detail::septic_between(&cam_motion[(j * cn.dof + k) * 4], &cam_motion[((j + 1) * cn.dof + k) * 4],
+                               (b - a) * 2 * pi / n, static_cast<double>(i - a) / (b - a), d);
+        Jet3& v = up_vars_at[cn.first_variable + k];
+        v = Jet3(d[0]);
+        v.c[1] = d[1], v.c[2] = d[2] / 2, v.c[3] = d[3] / 6;  // taylor coefficients
+      }
+      up_vars = up_vars_at.data();
     }
     const auto cpose = kin::detail::node_pose(up, cam, up_vars, up_ws.pivots.data());
     cam_rate[i] = up_vars[cam_angle_variable].derivative(1);  // [rad per rad of driver]
@@ -701,18 +730,26 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
         for (int j = 0; j <= kIdleControls; ++j) family.push_back(lo + (hi - lo) * j / kIdleControls);
         const auto split = std::lower_bound(family.begin(), family.end(), controls[0]) - family.begin();
         std::vector<std::array<double, 3>> lower, upper;  // (control, x, y)
+        // each side continues from the last solved point (the control moves by one family
+        // step under the solver's trust check); a point the continuation cannot reach is
+        // assembled afresh from the drawing, as a lone point would be
+        auto solve_at = [](const kin::Mechanism& mech, kin::Workspace& w, const std::vector<double>& ctl, double at) {
+          w.set_controls(ctl, true);
+          if (kin::solve(mech, w, at, {0, false}).ok()) return true;
+          w.set_controls(ctl);
+          return kin::solve(mech, w, at, {0, false}).ok();
+        };
+        const kin::Workspace up_start = up_ws, down_start = down_ws;
         for (int side = 0; side < 2; ++side) {
           std::vector<double> ctl = controls;
+          kin::Workspace up_w = up_start, down_w = down_start;
           for (std::ptrdiff_t j = side == 0 ? split : split - 1; side == 0 ? j <= kIdleControls : j >= 0;
                j += side == 0 ? 1 : -1) {
             ctl[0] = family[static_cast<std::size_t>(j)];
-            up_ws.set_controls(ctl);
-            down_ws.set_controls(ctl);
-            if (!kin::solve(up, up_ws, rest_theta, {0, false}).ok() ||
-                !kin::solve(down, down_ws, rest_level, {0, false}).ok())
+            if (!solve_at(up, up_w, ctl, rest_theta) || !solve_at(down, down_w, ctl, rest_level))
               break;  // the family ends where the mechanism no longer assembles
-            const auto cpose = kin::detail::node_pose(up, cam, up_ws.vars.data(), up_ws.pivots.data());
-            const auto fpose = kin::detail::node_pose(down, follower, down_ws.vars.data(), down_ws.pivots.data());
+            const auto cpose = kin::detail::node_pose(up, cam, up_w.vars.data(), up_w.pivots.data());
+            const auto fpose = kin::detail::node_pose(down, follower, down_w.vars.data(), down_w.pivots.data());
             const P2<Jet3> c =
                 global_to_profile(cpose, fpose.apply(follower_surface.origin_mm[0], follower_surface.origin_mm[1]));
             (side == 0 ? upper : lower).push_back({ctl[0], c.x.value(), c.y.value()});

@@ -1,6 +1,7 @@
 #include "camopt/synthesis/floating_inversion.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 
@@ -103,8 +104,8 @@ Status invert_floating_follower(const DesignSpec& spec, const MechanismCut& cut,
   // rest pose (a Valvetronic eccentric turns the lever about the camshaft), so it is found
   // by newton on |c(q) - pivot| = base with a probe along the drawing's radial direction
   double rest_x = c0x, rest_y = c0y;
+  kin::Mechanism m0 = make_probe(c0x, c0y);
   {
-    const kin::Mechanism m0 = make_probe(c0x, c0y);
     kin::Workspace ws0(m0);
     ws0.set_controls(controls);
     const int f0 = m0.node_index(cut.follower_node);
@@ -125,7 +126,10 @@ Status invert_floating_follower(const DesignSpec& spec, const MechanismCut& cut,
       q -= miss / rho.c[1];
     }
   }
-  const kin::Mechanism m = make_probe(rest_x, rest_y);
+  // the probe through the rest pose (the drawing's own when the lever rests as drawn, to
+  // the rest newton's tolerance)
+  const bool rests_as_drawn = std::hypot(rest_x - c0x, rest_y - c0y) < 1e-12 * base;
+  const kin::Mechanism m = rests_as_drawn ? std::move(m0) : make_probe(rest_x, rest_y);
   kin::Workspace ws(m);
   ws.set_controls(controls);
   const int lift_var = m.nodes[static_cast<std::size_t>(m.node_index(target_node))].first_variable;
@@ -138,11 +142,14 @@ Status invert_floating_follower(const DesignSpec& spec, const MechanismCut& cut,
   double motion_hi = -1e300;
   for (const auto& L : motion) motion_hi = std::max(motion_hi, L.value());
 
-  // 1. scan L(q) from the rest up past the largest target lift
+  // 1. scan L(q) from the rest up past the largest target lift, keeping the lift and the
+  // roller centre with three derivatives in q at every scan point: between them they are
+  // septic hermite pieces in q (kScanStep apart), so the inversion below needs no solves
   std::vector<double> grid_lift;
+  std::vector<std::array<double, 12>> grid_jets;  // [L, centre x, centre y][derivative 0..3]
   for (int j = 0;; ++j) {
     const double q = j * kScanStep;
-    const Status st = kin::solve(m, ws, q, {1, false});
+    const Status st = kin::solve(m, ws, q, {3, false});
     if (!st.ok())
       return {st.code,
               "the lever '" + cut.follower_node + "' pushed " + fmt(q) + " mm along its cam roller's radial path "
@@ -150,6 +157,13 @@ Status invert_floating_follower(const DesignSpec& spec, const MechanismCut& cut,
                   fmt(motion_hi) + " mm",
               "probe travel " + fmt(q) + " mm"};
     grid_lift.push_back(ws.vars[static_cast<std::size_t>(lift_var)].value());
+    const auto c = centre_of_q();
+    std::array<double, 12>& g = grid_jets.emplace_back();
+    for (int d = 0; d < 4; ++d) {
+      g[d] = ws.vars[static_cast<std::size_t>(lift_var)].derivative(d);
+      g[4 + d] = c.x.derivative(d);
+      g[8 + d] = c.y.derivative(d);
+    }
     if (grid_lift.back() > motion_hi && j > 0) break;
     if (q > kMaxTravel)
       return {StatusCode::cannot_assemble,
@@ -158,6 +172,27 @@ Status invert_floating_follower(const DesignSpec& spec, const MechanismCut& cut,
               "probe travel " + fmt(q) + " mm"};
   }
   const int top = static_cast<int>(grid_lift.size()) - 1;
+  // the lift and the roller centre at travel q as jets in q: hermite between scan points,
+  // a solve beyond the scan (continued from the last one)
+  auto probe_at = [&](double q, Jet3& lift, kin::detail::V2<Jet3>& centre) -> Status {
+    if (q >= 0.0 && q <= top * kScanStep) {
+      const int j = std::min(top - 1, static_cast<int>(q / kScanStep));
+      Jet3* out3[3] = {&lift, &centre.x, &centre.y};
+      for (int f = 0; f < 3; ++f) {
+        double d[4];
+        detail::septic_between(&grid_jets[static_cast<std::size_t>(j)][4 * f],
+                               &grid_jets[static_cast<std::size_t>(j + 1)][4 * f], kScanStep, q / kScanStep - j, d);
+        *out3[f] = Jet3(d[0]);
+        out3[f]->c[1] = d[1], out3[f]->c[2] = d[2] / 2, out3[f]->c[3] = d[3] / 6;
+      }
+      return Status::success();
+    }
+    const Status st = kin::solve(m, ws, q, {3, false});
+    if (!st.ok()) return st;
+    lift = ws.vars[static_cast<std::size_t>(lift_var)];
+    centre = centre_of_q();
+    return Status::success();
+  };
   // 2. monotone pieces of L(q) between its turning points (grid indices, ascending)
   std::vector<int> turns{0};
   for (int j = 1; j < top; ++j)
@@ -186,23 +221,27 @@ Status invert_floating_follower(const DesignSpec& spec, const MechanismCut& cut,
   std::vector<Kind> kind(n, Kind::open);
   std::vector<Jet3> q_of(n, Jet3(0.0));
   // invert sample i on piece k (newton inside the piece's grid bracket)
-  auto invert_on = [&](int i, int k, double& a1) -> Status {
+  // guess: the travel predicted from the neighbouring sample (NaN: none), else linear in
+  // the scan's bracket
+  auto invert_on = [&](int i, int k, double guess, double& a1) -> Status {
     const double target = motion[i].value();
     const int j0 = turns[k], j1 = turns[k + 1];
     const double sign = grid_lift[j1] > grid_lift[j0] ? 1.0 : -1.0;
     int j = j0;
     while (j + 1 < j1 && (grid_lift[j + 1] - target) * sign < 0) ++j;
     double lo = j * kScanStep, hi = (j + 1) * kScanStep;
-    double q = 0.5 * (lo + hi);
+    const double span = grid_lift[j + 1] - grid_lift[j];
+    double q = span != 0.0 ? lo + std::clamp((target - grid_lift[j]) / span, 0.0, 1.0) * kScanStep : 0.5 * (lo + hi);
+    if (guess > lo && guess < hi) q = guess;
+    Jet3 L;
+    kin::detail::V2<Jet3> c;
     for (int it = 0; it < 100; ++it) {
-      const Status st = kin::solve(m, ws, q, {3, false});
+      const Status st = probe_at(q, L, c);
       if (!st.ok()) return {st.code, st.message, "cam " + deg_of(theta[i]) + " deg"};
-      const Jet3& L = ws.vars[static_cast<std::size_t>(lift_var)];
       const double f = (L.value() - target) * sign;  // increasing in q on this piece
       if (std::abs(f) <= 1e-13 * std::max(1.0, motion_hi) || hi - lo < 1e-15) {
         a1 = L.c[1];
         q_of[i] = revert(L, q, motion[i]);
-        const auto c = centre_of_q();
         out.centre_x[i] = compose_in(c.x, q_of[i]);
         out.centre_y[i] = compose_in(c.y, q_of[i]);
         return Status::success();
@@ -224,14 +263,12 @@ Status invert_floating_follower(const DesignSpec& spec, const MechanismCut& cut,
   int peak = 0;
   for (int i = 1; i < n; ++i)
     if (motion[i].value() > motion[peak].value()) peak = i;
+  // (the walks invert on the scan's hermite pieces: the scan continued from the rest keeps
+  // the drawing's assembly branch; a cold start next to the peak may land on another one)
+  const double h = 2 * pi / n;
   for (int dir : {-1, +1}) {
-    // continuation from the rest up the scan, so the walk starts on the drawing's assembly
-    // branch next to the peak (a cold start there may converge to another branch)
-    ws.reset();
-    for (int j = 0; j <= top; ++j)
-      if (const Status st = kin::solve(m, ws, j * kScanStep, {0, false}); !st.ok())
-        return {st.code, st.message, "probe travel " + fmt(j * kScanStep) + " mm"};
     int k = pieces - 1;
+    int last = -1, last_piece = -1;  // the walk's last inverted sample and its piece
     double extreme = motion[peak].value();  // the target's running extreme on this piece
     bool near_rest = false;  // on the first piece, past the target's last turn: bridged to the rest
     // each walk covers half the revolution (the opening stroke and the base circle before
@@ -273,10 +310,17 @@ Status invert_floating_follower(const DesignSpec& spec, const MechanismCut& cut,
         continue;
       }
       extreme = (target - extreme) * rises < 0 ? target : extreme;
-      double a1 = 0.0;
-      const Status st = invert_on(i, k, a1);
+      double a1 = 0.0, guess = NAN;
+      if (last == ((i - dir) % n + n) % n && last_piece == k) {
+        // cubic taylor of the neighbour's travel, one sample on
+        const Jet3& q = q_of[last];
+        const double s1 = dir * h;
+        guess = q.c[0] + s1 * (q.c[1] + s1 * (q.c[2] + s1 * q.c[3]));
+      }
+      const Status st = invert_on(i, k, guess, a1);
       if (!st.ok()) return st;
       kind[i] = std::abs(a1) < flat ? Kind::bridged : Kind::inverted;
+      last = i, last_piece = k;
     }
   }
   for (auto& kd : kind)
@@ -296,12 +340,9 @@ Status invert_floating_follower(const DesignSpec& spec, const MechanismCut& cut,
   }
   // 4. bridges: runs of samples where the lift barely moves with q (next to a turning
   // point or the rest) take q from septic hermite pieces between their neighbours' jets
-  const double h = 2 * pi / n;
   const double inverse_factorial[4] = {1.0, 1.0, 0.5, 1.0 / 6.0};  // taylor coefficient = derivative / k!
   int rest_samples = 0, bridged_samples = 0;
-  const Status at_rest = kin::solve(m, ws, 0.0, {0, false});
-  if (!at_rest.ok()) return {at_rest.code, at_rest.message, "probe travel 0 mm"};
-  const auto rest_centre = centre_of_q();
+  const kin::detail::V2<Jet3> rest_centre{Jet3(grid_jets[0][4]), Jet3(grid_jets[0][8])};
   for (int i = 0; i < n; ++i)
     if (kind[i] == Kind::rest) {
       ++rest_samples;
@@ -328,11 +369,12 @@ Status invert_floating_follower(const DesignSpec& spec, const MechanismCut& cut,
       piece.eval((c + 1.0) / (count + 1.0), d);
       Jet3 q(std::max(0.0, d[0]));
       for (int o = 1; o < 4; ++o) q.c[o] = d[o] / std::pow(span, o) * inverse_factorial[o];
-      const Status st = kin::solve(m, ws, q.value(), {3, false});
+      Jet3 lift;
+      kin::detail::V2<Jet3> cc;
+      const Status st = probe_at(q.value(), lift, cc);
       if (!st.ok()) return {st.code, st.message, "cam " + deg_of(theta[s]) + " deg"};
-      const double e = std::abs(ws.vars[static_cast<std::size_t>(lift_var)].value() - motion[s].value());
+      const double e = std::abs(lift.value() - motion[s].value());
       if (e > out.fill_error_mm) out.fill_error_mm = e, out.fill_error_at_rad = theta[s];
-      const auto cc = centre_of_q();
       out.centre_x[s] = compose_in(cc.x, q);
       out.centre_y[s] = compose_in(cc.y, q);
       ++bridged_samples;

@@ -182,6 +182,40 @@ TEST_CASE("periodic spline: convergence order on uniform and jittered grids") {
   }
 }
 
+TEST_CASE("periodic spline: the banded solve gives the sparse LU's spline") {
+  // jittered knots (a non-uniform collocation matrix), from the smallest size (6: the
+  // 4 x 4 schur block wraps onto the first two rows) to a long table; values and every
+  // derivative at points between the knots
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> jitter(-0.3, 0.3);
+  for (int n : {6, 7, 9, 40, 1500}) {
+    INFO("n = " << n);
+    std::vector<double> x(static_cast<std::size_t>(n)), y(x.size());
+    const double h = 2 * std::numbers::pi / n;
+    for (int i = 0; i < n; ++i) {
+      x[static_cast<std::size_t>(i)] = (i + jitter(rng)) * h;
+      y[static_cast<std::size_t>(i)] = std::exp(std::sin(x[static_cast<std::size_t>(i)])) + 0.1 * (i % 3);
+    }
+    const PeriodicSpline lu = PeriodicSpline::interpolate(x, y, 2 * std::numbers::pi);
+    const PeriodicSpline banded = PeriodicSpline::interpolate_banded(x, y, 2 * std::numbers::pi);
+    double worst[6] = {}, size[6] = {};
+    for (int k = 0; k < 997; ++k) {
+      const double at = 2 * std::numbers::pi * (k + 0.37) / 997;
+      double a[6], b[6];
+      lu.evaluate(at, 5, a);
+      banded.evaluate(at, 5, b);
+      for (int o = 0; o < 6; ++o) {
+        worst[o] = std::max(worst[o], std::abs(a[o] - b[o]));
+        size[o] = std::max(size[o], std::abs(a[o]));
+      }
+    }
+    for (int o = 0; o < 6; ++o) {
+      INFO("derivative " << o << ": " << worst[o] << " of " << size[o]);
+      CHECK(worst[o] <= 1e-12 * size[o]);
+    }
+  }
+}
+
 TEST_CASE("periodic spline: c4 at every knot including the seam") {
   for (const double jitter : {0.0, 0.3}) {
     const auto x = grid(40, jitter, 0.5);

@@ -80,6 +80,12 @@ class PeriodicSpline : public detail::PiecewiseQuintic, public detail::SplineCal
   // throws std::invalid_argument on misuse (callers validate user data first).
   static PeriodicSpline interpolate(std::span<const double> x, std::span<const double> y,
                                     double period);
+  // the same spline by an O(n) cyclic banded solve (falls back to interpolate's sparse LU
+  // when the banded elimination is not at round-off). Its coefficients differ from
+  // interpolate's in the last bits, so results that must match interpolate's bit for bit
+  // (a kinematic profile, a target the optimiser reads) use interpolate.
+  static PeriodicSpline interpolate_banded(std::span<const double> x, std::span<const double> y,
+                                           double period);
 
   double period() const noexcept { return period_; }
 
@@ -87,6 +93,8 @@ class PeriodicSpline : public detail::PiecewiseQuintic, public detail::SplineCal
   void evaluate(double x, int max_order, double* out) const noexcept;
 
  private:
+  static PeriodicSpline interpolate_periodic(std::span<const double> x, std::span<const double> y, double period,
+                                             bool banded);
   double period_ = 0.0;
 };
 

@@ -61,4 +61,15 @@ struct Septic {
   }
 };
 
+// septic hermite between two points a span apart, from the value and three derivatives at
+// both ends per unit of the variable (d0, d1); out[k] = k-th derivative at the fraction t
+// of the span, per unit of the variable
+inline void septic_between(const double* d0, const double* d1, double span, double t, double* out) {
+  double e0[4], e1[4], power = 1.0;
+  for (int k = 0; k < 4; ++k, power *= span) e0[k] = d0[k] * power, e1[k] = d1[k] * power;
+  Septic(e0, e1).eval(t, out);
+  power = span;
+  for (int k = 1; k < 4; ++k, power *= span) out[k] /= power;
+}
+
 }  // namespace camopt::synthesis::detail
