@@ -652,6 +652,10 @@ void run_flexible_model(const DynamicsOptions& o) {
     j["events"] = events;
     j["integrator_steps"] = r.steps;
     j["rhs_evaluations"] = r.rhs_evaluations;
+    j["revolutions_integrated"] = r.revolutions_integrated;
+    j["periodic_steady_state"] = r.periodic;
+    if (r.periodic_difference >= 0) j["periodic_difference"] = r.periodic_difference;
+    j["train_frequency_Hz"] = r.train_frequency_hz;
     map.push_back({{"rpm", run.rpm},
                    {"control_" + su.control_unit, su.control_values[run.position]},
                    {"any_contact_separates", separates},

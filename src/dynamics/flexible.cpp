@@ -91,13 +91,15 @@ struct System {
   std::vector<Chain> chains;
   std::vector<int> seat_row;                   // per connection: extended row of the held node (-1)
   std::vector<double> seat_sign;
-  std::vector<double> damping;                 // per connection [N s/mm]
-  std::vector<double> seat_damping;
+  std::vector<double> damping;                 // per connection [N s/mm] (links; contacts: at reference_force)
+  std::vector<double> alpha;                   // per contact: Hunt-Crossley alpha [s/mm]
+  std::vector<double> seat_alpha;
   std::vector<char> frozen;                    // per connection: force held at frozen_force
   std::vector<double> frozen_force;
   std::vector<int> roots;                      // root kinds, see root_value
   int output_row = -1;
   bool output_angle = false;
+  double train_frequency_hz = 0.0;
 
   // the path table (one revolution, periodic)
   Layout L;
@@ -116,8 +118,8 @@ struct System {
 
   System(const kin::Mechanism& me, const FlexibleOptions& o) : mech(me), opt(o) {}
 
-  void evaluate(double t) {
-    const double theta = theta0 + omega * t;
+  void evaluate(double t) { evaluate_angle(theta0 + omega * t); }
+  void evaluate_angle(double theta) {
     if (theta == evaluated_theta) return;
     evaluated_theta = theta;
     const double xg = (theta - grid_first) / grid_step;
@@ -228,7 +230,7 @@ struct System {
         if (pen > 0.0) {
           const double rate = penetration_rate(c, qd);
           const double elastic = hertz(c, pen);
-          fc = std::max(0.0, elastic + damping[c] * rate);
+          fc = hunt_crossley_force(elastic, rate, alpha[c]);
           fr.viscous_power += (fc - elastic) * rate;
         }
       } else {
@@ -257,7 +259,7 @@ struct System {
         if (pen > 0.0) {
           const double rate = seat_rate(c, qd);
           const double elastic = seat_hertz(c, pen);
-          const double fs = std::max(0.0, elastic + seat_damping[c] * rate);
+          const double fs = hunt_crossley_force(elastic, rate, seat_alpha[c]);
           fr.viscous_power += (fs - elastic) * rate;
           f(seat_row[c]) += seat_sign[c] * fs;
           fr.seat += fs;
@@ -431,6 +433,43 @@ std::vector<int> drive_side(const kin::Mechanism& mech, int node) {
   return {};
 }
 
+// first natural frequency [rad/s] of the train at the output's kinematic peak: every contact
+// closed (lash taken up) at its tangent stiffness under reference_force, links stiff, the
+// springs lumped on their nodes (surge masses left out), seats open. 0 when none is positive.
+double train_frequency(System& s) {
+  int peak = 0;
+  for (int i = 1; i < s.grid_points; ++i)
+    if (std::abs(s.table[static_cast<std::size_t>(i) * s.L.size + s.L.out]) >
+        std::abs(s.table[static_cast<std::size_t>(peak) * s.L.size + s.L.out]))
+      peak = i;
+  s.evaluate_angle(s.grid_first + peak * s.grid_step);
+  const int n = s.R + static_cast<int>(s.elements.size());
+  Eigen::MatrixXd k = Eigen::MatrixXd::Zero(n, n);
+  for (int r = 0; r < s.R; ++r) k(r, r) += s.path[s.L.spring_k + r];
+  for (const Element& e : s.elements) {
+    k(e.near, e.near) += e.k;
+    k(e.far, e.far) += e.k;
+    k(e.near, e.far) -= e.k;
+    k(e.far, e.near) -= e.k;
+  }
+  for (int c = 0; c < s.C; ++c) {
+    const ContactData& cd = s.flex.contacts[c];
+    const double kc = !cd.is_contact ? s.opt.link_stiffness
+                                     : s.opt.contact_stiffness_scale *
+                                           line_contact_tangent_stiffness(s.opt.reference_force, cd.width, cd.e_star,
+                                                                          s.reduced_radius(c));
+    for (int i = 0; i < s.R; ++i)
+      for (int j = 0; j < s.R; ++j) k(s.row_map[c][i], s.row_map[c][j]) += kc * s.gn(i, c) * s.gn(j, c);
+  }
+  for (const Chain& ch : s.chains) k(ch.row, ch.row) += ch.law.stiffness(s.path[s.L.xs + ch.table_index]);
+  s.mass_matrix();
+  const Eigen::MatrixXd m = s.m.topLeftCorner(n, n);
+  s.evaluated_theta = std::nan("");
+  Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(0.5 * (k + k.transpose()), m);
+  if (eig.info() != Eigen::Success || !(eig.eigenvalues().minCoeff() > 0.0)) return 0.0;
+  return std::sqrt(eig.eigenvalues().minCoeff());
+}
+
 // build the extended model, tabulate the path and set stiffness / damping. Throws InputError.
 Status build_system(System& s, const Model& model, const std::vector<double>& controls, double theta_first,
                     Eigen::VectorXd& lambda0, Eigen::VectorXd& seat0, std::vector<char>& open0) {
@@ -597,7 +636,10 @@ Status build_system(System& s, const Model& model, const std::vector<double>& co
   s.damping.assign(s.C, 0.0);
   s.seat_row.assign(s.C, -1);
   s.seat_sign.assign(s.C, 1.0);
-  s.seat_damping.assign(s.C, 0.0);
+  s.alpha.assign(s.C, 0.0);
+  s.seat_alpha.assign(s.C, 0.0);
+  const double alpha_default =
+      hunt_crossley_alpha(opt.contact_restitution, opt.restitution_speed_m_per_s * 1e3);
   s.frozen.assign(s.C, 0);
   s.frozen_force.assign(s.C, 0.0);
   s.fr.connection.assign(s.C, 0.0);
@@ -619,9 +661,10 @@ Status build_system(System& s, const Model& model, const std::vector<double>& co
     if (!cd.has_hertz)
       throw InputError("connection '" + mech.connections[c].name +
                        "': the flexible model needs materials and width_mm (Hertz contact law)");
-    const double k = opt.contact_stiffness_scale *
-                     line_contact_tangent_stiffness(opt.reference_force, cd.width, cd.e_star, s.reduced_radius(c));
-    s.damping[c] = cd.damping >= 0 ? cd.damping : 2.0 * opt.contact_damping_ratio * std::sqrt(k * m_c);
+    // Hunt-Crossley: a design damping c is matched at the reference force (dF/d rate = 1.5 alpha F)
+    s.alpha[c] = cd.damping >= 0 ? cd.damping / (1.5 * opt.reference_force) : alpha_default;
+    s.seat_alpha[c] = s.alpha[c];
+    s.damping[c] = 1.5 * s.alpha[c] * opt.reference_force;
     if (cd.held_node > 0) {
       const int hv = mech.nodes[cd.held_node].first_variable;
       const int hr = s.flex.row_of_variable[hv];
@@ -630,18 +673,23 @@ Status build_system(System& s, const Model& model, const std::vector<double>& co
       double rest_load = 0.0;  // the seat pushes against the node's applied loads at rest
       for (int j = 1; j < ws0.cases(); ++j) rest_load += ws0.loads(hv, j);
       s.seat_sign[c] = rest_load >= 0 ? 1.0 : -1.0;
-      const double ks = opt.contact_stiffness_scale *
-                        line_contact_tangent_stiffness(opt.reference_force, opt.seat_length_mm, cd.e_star,
-                                                       opt.seat_radius_mm);
-      s.seat_damping[c] = 2.0 * opt.contact_damping_ratio * std::sqrt(ks * s.m(seat, seat));
     }
   }
+  // components: stiffness-proportional (Rayleigh) damping c = 2 zeta k / w1 gives the train's
+  // first mode the ratio zeta (Clough & Penzien, Dynamics of Structures, 2nd ed., sec. 12-5).
+  // (A ratio of each component's own two-half mode, c = 2 zeta sqrt(k M/4), left the CVVL's
+  // 2.2 kHz train mode at ~0.7 % and it rang through the whole lift.)
+  const double w1 = train_frequency(s);
+  s.train_frequency_hz = w1 / (2.0 * kPi);
+  s.evaluated_theta = std::nan("");
+  s.evaluate(0.0);
+  s.mass_matrix();
   for (Element& e : s.elements) {
     double zeta = opt.component_damping_ratio;
     for (const NodeSpec& ns : spec.nodes)
       if (ns.name == mech.nodes[e.node].name && ns.damping_ratio) zeta = *ns.damping_ratio;
-    // reduced mass of the two halves: M/4 (M the node's generalized mass)
-    e.c = 2.0 * zeta * std::sqrt(e.k * 0.5 * s.m(e.near, e.near));
+    // without a train mode (no positive frequency): the ratio of the two halves' own mode (reduced mass M/4)
+    e.c = w1 > 0.0 ? 2.0 * zeta * e.k / w1 : 2.0 * zeta * std::sqrt(e.k * 0.5 * s.m(e.near, e.near));
   }
   // roots
   for (int c = 0; c < s.C; ++c)
@@ -783,13 +831,19 @@ Status run_flexible(const kin::Mechanism& mech, const Model& model, const std::v
   if (!su.create_bdf(rhs_callback, root_callback, nroots, &s, options.relative_tolerance, options.max_steps,
                      detail::path_max_step_s(s.grid_step, s.omega)))
     return {StatusCode::integrator_failure, "CVODE setup failed", ""};
+  // BDF orders 3-5 are unstable for lightly damped modes near the imaginary axis (spring
+  // surge at 1 %): without stability-limit detection CVODE held h w small for them whatever
+  // the speed (CVVL at 10 rpm: 1.27M steps per revolution, 11.7k with it; CVODE guide,
+  // "BDF stability limit detection")
+  if (CVodeSetStabLimDet(su.cvode, SUNTRUE) != CV_SUCCESS)
+    return {StatusCode::integrator_failure, "CVODE setup failed (stability limit detection)", ""};
 
   const auto points = static_cast<std::size_t>(std::floor((stop_deg - start_deg) / step_deg + 1e-9)) + 1;
   const double report_t0 = (start_deg - first_deg) * kDeg / s.omega;
   out.layout = {s.R, static_cast<int>(s.elements.size()), N - s.R - static_cast<int>(s.elements.size())};
   out.connections = s.C;
-  out.start_time_s = report_t0;
   out.contact_damping = s.damping;
+  out.train_frequency_hz = s.train_frequency_hz;
   for (const Element& e : s.elements) out.element_names.push_back(mech.nodes[e.node].name);
   for (const Chain& ch : s.chains) out.chain_names.push_back(ch.name), out.chain_segments.push_back(ch.masses + 1);
   const std::size_t nch = s.chains.size(), ne = s.elements.size();
@@ -828,9 +882,17 @@ Status run_flexible(const kin::Mechanism& mech, const Model& model, const std::v
       if (roots_found[r] != 0) return r;
     return 0;
   };
+  // revolution by revolution: each records its window (start_deg .. stop_deg) over the last
+  // one's; at the start of a window the state is compared with the previous window's start
+  // (periodic steady state: stop, the previous window stands)
+  const double period = 2.0 * kPi / s.omega;
+  std::vector<double> window_start_state;
+  double window_t0 = 0.0;
+  for (int rev = 0; rev < options.revolutions && !out.periodic; ++rev) {
+  window_t0 = report_t0 - (options.revolutions - 1 - rev) * period;
   for (std::size_t i = 0; i < points; ++i) {
     const double deg = start_deg + step_deg * static_cast<double>(i);
-    const double tout = (deg - first_deg) * kDeg / s.omega;
+    const double tout = window_t0 + (deg - start_deg) * kDeg / s.omega;
     while (t < tout) {
       const int flag = CVode(su.cvode, tout, su.y, &t, CV_NORMAL);
       if (flag == CV_ROOT_RETURN) {
@@ -838,7 +900,7 @@ Status run_flexible(const kin::Mechanism& mech, const Model& model, const std::v
         s.evaluate(t);
         read_state();
         for (int r = 0; r < nroots; ++r) {
-          if (found[r] == 0 || t < report_t0 - 1e-12) continue;
+          if (found[r] == 0 || t < window_t0 - 1e-12) continue;
           const auto& rt = s.root_list[r];
           double speed = 0.0;
           if (rt.kind == 0) speed = std::abs(s.penetration_rate(rt.index, qd)) * 1e-3;
@@ -872,6 +934,28 @@ Status run_flexible(const kin::Mechanism& mech, const Model& model, const std::v
     s.evaluate(tout);
     read_state();
     if (!q.allFinite() || !qd.allFinite()) return failure("non-finite state", t);
+    if (i == 0) {
+      // in units of the integration tolerance, CVODE's weights rtol |y| + atol
+      if (!window_start_state.empty() && options.periodic_tolerance > 0.0) {
+        double diff = 0.0;
+        for (int j = 0; j < 2 * N; ++j) {
+          const double y = NV_Ith_S(su.y, j);
+          const double weight = options.relative_tolerance * std::abs(y) + NV_Ith_S(su.atol, j);
+          diff = std::max(diff, std::abs(y - window_start_state[j]) / weight);
+        }
+        out.periodic_difference = diff;
+        if (diff <= options.periodic_tolerance) {
+          out.periodic = true;
+          break;
+        }
+      }
+      window_start_state.assign(N_VGetArrayPointer(su.y), N_VGetArrayPointer(su.y) + 2 * N);
+      out.events.erase(std::remove_if(out.events.begin(), out.events.end(),
+                                      [&](const FlexibleEvent& e) { return e.time_s < window_t0 - 1e-12; }),
+                       out.events.end());
+      out.start_time_s = window_t0;
+      ++out.revolutions_integrated;
+    }
     s.forces(q, qd);
     s.mass_matrix();
     out.cam_deg[i] = deg;
@@ -930,6 +1014,7 @@ Status run_flexible(const kin::Mechanism& mech, const Model& model, const std::v
       }
     }
     out.energy[i] = energy;
+  }
   }
   out.steps = steps_total + detail::steps_since_restart(su.cvode);
   out.rhs_evaluations = s.rhs_calls;
