@@ -112,9 +112,11 @@ struct System {
   double omega = 0.0, theta0 = 0.0;
   Eigen::MatrixXd m;
   Eigen::LDLT<Eigen::MatrixXd> ldlt;
+  double factored_theta = std::nan("");  // angle of m and ldlt
   Forces fr;
   Eigen::VectorXd x, v, acc;
-  long rhs_calls = 0;
+  Eigen::MatrixXd jk, jd;  // Jacobian work: stiffness and damping
+  long rhs_calls = 0, jacobian_calls = 0;
 
   System(const kin::Mechanism& me, const FlexibleOptions& o) : mech(me), opt(o) {}
 
@@ -343,6 +345,48 @@ struct System {
     }
   }
 
+  // velocity damping D = -df/d(dq/dt) at (q, qd): elements, Hunt-Crossley contacts and seats
+  // (dF/d rate = 1.5 alpha F_e), links, spring segments; friction's left out (as in K)
+  void damping_matrix(const Eigen::VectorXd& q, Eigen::MatrixXd& d) const {
+    d.setZero(N, N);
+    for (const Element& e : elements) {
+      d(e.near, e.near) += e.c;
+      d(e.far, e.far) += e.c;
+      d(e.near, e.far) -= e.c;
+      d(e.far, e.near) -= e.c;
+    }
+    for (int c = 0; c < C; ++c) {
+      if (frozen[c]) continue;
+      double dc = 0.0;
+      if (!flex.contacts[c].is_contact) {
+        dc = damping[c];
+      } else {
+        const double pen = penetration(c, q);
+        if (pen > 0.0) dc = 1.5 * alpha[c] * hertz(c, pen);
+      }
+      if (dc != 0.0)
+        for (int i = 0; i < R; ++i)
+          for (int j = 0; j < R; ++j) d(row_map[c][i], row_map[c][j]) += dc * gn(i, c) * gn(j, c);
+      if (seat_row[c] >= 0) {
+        const double sp = seat_penetration(c, q);
+        if (sp > 0.0) d(seat_row[c], seat_row[c]) += 1.5 * seat_alpha[c] * seat_hertz(c, sp);
+      }
+    }
+    for (const Chain& ch : chains) {
+      const double n1 = ch.masses + 1.0, cs = n1 * ch.segment_damping;
+      for (int j = 1; j <= ch.masses + 1; ++j) {
+        const int top = j == ch.masses + 1 ? ch.row : ch.first + j - 1;
+        const int base = j == 1 ? -1 : ch.first + j - 2;
+        d(top, top) += cs;
+        if (base >= 0) {
+          d(base, base) += cs;
+          d(top, base) -= cs;
+          d(base, top) -= cs;
+        }
+      }
+    }
+  }
+
   // extended generalized mass
   void mass_matrix() {
     m.setZero(N, N);
@@ -357,10 +401,17 @@ struct System {
       for (int j = 0; j < ch.masses; ++j) m(ch.first + j, ch.first + j) = ch.mass;
   }
 
-  void accelerations(const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
-    forces(q, qd);
+  // the mass matrix depends on the cam angle only: factored once per angle (CVODE's Newton
+  // iterations call the right-hand side repeatedly at one time)
+  void factor_mass() {
+    if (factored_theta == evaluated_theta) return;
     mass_matrix();
     ldlt.compute(m);
+    factored_theta = evaluated_theta;
+  }
+  void accelerations(const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
+    forces(q, qd);
+    factor_mass();
     acc = ldlt.solve(fr.f);
   }
 
@@ -394,14 +445,64 @@ int rhs_callback(sunrealtype t, N_Vector y, N_Vector ydot, void* data) {
     for (int i = 0; i < s->N; ++i) s->x(i) = yv[i], s->v(i) = yv[s->N + i];
     s->accelerations(s->x, s->v);
     for (int i = 0; i < s->N; ++i) yd[i] = s->v(i), yd[s->N + i] = s->acc(i);
-    // energy bookkeeping: integrated as plain states outside the error control
-    yd[2 * s->N] = s->fr.drive_power;
-    yd[2 * s->N + 1] = s->fr.gas_power;
-    yd[2 * s->N + 2] = s->fr.viscous_power;
-    yd[2 * s->N + 3] = s->fr.friction_total;
-    for (int i = 0; i < 2 * s->N + 4; ++i)
+    for (int i = 0; i < 2 * s->N; ++i)
       if (!std::isfinite(yd[i])) return 1;  // recoverable: CVODE retries with a smaller step
     return 0;
+  } catch (...) {
+    return -1;
+  }
+}
+
+// energy bookkeeping: drive, gas, viscous and friction power as CVODE quadratures (once per
+// step, outside the Newton system and the error test; as 4 extra states they made the dense
+// Newton matrix 24 x 24 instead of 20 x 20 on the CVVL)
+int quadrature_callback(sunrealtype t, N_Vector y, N_Vector q_dot, void* data) {
+  auto* s = static_cast<System*>(data);
+  try {
+    s->evaluate(t);
+    const double* yv = N_VGetArrayPointer(y);
+    for (int i = 0; i < s->N; ++i) s->x(i) = yv[i], s->v(i) = yv[s->N + i];
+    s->forces(s->x, s->v);
+    double* qd = N_VGetArrayPointer(q_dot);
+    qd[0] = s->fr.drive_power;
+    qd[1] = s->fr.gas_power;
+    qd[2] = s->fr.viscous_power;
+    qd[3] = s->fr.friction_total;
+    for (int i = 0; i < 4; ++i)
+      if (!std::isfinite(qd[i])) return 1;
+    return 0;
+  } catch (...) {
+    return -1;
+  }
+}
+
+// Newton matrix for CVODE: y = [q, qd, work integrals], d(qd)/dt = M^-1 f(q, qd):
+// J = [[0, I, 0], [-M^-1 K, -M^-1 D, 0], [0, 0, 0]] with the analytic tangent stiffness K and
+// damping D (friction and the damping's dependence on q left out: CVODE only needs an
+// approximate Jacobian for its modified Newton iteration; the error test uses f itself).
+// The power rows are zero: the integrals feed back into nothing.
+int jacobian_callback(sunrealtype t, N_Vector y, N_Vector, SUNMatrix jac, void* data, N_Vector, N_Vector, N_Vector) {
+  auto* s = static_cast<System*>(data);
+  try {
+    s->evaluate(t);
+    const double* yv = N_VGetArrayPointer(y);
+    const int n = s->N;
+    for (int i = 0; i < n; ++i) s->x(i) = yv[i];
+    s->stiffness_matrix(s->x, s->jk);
+    s->damping_matrix(s->x, s->jd);
+    s->factor_mass();
+    s->jk = s->ldlt.solve(s->jk);
+    s->jd = s->ldlt.solve(s->jd);
+    SUNMatZero(jac);
+    for (int i = 0; i < n; ++i) {
+      SM_ELEMENT_D(jac, i, n + i) = 1.0;
+      for (int j = 0; j < n; ++j) {
+        SM_ELEMENT_D(jac, n + i, j) = -s->jk(i, j);
+        SM_ELEMENT_D(jac, n + i, n + j) = -s->jd(i, j);
+      }
+    }
+    ++s->jacobian_calls;
+    return s->jk.allFinite() && s->jd.allFinite() ? 0 : 1;
   } catch (...) {
     return -1;
   }
@@ -810,7 +911,7 @@ Status run_flexible(const kin::Mechanism& mech, const Model& model, const std::v
   }
 
   detail::Sundials su;
-  const int n = 2 * N + 4;  // coordinates, rates, then the work / loss integrals (kWork)
+  const int n = 2 * N;  // coordinates, rates (the work / loss integrals are quadratures)
   if (SUNContext_Create(nullptr, &su.ctx) != 0) return {StatusCode::integrator_failure, "SUNContext_Create failed", ""};
   su.y = N_VNew_Serial(n, su.ctx);
   su.atol = N_VNew_Serial(n, su.ctx);
@@ -820,10 +921,8 @@ Status run_flexible(const kin::Mechanism& mech, const Model& model, const std::v
     NV_Ith_S(su.atol, i) = options.absolute_tolerance;
     NV_Ith_S(su.atol, N + i) = options.absolute_tolerance * 1e4;
   }
-  for (int i = 2 * N; i < n; ++i) {
-    NV_Ith_S(su.y, i) = 0.0;
-    NV_Ith_S(su.atol, i) = 1e30;  // not error-controlled (a quadrature)
-  }
+  su.quad = N_VNew_Serial(4, su.ctx);
+  N_VConst(0.0, su.quad);
   out = FlexibleResult{};
   out.initial_state.resize(2 * N);
   for (int i = 0; i < 2 * N; ++i) out.initial_state[i] = NV_Ith_S(su.y, i);
@@ -835,8 +934,12 @@ Status run_flexible(const kin::Mechanism& mech, const Model& model, const std::v
   // surge at 1 %): without stability-limit detection CVODE held h w small for them whatever
   // the speed (CVVL at 10 rpm: 1.27M steps per revolution, 11.7k with it; CVODE guide,
   // "BDF stability limit detection")
+  if (CVodeQuadInit(su.cvode, quadrature_callback, su.quad) != CV_SUCCESS)
+    return {StatusCode::integrator_failure, "CVODE setup failed (quadratures)", ""};
   if (CVodeSetStabLimDet(su.cvode, SUNTRUE) != CV_SUCCESS)
     return {StatusCode::integrator_failure, "CVODE setup failed (stability limit detection)", ""};
+  if (options.analytic_jacobian && CVodeSetJacFn(su.cvode, jacobian_callback) != CV_SUCCESS)
+    return {StatusCode::integrator_failure, "CVODE setup failed (Jacobian)", ""};
 
   const auto points = static_cast<std::size_t>(std::floor((stop_deg - start_deg) / step_deg + 1e-9)) + 1;
   const double report_t0 = (start_deg - first_deg) * kDeg / s.omega;
@@ -920,7 +1023,10 @@ Status run_flexible(const kin::Mechanism& mech, const Model& model, const std::v
           long jacobians = 0;
           CVodeGetNumJacEvals(su.cvode, &jacobians);
           out.jacobian_evaluations += jacobians;
-          if (CVodeReInit(su.cvode, t, su.y) != CV_SUCCESS) return failure("CVodeReInit failed", t);
+          double tq = t;
+          if (CVodeGetQuad(su.cvode, &tq, su.quad) != CV_SUCCESS || CVodeReInit(su.cvode, t, su.y) != CV_SUCCESS ||
+              CVodeQuadReInit(su.cvode, su.quad) != CV_SUCCESS)
+            return failure("CVodeReInit failed", t);
         }
         continue;
       }
@@ -976,10 +1082,14 @@ Status run_flexible(const kin::Mechanism& mech, const Model& model, const std::v
       out.spring_static_load[i * nch + c] = s.fr.static_load[c];
     }
     for (int j = 0; j < N; ++j) out.state[i * N + j] = q(j);
-    out.drive_work[i] = NV_Ith_S(su.y, 2 * N + 0);
-    out.gas_work[i] = NV_Ith_S(su.y, 2 * N + 1);
-    out.viscous_loss[i] = NV_Ith_S(su.y, 2 * N + 2);
-    out.friction_loss[i] = NV_Ith_S(su.y, 2 * N + 3);
+    if (t > 0.0) {  // before the first step the integrals are their initial zeros
+      double tq = tout;
+      if (CVodeGetQuad(su.cvode, &tq, su.quad) != CV_SUCCESS) return failure("CVodeGetQuad failed", t);
+    }
+    out.drive_work[i] = NV_Ith_S(su.quad, 0);
+    out.gas_work[i] = NV_Ith_S(su.quad, 1);
+    out.viscous_loss[i] = NV_Ith_S(su.quad, 2);
+    out.friction_loss[i] = NV_Ith_S(su.quad, 3);
     // energy: kinetic of the true motion + elastic
     Eigen::VectorXd vel(N);
     for (int j = 0; j < N; ++j) vel(j) = s.kinematic_rate(j) + qd(j);

@@ -50,6 +50,7 @@ struct FlexibleOptions {
   double table_step_deg = 0.25;        // kinematic path tabulated on this grid (one revolution)
   long max_steps = 2000000;            // steps plus contact events over the whole run
   bool restart_at_events = true;       // CVodeReInit at every contact / seat / coil event
+  bool analytic_jacobian = true;       // Newton matrix from K and D; false: CVODE's finite differences
   // periodic steady state: stop before `revolutions` once every state component at a
   // window's start repeats the previous window's within this many integration tolerances
   // (|dy| <= periodic_tolerance (rtol |y| + atol), CVODE's error weight); 0: never. The
