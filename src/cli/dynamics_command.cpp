@@ -694,7 +694,7 @@ void setup_dynamics(CLI::App& app) {
                   "stiff separable Hertz contacts integrated in time (mode b)")
       ->check(CLI::IsMember({"rigid", "compliant"}));
   cmd->add_option("--revolutions", opts->flexible.revolutions,
-                  "flexible: cam revolutions integrated, the last reported (default 3)")
+                  "flexible: cam revolutions integrated at most, the last reported; stops earlier at a periodic steady state (default 3)")
       ->check(CLI::Range(1, 1000));
   cmd->add_option("--rtol", opts->flexible.relative_tolerance, "flexible: CVODE relative tolerance (default 1e-6)")
       ->check(CLI::Range(1e-14, 1e-1));
