@@ -457,3 +457,26 @@ TEST_CASE("flexible: the CVVL at 10 rpm is quasi-static (mode (a) forces) and it
   CHECK(res.steps < 50000);
   CHECK(seat_events <= 10);
 }
+
+TEST_CASE("flexible: the train frequency (the component damping's reference) against the two-mass closed form") {
+  // direct-acting valve at peak lift: the cam contact (tangent stiffness at 500 N, disc R 18 on
+  // a flat, L 8) and the spring (40 N/mm) hold the tappet's near half (0.035 kg); the axial
+  // stiffness k_a joins the far half (0.035 kg). Closed form of K x = w^2 M x for
+  // K = [[k_c + k_s + k_a, -k_a], [-k_a, k_a]], M = diag(m/2, m/2) [N/mm, N s^2/mm].
+  DesignSpec d = direct_valve(40, 250);
+  const double k_a = 60000;
+  d.nodes[1].axial_stiffness_N_per_mm = k_a;
+  const kin::Mechanism mech = kin::compile(d);
+  const dynamics::Model model = dynamics::compile_dynamics(mech);
+  dynamics::FlexibleOptions opt;
+  opt.revolutions = 1;
+  dynamics::FlexibleResult res;
+  REQUIRE(dynamics::run_flexible(mech, model, {}, 1000, 0, 10, 1, opt, res).ok());
+  const double e_star = dynamics::contact_modulus(210e3, 0.3, 210e3, 0.3);
+  const double k_c = dynamics::line_contact_tangent_stiffness(500, 8, e_star, 18);
+  const double k1 = k_c + 40 + k_a, m = 0.035e-3;
+  // det([[k1 - m w2, -k_a], [-k_a, k_a - m w2]]) = 0, lower root
+  const double b = (k1 + k_a) / m, c = (k1 * k_a - k_a * k_a) / (m * m);
+  const double w2 = 0.5 * (b - std::sqrt(b * b - 4 * c));
+  CHECK(res.train_frequency_hz == Approx(std::sqrt(w2) / (2 * pi)).epsilon(1e-9));
+}
