@@ -652,6 +652,10 @@ void run_flexible_model(const DynamicsOptions& o) {
     j["events"] = events;
     j["integrator_steps"] = r.steps;
     j["rhs_evaluations"] = r.rhs_evaluations;
+    j["revolutions_integrated"] = r.revolutions_integrated;
+    j["periodic_steady_state"] = r.periodic;
+    if (r.periodic_difference >= 0) j["periodic_difference"] = r.periodic_difference;
+    j["train_frequency_Hz"] = r.train_frequency_hz;
     map.push_back({{"rpm", run.rpm},
                    {"control_" + su.control_unit, su.control_values[run.position]},
                    {"any_contact_separates", separates},
@@ -690,7 +694,7 @@ void setup_dynamics(CLI::App& app) {
                   "stiff separable Hertz contacts integrated in time (mode b)")
       ->check(CLI::IsMember({"rigid", "compliant"}));
   cmd->add_option("--revolutions", opts->flexible.revolutions,
-                  "flexible: cam revolutions integrated, the last reported (default 3)")
+                  "flexible: cam revolutions integrated at most, the last reported; stops earlier at a periodic steady state (default 3)")
       ->check(CLI::Range(1, 1000));
   cmd->add_option("--rtol", opts->flexible.relative_tolerance, "flexible: CVODE relative tolerance (default 1e-6)")
       ->check(CLI::Range(1e-14, 1e-1));

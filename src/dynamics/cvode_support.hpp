@@ -2,7 +2,7 @@
 // what the time-domain dynamics models share (internal): owned SUNDIALS objects, a silent
 // CVODE error handler, the failure Status of a CVODE flag, and Catmull-Rom weights for the
 // tabulated kinematic path.
-#include <cvode/cvode.h>
+#include <cvodes/cvodes.h>  // CVODE with quadratures (the flexible model's work integrals)
 #include <nvector/nvector_serial.h>
 #include <sundials/sundials_context.h>
 #include <sunlinsol/sunlinsol_dense.h>

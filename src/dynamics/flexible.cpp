@@ -5,6 +5,7 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <algorithm>
+#include <memory>
 #include <cmath>
 #include <numbers>
 
@@ -91,13 +92,15 @@ struct System {
   std::vector<Chain> chains;
   std::vector<int> seat_row;                   // per connection: extended row of the held node (-1)
   std::vector<double> seat_sign;
-  std::vector<double> damping;                 // per connection [N s/mm]
-  std::vector<double> seat_damping;
+  std::vector<double> damping;                 // per connection [N s/mm] (links; contacts: at reference_force)
+  std::vector<double> alpha;                   // per contact: Hunt-Crossley alpha [s/mm]
+  std::vector<double> seat_alpha;
   std::vector<char> frozen;                    // per connection: force held at frozen_force
   std::vector<double> frozen_force;
   std::vector<int> roots;                      // root kinds, see root_value
   int output_row = -1;
   bool output_angle = false;
+  double train_frequency_hz = 0.0;
 
   // the path table (one revolution, periodic)
   Layout L;
@@ -110,14 +113,16 @@ struct System {
   double omega = 0.0, theta0 = 0.0;
   Eigen::MatrixXd m;
   Eigen::LDLT<Eigen::MatrixXd> ldlt;
+  double factored_theta = std::nan("");  // angle of m and ldlt
   Forces fr;
   Eigen::VectorXd x, v, acc;
-  long rhs_calls = 0;
+  Eigen::MatrixXd jk, jd;  // Jacobian work: stiffness and damping
+  long rhs_calls = 0, jacobian_calls = 0;
 
   System(const kin::Mechanism& me, const FlexibleOptions& o) : mech(me), opt(o) {}
 
-  void evaluate(double t) {
-    const double theta = theta0 + omega * t;
+  void evaluate(double t) { evaluate_angle(theta0 + omega * t); }
+  void evaluate_angle(double theta) {
     if (theta == evaluated_theta) return;
     evaluated_theta = theta;
     const double xg = (theta - grid_first) / grid_step;
@@ -228,7 +233,7 @@ struct System {
         if (pen > 0.0) {
           const double rate = penetration_rate(c, qd);
           const double elastic = hertz(c, pen);
-          fc = std::max(0.0, elastic + damping[c] * rate);
+          fc = hunt_crossley_force(elastic, rate, alpha[c]);
           fr.viscous_power += (fc - elastic) * rate;
         }
       } else {
@@ -257,7 +262,7 @@ struct System {
         if (pen > 0.0) {
           const double rate = seat_rate(c, qd);
           const double elastic = seat_hertz(c, pen);
-          const double fs = std::max(0.0, elastic + seat_damping[c] * rate);
+          const double fs = hunt_crossley_force(elastic, rate, seat_alpha[c]);
           fr.viscous_power += (fs - elastic) * rate;
           f(seat_row[c]) += seat_sign[c] * fs;
           fr.seat += fs;
@@ -341,6 +346,48 @@ struct System {
     }
   }
 
+  // velocity damping D = -df/d(dq/dt) at (q, qd): elements, Hunt-Crossley contacts and seats
+  // (dF/d rate = 1.5 alpha F_e), links, spring segments; friction's left out (as in K)
+  void damping_matrix(const Eigen::VectorXd& q, Eigen::MatrixXd& d) const {
+    d.setZero(N, N);
+    for (const Element& e : elements) {
+      d(e.near, e.near) += e.c;
+      d(e.far, e.far) += e.c;
+      d(e.near, e.far) -= e.c;
+      d(e.far, e.near) -= e.c;
+    }
+    for (int c = 0; c < C; ++c) {
+      if (frozen[c]) continue;
+      double dc = 0.0;
+      if (!flex.contacts[c].is_contact) {
+        dc = damping[c];
+      } else {
+        const double pen = penetration(c, q);
+        if (pen > 0.0) dc = 1.5 * alpha[c] * hertz(c, pen);
+      }
+      if (dc != 0.0)
+        for (int i = 0; i < R; ++i)
+          for (int j = 0; j < R; ++j) d(row_map[c][i], row_map[c][j]) += dc * gn(i, c) * gn(j, c);
+      if (seat_row[c] >= 0) {
+        const double sp = seat_penetration(c, q);
+        if (sp > 0.0) d(seat_row[c], seat_row[c]) += 1.5 * seat_alpha[c] * seat_hertz(c, sp);
+      }
+    }
+    for (const Chain& ch : chains) {
+      const double n1 = ch.masses + 1.0, cs = n1 * ch.segment_damping;
+      for (int j = 1; j <= ch.masses + 1; ++j) {
+        const int top = j == ch.masses + 1 ? ch.row : ch.first + j - 1;
+        const int base = j == 1 ? -1 : ch.first + j - 2;
+        d(top, top) += cs;
+        if (base >= 0) {
+          d(base, base) += cs;
+          d(top, base) -= cs;
+          d(base, top) -= cs;
+        }
+      }
+    }
+  }
+
   // extended generalized mass
   void mass_matrix() {
     m.setZero(N, N);
@@ -355,10 +402,17 @@ struct System {
       for (int j = 0; j < ch.masses; ++j) m(ch.first + j, ch.first + j) = ch.mass;
   }
 
-  void accelerations(const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
-    forces(q, qd);
+  // the mass matrix depends on the cam angle only: factored once per angle (CVODE's Newton
+  // iterations call the right-hand side repeatedly at one time)
+  void factor_mass() {
+    if (factored_theta == evaluated_theta) return;
     mass_matrix();
     ldlt.compute(m);
+    factored_theta = evaluated_theta;
+  }
+  void accelerations(const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
+    forces(q, qd);
+    factor_mass();
     acc = ldlt.solve(fr.f);
   }
 
@@ -392,17 +446,130 @@ int rhs_callback(sunrealtype t, N_Vector y, N_Vector ydot, void* data) {
     for (int i = 0; i < s->N; ++i) s->x(i) = yv[i], s->v(i) = yv[s->N + i];
     s->accelerations(s->x, s->v);
     for (int i = 0; i < s->N; ++i) yd[i] = s->v(i), yd[s->N + i] = s->acc(i);
-    // energy bookkeeping: integrated as plain states outside the error control
-    yd[2 * s->N] = s->fr.drive_power;
-    yd[2 * s->N + 1] = s->fr.gas_power;
-    yd[2 * s->N + 2] = s->fr.viscous_power;
-    yd[2 * s->N + 3] = s->fr.friction_total;
-    for (int i = 0; i < 2 * s->N + 4; ++i)
+    for (int i = 0; i < 2 * s->N; ++i)
       if (!std::isfinite(yd[i])) return 1;  // recoverable: CVODE retries with a smaller step
     return 0;
   } catch (...) {
     return -1;
   }
+}
+
+// energy bookkeeping: drive, gas, viscous and friction power as CVODE quadratures (once per
+// step, outside the Newton system and the error test; as 4 extra states they made the dense
+// Newton matrix 24 x 24 instead of 20 x 20 on the CVVL)
+int quadrature_callback(sunrealtype t, N_Vector y, N_Vector q_dot, void* data) {
+  auto* s = static_cast<System*>(data);
+  try {
+    s->evaluate(t);
+    const double* yv = N_VGetArrayPointer(y);
+    for (int i = 0; i < s->N; ++i) s->x(i) = yv[i], s->v(i) = yv[s->N + i];
+    s->forces(s->x, s->v);
+    double* qd = N_VGetArrayPointer(q_dot);
+    qd[0] = s->fr.drive_power;
+    qd[1] = s->fr.gas_power;
+    qd[2] = s->fr.viscous_power;
+    qd[3] = s->fr.friction_total;
+    for (int i = 0; i < 4; ++i)
+      if (!std::isfinite(qd[i])) return 1;
+    return 0;
+  } catch (...) {
+    return -1;
+  }
+}
+
+// Newton matrix for CVODE: y = [q, qd, work integrals], d(qd)/dt = M^-1 f(q, qd):
+// J = [[0, I, 0], [-M^-1 K, -M^-1 D, 0], [0, 0, 0]] with the analytic tangent stiffness K and
+// damping D (friction and the damping's dependence on q left out: CVODE only needs an
+// approximate Jacobian for its modified Newton iteration; the error test uses f itself).
+// The power rows are zero: the integrals feed back into nothing.
+int jacobian_callback(sunrealtype t, N_Vector y, N_Vector, SUNMatrix jac, void* data, N_Vector, N_Vector, N_Vector) {
+  auto* s = static_cast<System*>(data);
+  try {
+    s->evaluate(t);
+    const double* yv = N_VGetArrayPointer(y);
+    const int n = s->N;
+    for (int i = 0; i < n; ++i) s->x(i) = yv[i];
+    s->stiffness_matrix(s->x, s->jk);
+    s->damping_matrix(s->x, s->jd);
+    s->factor_mass();
+    s->jk = s->ldlt.solve(s->jk);
+    s->jd = s->ldlt.solve(s->jd);
+    SUNMatZero(jac);
+    for (int i = 0; i < n; ++i) {
+      SM_ELEMENT_D(jac, i, n + i) = 1.0;
+      for (int j = 0; j < n; ++j) {
+        SM_ELEMENT_D(jac, n + i, j) = -s->jk(i, j);
+        SM_ELEMENT_D(jac, n + i, n + j) = -s->jd(i, j);
+      }
+    }
+    ++s->jacobian_calls;
+    return s->jk.allFinite() && s->jd.allFinite() ? 0 : 1;
+  } catch (...) {
+    return -1;
+  }
+}
+
+// CVODE's Newton matrix A = I - gamma J with the analytic J above is [[I, -gamma I], [A21, A22]]
+// (A21 = -gamma (-M^-1 K), A22 = I - gamma (-M^-1 D)). Its solve reduces exactly to the N x N
+// Schur complement: x_q = b_q + gamma x_v, (A22 + gamma A21) x_v = b_v - A21 b_q. LU of N x N
+// instead of 2N x 2N (the dense GETRF / GETRS were 26 % of the CVVL's instructions).
+struct SchurSolver {
+  int n = 0;
+  double gamma = 0.0;
+  Eigen::MatrixXd s;
+  Eigen::PartialPivLU<Eigen::MatrixXd> lu;
+  Eigen::VectorXd rhs, xv;
+};
+SUNLinearSolver_Type schur_type(SUNLinearSolver) { return SUNLINEARSOLVER_DIRECT; }
+SUNLinearSolver_ID schur_id(SUNLinearSolver) { return SUNLINEARSOLVER_CUSTOM; }
+int schur_setup(SUNLinearSolver ls, SUNMatrix a) {
+  auto* c = static_cast<SchurSolver*>(ls->content);
+  const int n = c->n;
+  c->gamma = -SM_ELEMENT_D(a, 0, n);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) c->s(i, j) = SM_ELEMENT_D(a, n + i, n + j) + c->gamma * SM_ELEMENT_D(a, n + i, j);
+  c->lu.compute(c->s);
+  return c->lu.matrixLU().allFinite() && c->lu.matrixLU().diagonal().cwiseAbs().minCoeff() > 0.0 ? 0 : 1;
+}
+int schur_solve(SUNLinearSolver ls, SUNMatrix a, N_Vector x, N_Vector b, sunrealtype) {
+  auto* c = static_cast<SchurSolver*>(ls->content);
+  const int n = c->n;
+  const double* bv = N_VGetArrayPointer(b);
+  double* xv = N_VGetArrayPointer(x);
+  for (int i = 0; i < n; ++i) {
+    double r = bv[n + i];
+    for (int j = 0; j < n; ++j) r -= SM_ELEMENT_D(a, n + i, j) * bv[j];
+    c->rhs(i) = r;
+  }
+  c->xv = c->lu.solve(c->rhs);
+  for (int i = 0; i < n; ++i) {
+    xv[i] = bv[i] + c->gamma * c->xv(i);
+    xv[n + i] = c->xv(i);
+  }
+  return 0;
+}
+int schur_free(SUNLinearSolver ls) {
+  if (!ls) return 0;
+  delete static_cast<SchurSolver*>(ls->content);
+  ls->content = nullptr;
+  SUNLinSolFreeEmpty(ls);
+  return 0;
+}
+// owned by the caller (SUNLinSolFree)
+SUNLinearSolver make_schur_solver(SUNContext ctx, int n) {
+  SUNLinearSolver ls = SUNLinSolNewEmpty(ctx);
+  if (!ls) return nullptr;
+  auto* c = new SchurSolver;
+  c->n = n;
+  c->s.resize(n, n);
+  c->rhs.resize(n);
+  ls->content = c;
+  ls->ops->gettype = schur_type;
+  ls->ops->getid = schur_id;
+  ls->ops->setup = schur_setup;
+  ls->ops->solve = schur_solve;
+  ls->ops->free = schur_free;
+  return ls;
 }
 
 int root_callback(sunrealtype t, N_Vector y, sunrealtype* gout, void* data) {
@@ -429,6 +596,43 @@ std::vector<int> drive_side(const kin::Mechanism& mech, int node) {
       return out;
     }
   return {};
+}
+
+// first natural frequency [rad/s] of the train at the output's kinematic peak: every contact
+// closed (lash taken up) at its tangent stiffness under reference_force, links stiff, the
+// springs lumped on their nodes (surge masses left out), seats open. 0 when none is positive.
+double train_frequency(System& s) {
+  int peak = 0;
+  for (int i = 1; i < s.grid_points; ++i)
+    if (std::abs(s.table[static_cast<std::size_t>(i) * s.L.size + s.L.out]) >
+        std::abs(s.table[static_cast<std::size_t>(peak) * s.L.size + s.L.out]))
+      peak = i;
+  s.evaluate_angle(s.grid_first + peak * s.grid_step);
+  const int n = s.R + static_cast<int>(s.elements.size());
+  Eigen::MatrixXd k = Eigen::MatrixXd::Zero(n, n);
+  for (int r = 0; r < s.R; ++r) k(r, r) += s.path[s.L.spring_k + r];
+  for (const Element& e : s.elements) {
+    k(e.near, e.near) += e.k;
+    k(e.far, e.far) += e.k;
+    k(e.near, e.far) -= e.k;
+    k(e.far, e.near) -= e.k;
+  }
+  for (int c = 0; c < s.C; ++c) {
+    const ContactData& cd = s.flex.contacts[c];
+    const double kc = !cd.is_contact ? s.opt.link_stiffness
+                                     : s.opt.contact_stiffness_scale *
+                                           line_contact_tangent_stiffness(s.opt.reference_force, cd.width, cd.e_star,
+                                                                          s.reduced_radius(c));
+    for (int i = 0; i < s.R; ++i)
+      for (int j = 0; j < s.R; ++j) k(s.row_map[c][i], s.row_map[c][j]) += kc * s.gn(i, c) * s.gn(j, c);
+  }
+  for (const Chain& ch : s.chains) k(ch.row, ch.row) += ch.law.stiffness(s.path[s.L.xs + ch.table_index]);
+  s.mass_matrix();
+  const Eigen::MatrixXd m = s.m.topLeftCorner(n, n);
+  s.evaluated_theta = std::nan("");
+  Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(0.5 * (k + k.transpose()), m);
+  if (eig.info() != Eigen::Success || !(eig.eigenvalues().minCoeff() > 0.0)) return 0.0;
+  return std::sqrt(eig.eigenvalues().minCoeff());
 }
 
 // build the extended model, tabulate the path and set stiffness / damping. Throws InputError.
@@ -597,7 +801,10 @@ Status build_system(System& s, const Model& model, const std::vector<double>& co
   s.damping.assign(s.C, 0.0);
   s.seat_row.assign(s.C, -1);
   s.seat_sign.assign(s.C, 1.0);
-  s.seat_damping.assign(s.C, 0.0);
+  s.alpha.assign(s.C, 0.0);
+  s.seat_alpha.assign(s.C, 0.0);
+  const double alpha_default =
+      hunt_crossley_alpha(opt.contact_restitution, opt.restitution_speed_m_per_s * 1e3);
   s.frozen.assign(s.C, 0);
   s.frozen_force.assign(s.C, 0.0);
   s.fr.connection.assign(s.C, 0.0);
@@ -619,9 +826,10 @@ Status build_system(System& s, const Model& model, const std::vector<double>& co
     if (!cd.has_hertz)
       throw InputError("connection '" + mech.connections[c].name +
                        "': the flexible model needs materials and width_mm (Hertz contact law)");
-    const double k = opt.contact_stiffness_scale *
-                     line_contact_tangent_stiffness(opt.reference_force, cd.width, cd.e_star, s.reduced_radius(c));
-    s.damping[c] = cd.damping >= 0 ? cd.damping : 2.0 * opt.contact_damping_ratio * std::sqrt(k * m_c);
+    // Hunt-Crossley: a design damping c is matched at the reference force (dF/d rate = 1.5 alpha F)
+    s.alpha[c] = cd.damping >= 0 ? cd.damping / (1.5 * opt.reference_force) : alpha_default;
+    s.seat_alpha[c] = s.alpha[c];
+    s.damping[c] = 1.5 * s.alpha[c] * opt.reference_force;
     if (cd.held_node > 0) {
       const int hv = mech.nodes[cd.held_node].first_variable;
       const int hr = s.flex.row_of_variable[hv];
@@ -630,18 +838,23 @@ Status build_system(System& s, const Model& model, const std::vector<double>& co
       double rest_load = 0.0;  // the seat pushes against the node's applied loads at rest
       for (int j = 1; j < ws0.cases(); ++j) rest_load += ws0.loads(hv, j);
       s.seat_sign[c] = rest_load >= 0 ? 1.0 : -1.0;
-      const double ks = opt.contact_stiffness_scale *
-                        line_contact_tangent_stiffness(opt.reference_force, opt.seat_length_mm, cd.e_star,
-                                                       opt.seat_radius_mm);
-      s.seat_damping[c] = 2.0 * opt.contact_damping_ratio * std::sqrt(ks * s.m(seat, seat));
     }
   }
+  // components: stiffness-proportional (Rayleigh) damping c = 2 zeta k / w1 gives the train's
+  // first mode the ratio zeta (Clough & Penzien, Dynamics of Structures, 2nd ed., sec. 12-5).
+  // (A ratio of each component's own two-half mode, c = 2 zeta sqrt(k M/4), left the CVVL's
+  // 2.2 kHz train mode at ~0.7 % and it rang through the whole lift.)
+  const double w1 = train_frequency(s);
+  s.train_frequency_hz = w1 / (2.0 * kPi);
+  s.evaluated_theta = std::nan("");
+  s.evaluate(0.0);
+  s.mass_matrix();
   for (Element& e : s.elements) {
     double zeta = opt.component_damping_ratio;
     for (const NodeSpec& ns : spec.nodes)
       if (ns.name == mech.nodes[e.node].name && ns.damping_ratio) zeta = *ns.damping_ratio;
-    // reduced mass of the two halves: M/4 (M the node's generalized mass)
-    e.c = 2.0 * zeta * std::sqrt(e.k * 0.5 * s.m(e.near, e.near));
+    // without a train mode (no positive frequency): the ratio of the two halves' own mode (reduced mass M/4)
+    e.c = w1 > 0.0 ? 2.0 * zeta * e.k / w1 : 2.0 * zeta * std::sqrt(e.k * 0.5 * s.m(e.near, e.near));
   }
   // roots
   for (int c = 0; c < s.C; ++c)
@@ -761,8 +974,10 @@ Status run_flexible(const kin::Mechanism& mech, const Model& model, const std::v
     if (xp.allFinite() && s.fr.f.norm() < before) x0 = xp;
   }
 
+  // declared before su: CVODE (freed with su) may still refer to it
+  std::unique_ptr<_generic_SUNLinearSolver, int (*)(SUNLinearSolver)> schur(nullptr, SUNLinSolFree);
   detail::Sundials su;
-  const int n = 2 * N + 4;  // coordinates, rates, then the work / loss integrals (kWork)
+  const int n = 2 * N;  // coordinates, rates (the work / loss integrals are quadratures)
   if (SUNContext_Create(nullptr, &su.ctx) != 0) return {StatusCode::integrator_failure, "SUNContext_Create failed", ""};
   su.y = N_VNew_Serial(n, su.ctx);
   su.atol = N_VNew_Serial(n, su.ctx);
@@ -772,10 +987,8 @@ Status run_flexible(const kin::Mechanism& mech, const Model& model, const std::v
     NV_Ith_S(su.atol, i) = options.absolute_tolerance;
     NV_Ith_S(su.atol, N + i) = options.absolute_tolerance * 1e4;
   }
-  for (int i = 2 * N; i < n; ++i) {
-    NV_Ith_S(su.y, i) = 0.0;
-    NV_Ith_S(su.atol, i) = 1e30;  // not error-controlled (a quadrature)
-  }
+  su.quad = N_VNew_Serial(4, su.ctx);
+  N_VConst(0.0, su.quad);
   out = FlexibleResult{};
   out.initial_state.resize(2 * N);
   for (int i = 0; i < 2 * N; ++i) out.initial_state[i] = NV_Ith_S(su.y, i);
@@ -783,13 +996,28 @@ Status run_flexible(const kin::Mechanism& mech, const Model& model, const std::v
   if (!su.create_bdf(rhs_callback, root_callback, nroots, &s, options.relative_tolerance, options.max_steps,
                      detail::path_max_step_s(s.grid_step, s.omega)))
     return {StatusCode::integrator_failure, "CVODE setup failed", ""};
+  // BDF orders 3-5 are unstable for lightly damped modes near the imaginary axis (spring
+  // surge at 1 %): without stability-limit detection CVODE held h w small for them whatever
+  // the speed (CVVL at 10 rpm: 1.27M steps per revolution, 11.7k with it; CVODE guide,
+  // "BDF stability limit detection")
+  if (CVodeQuadInit(su.cvode, quadrature_callback, su.quad) != CV_SUCCESS)
+    return {StatusCode::integrator_failure, "CVODE setup failed (quadratures)", ""};
+  if (CVodeSetStabLimDet(su.cvode, SUNTRUE) != CV_SUCCESS)
+    return {StatusCode::integrator_failure, "CVODE setup failed (stability limit detection)", ""};
+  // the Schur solver relies on the analytic Jacobian's [0, I] top rows
+  if (options.analytic_jacobian) {
+    schur.reset(make_schur_solver(su.ctx, N));
+    if (!schur || CVodeSetLinearSolver(su.cvode, schur.get(), su.a) != CV_SUCCESS ||
+        CVodeSetJacFn(su.cvode, jacobian_callback) != CV_SUCCESS)
+      return {StatusCode::integrator_failure, "CVODE setup failed (Jacobian)", ""};
+  }
 
   const auto points = static_cast<std::size_t>(std::floor((stop_deg - start_deg) / step_deg + 1e-9)) + 1;
   const double report_t0 = (start_deg - first_deg) * kDeg / s.omega;
   out.layout = {s.R, static_cast<int>(s.elements.size()), N - s.R - static_cast<int>(s.elements.size())};
   out.connections = s.C;
-  out.start_time_s = report_t0;
   out.contact_damping = s.damping;
+  out.train_frequency_hz = s.train_frequency_hz;
   for (const Element& e : s.elements) out.element_names.push_back(mech.nodes[e.node].name);
   for (const Chain& ch : s.chains) out.chain_names.push_back(ch.name), out.chain_segments.push_back(ch.masses + 1);
   const std::size_t nch = s.chains.size(), ne = s.elements.size();
@@ -828,9 +1056,17 @@ Status run_flexible(const kin::Mechanism& mech, const Model& model, const std::v
       if (roots_found[r] != 0) return r;
     return 0;
   };
+  // revolution by revolution: each records its window (start_deg .. stop_deg) over the last
+  // one's; at the start of a window the state is compared with the previous window's start
+  // (periodic steady state: stop, the previous window stands)
+  const double period = 2.0 * kPi / s.omega;
+  std::vector<double> window_start_state;
+  double window_t0 = 0.0;
+  for (int rev = 0; rev < options.revolutions && !out.periodic; ++rev) {
+  window_t0 = report_t0 - (options.revolutions - 1 - rev) * period;
   for (std::size_t i = 0; i < points; ++i) {
     const double deg = start_deg + step_deg * static_cast<double>(i);
-    const double tout = (deg - first_deg) * kDeg / s.omega;
+    const double tout = window_t0 + (deg - start_deg) * kDeg / s.omega;
     while (t < tout) {
       const int flag = CVode(su.cvode, tout, su.y, &t, CV_NORMAL);
       if (flag == CV_ROOT_RETURN) {
@@ -838,7 +1074,7 @@ Status run_flexible(const kin::Mechanism& mech, const Model& model, const std::v
         s.evaluate(t);
         read_state();
         for (int r = 0; r < nroots; ++r) {
-          if (found[r] == 0 || t < report_t0 - 1e-12) continue;
+          if (found[r] == 0 || t < window_t0 - 1e-12) continue;
           const auto& rt = s.root_list[r];
           double speed = 0.0;
           if (rt.kind == 0) speed = std::abs(s.penetration_rate(rt.index, qd)) * 1e-3;
@@ -858,7 +1094,10 @@ Status run_flexible(const kin::Mechanism& mech, const Model& model, const std::v
           long jacobians = 0;
           CVodeGetNumJacEvals(su.cvode, &jacobians);
           out.jacobian_evaluations += jacobians;
-          if (CVodeReInit(su.cvode, t, su.y) != CV_SUCCESS) return failure("CVodeReInit failed", t);
+          double tq = t;
+          if (CVodeGetQuad(su.cvode, &tq, su.quad) != CV_SUCCESS || CVodeReInit(su.cvode, t, su.y) != CV_SUCCESS ||
+              CVodeQuadReInit(su.cvode, su.quad) != CV_SUCCESS)
+            return failure("CVodeReInit failed", t);
         }
         continue;
       }
@@ -872,6 +1111,28 @@ Status run_flexible(const kin::Mechanism& mech, const Model& model, const std::v
     s.evaluate(tout);
     read_state();
     if (!q.allFinite() || !qd.allFinite()) return failure("non-finite state", t);
+    if (i == 0) {
+      // in units of the integration tolerance, CVODE's weights rtol |y| + atol
+      if (!window_start_state.empty() && options.periodic_tolerance > 0.0) {
+        double diff = 0.0;
+        for (int j = 0; j < 2 * N; ++j) {
+          const double y = NV_Ith_S(su.y, j);
+          const double weight = options.relative_tolerance * std::abs(y) + NV_Ith_S(su.atol, j);
+          diff = std::max(diff, std::abs(y - window_start_state[j]) / weight);
+        }
+        out.periodic_difference = diff;
+        if (diff <= options.periodic_tolerance) {
+          out.periodic = true;
+          break;
+        }
+      }
+      window_start_state.assign(N_VGetArrayPointer(su.y), N_VGetArrayPointer(su.y) + 2 * N);
+      out.events.erase(std::remove_if(out.events.begin(), out.events.end(),
+                                      [&](const FlexibleEvent& e) { return e.time_s < window_t0 - 1e-12; }),
+                       out.events.end());
+      out.start_time_s = window_t0;
+      ++out.revolutions_integrated;
+    }
     s.forces(q, qd);
     s.mass_matrix();
     out.cam_deg[i] = deg;
@@ -892,10 +1153,14 @@ Status run_flexible(const kin::Mechanism& mech, const Model& model, const std::v
       out.spring_static_load[i * nch + c] = s.fr.static_load[c];
     }
     for (int j = 0; j < N; ++j) out.state[i * N + j] = q(j);
-    out.drive_work[i] = NV_Ith_S(su.y, 2 * N + 0);
-    out.gas_work[i] = NV_Ith_S(su.y, 2 * N + 1);
-    out.viscous_loss[i] = NV_Ith_S(su.y, 2 * N + 2);
-    out.friction_loss[i] = NV_Ith_S(su.y, 2 * N + 3);
+    if (t > 0.0) {  // before the first step the integrals are their initial zeros
+      double tq = tout;
+      if (CVodeGetQuad(su.cvode, &tq, su.quad) != CV_SUCCESS) return failure("CVodeGetQuad failed", t);
+    }
+    out.drive_work[i] = NV_Ith_S(su.quad, 0);
+    out.gas_work[i] = NV_Ith_S(su.quad, 1);
+    out.viscous_loss[i] = NV_Ith_S(su.quad, 2);
+    out.friction_loss[i] = NV_Ith_S(su.quad, 3);
     // energy: kinetic of the true motion + elastic
     Eigen::VectorXd vel(N);
     for (int j = 0; j < N; ++j) vel(j) = s.kinematic_rate(j) + qd(j);
@@ -930,6 +1195,7 @@ Status run_flexible(const kin::Mechanism& mech, const Model& model, const std::v
       }
     }
     out.energy[i] = energy;
+  }
   }
   out.steps = steps_total + detail::steps_since_restart(su.cvode);
   out.rhs_evaluations = s.rhs_calls;

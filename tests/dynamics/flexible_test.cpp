@@ -58,6 +58,42 @@ TEST_CASE("Hertz line law: force and approach are inverse, stiffness and energy 
   }
 }
 
+// one impact of a mass [kg] at speed v [mm/s] on a Hunt-Crossley line contact, integrated by RK4
+// (dt 1e-8 s, ~3600 steps per contact): the rebound speed over the impact speed
+static double hunt_crossley_rebound(double mass_kg, double v, double alpha, double e_star) {
+  const double m = mass_kg * 1e-3;  // N per mm/s^2
+  auto acc = [&](double x, double xd) {
+    return -dynamics::hunt_crossley_force(dynamics::line_contact_force(x, 10, e_star, 5), xd, alpha) / m;
+  };
+  double x = 0, xd = v;
+  const double dt = 1e-8;
+  for (int i = 0; i < 1000000; ++i) {
+    const double a1 = acc(x, xd), x2 = x + 0.5 * dt * xd, v2 = xd + 0.5 * dt * a1;
+    const double a2 = acc(x2, v2), x3 = x + 0.5 * dt * v2, v3 = xd + 0.5 * dt * a2;
+    const double a3 = acc(x3, v3), x4 = x + dt * v3, v4 = xd + dt * a3;
+    const double a4 = acc(x4, v4);
+    x += dt / 6 * (xd + 2 * v2 + 2 * v3 + v4);
+    xd += dt / 6 * (a1 + 2 * a2 + 2 * a3 + a4);
+    if (x <= 0 && i > 2) return -xd / v;
+  }
+  return -1;
+}
+
+TEST_CASE("Hunt-Crossley contact damping: no force jump at touch-down, restitution e = 1 - alpha v") {
+  const double e_star = dynamics::contact_modulus(210e3, 0.3, 210e3, 0.3);
+  // the damping force vanishes with the elastic one (the linear c v law jumped by c v at touch-down)
+  CHECK(dynamics::hunt_crossley_force(0.0, 1000.0, 1e-3) == 0.0);
+  CHECK(dynamics::hunt_crossley_force(100.0, -1e4, 1e-3) == 0.0);  // no tension while parting fast
+  CHECK(dynamics::hunt_crossley_alpha(0.8, 500.0) == Approx(4e-4).epsilon(1e-15));
+  // Hunt & Crossley 1975: e = 1 - alpha v to first order; the remainder is second order in alpha v
+  for (const double alpha_v : {0.01, 0.05}) {
+    const double v = 500.0;
+    const double e = hunt_crossley_rebound(0.05, v, alpha_v / v, e_star);
+    CHECK(std::abs(e - (1 - alpha_v)) <= 1.1 * alpha_v * alpha_v);
+    CHECK(std::abs(e - (1 - alpha_v)) >= 0.5 * alpha_v * alpha_v);  // and it is there: not a kinematic identity
+  }
+}
+
 TEST_CASE("flexible: multi-mass spring surge frequencies (lumped chain and f1 = 1/2 sqrt(k/m))") {
   for (int masses : {4, 40}) {
     DesignSpec d = direct_valve(40, 250);
@@ -338,4 +374,109 @@ TEST_CASE("flexible: max_steps bounds the whole run, events included (no endless
   CHECK(st.str().find("steps and events") != std::string::npos);
   CHECK(st.str().find("6000 rpm") != std::string::npos);
   CHECK(st.str().find(" deg") != std::string::npos);
+}
+
+TEST_CASE("flexible: a periodic steady state stops the run early and reports the converged revolution") {
+  // the direct-acting valve at 3000 rpm keeps contact; its vibration decays revolution by
+  // revolution, so the start state repeats to the tolerance well before 16 revolutions
+  DesignSpec d = direct_valve(40, 250);
+  d.nodes[1].axial_stiffness_N_per_mm = 60000;
+  d.springs[0].mass_kg = 0.045;
+  d.springs[0].surge_masses = 4;
+  const kin::Mechanism mech = kin::compile(d);
+  const dynamics::Model model = dynamics::compile_dynamics(mech);
+  dynamics::FlexibleOptions opt;
+  opt.revolutions = 16;
+  opt.relative_tolerance = 1e-8;
+  opt.absolute_tolerance = 1e-9;
+  opt.periodic_tolerance = 1000;  // 1e-6 mm on the deviations (the noise floor is ~20-40)
+  dynamics::FlexibleResult early;
+  REQUIRE(dynamics::run_flexible(mech, model, {}, 3000, 0, 360, 2, opt, early).ok());
+  INFO("revolutions " << early.revolutions_integrated << ", start-state difference " << early.periodic_difference);
+  REQUIRE(early.periodic);
+  CHECK(early.revolutions_integrated < 16);
+  CHECK(early.periodic_difference <= 1000);
+  CHECK(early.start_time_s > 0);
+  dynamics::FlexibleOptions fixed = opt;
+  fixed.periodic_tolerance = 0;
+  // the full 16-revolution run differs from it by no more than the start states did
+  // (1e-6 mm; contact stiffness ~ 3e5 N/mm: 1e-6 mm ~ 0.3 N)
+  fixed.revolutions = 16;
+  dynamics::FlexibleResult full;
+  REQUIRE(dynamics::run_flexible(mech, model, {}, 3000, 0, 360, 2, fixed, full).ok());
+  double lift = 0, force = 0;
+  for (std::size_t i = 0; i < full.lift.size(); ++i) {
+    lift = std::max(lift, std::abs(full.lift[i] - early.lift[i]));
+    force = std::max(force, std::abs(full.force[i] - early.force[i]));
+  }
+  INFO("|full - early|: lift " << lift << " mm, force " << force << " N");
+  CHECK_FALSE(full.periodic);
+  CHECK(full.revolutions_integrated == 16);
+  CHECK(lift < 1e-6);   // measured 3e-8 mm
+  CHECK(force < 0.3);   // measured 3 mN
+}
+
+TEST_CASE("flexible: the CVVL at 10 rpm is quasi-static (mode (a) forces) and its seat does not chatter") {
+  // before the Hunt-Crossley seat and BDF stability-limit detection this revolution took
+  // 1.27M steps (81 s; earlier the seat chattered to the 2M-step budget)
+  DesignSpec d = io::load_design(std::string(CAMOPT_SOURCE_DIR) + "/designs/cvvl_swing_cam.toml");
+  // no pad friction: mode (a)'s Coulomb mu flips sign where the pad's sliding reverses (near
+  // peak lift), the regularised law passes through zero there (~20 N apart at 179 deg)
+  for (ConnectionSpec& c : d.connections) c.friction_coefficient = 0.0;
+  const kin::Mechanism mech = kin::compile(d);
+  const dynamics::Model model = dynamics::compile_dynamics(mech);
+  dynamics::RigidSweep a;
+  REQUIRE(dynamics::rigid_sweep(mech, model, {0.0}, 0, 360, 1, a).ok());
+  dynamics::FlexibleOptions opt;
+  opt.revolutions = 1;
+  opt.max_steps = 100000;
+  dynamics::FlexibleResult res;
+  const Status st = dynamics::run_flexible(mech, model, {0.0}, 10, 0, 360, 1, opt, res);
+  INFO(st.str());
+  REQUIRE(st.ok());
+  const double w = dynamics::cam_speed_rad_per_s(10, 2.0);
+  // compared where the valve is seated or open by more than 0.5 mm: in between, the train's
+  // static deflection (the lift loss, ~0.08 mm) shifts where the valve leaves and meets the
+  // seat by ~1 deg, across the force step of the lash (mode (a) jumps there)
+  double worst = 0, peak = 0, loss = 0, at = 0;
+  for (std::size_t i = 0; i < a.points(); ++i)
+    for (int c = 0; c < res.connections; ++c) {
+      if (res.lift_kinematic[i] > 0 && res.lift_kinematic[i] < 0.5) continue;
+      if (std::abs(res.force[i * res.connections + c] - a.force_at(i, c, w)) > worst) at = a.cam_deg[i];
+      worst = std::max(worst, std::abs(res.force[i * res.connections + c] - a.force_at(i, c, w)));
+      peak = std::max(peak, a.force_at(i, c, w));
+    }
+  for (std::size_t i = 0; i < res.lift.size(); ++i) loss = std::max(loss, res.lift_kinematic[i] - res.lift[i]);
+  int seat_events = 0;
+  for (const auto& e : res.events) seat_events += e.what == "valve seat";
+  INFO("max |flexible - (a)| " << worst << " N of " << peak << " N at " << at << " deg; lift loss " << loss << " mm; steps "
+                               << res.steps << ", seat events " << seat_events);
+  CHECK(worst < 0.01 * peak);
+  CHECK(loss > 0);  // the train's static deflection
+  CHECK(loss < 0.1);
+  CHECK(res.steps < 50000);
+  CHECK(seat_events <= 10);
+}
+
+TEST_CASE("flexible: the train frequency (the component damping's reference) against the two-mass closed form") {
+  // direct-acting valve at peak lift: the cam contact (tangent stiffness at 500 N, disc R 18 on
+  // a flat, L 8) and the spring (40 N/mm) hold the tappet's near half (0.035 kg); the axial
+  // stiffness k_a joins the far half (0.035 kg). Closed form of K x = w^2 M x for
+  // K = [[k_c + k_s + k_a, -k_a], [-k_a, k_a]], M = diag(m/2, m/2) [N/mm, N s^2/mm].
+  DesignSpec d = direct_valve(40, 250);
+  const double k_a = 60000;
+  d.nodes[1].axial_stiffness_N_per_mm = k_a;
+  const kin::Mechanism mech = kin::compile(d);
+  const dynamics::Model model = dynamics::compile_dynamics(mech);
+  dynamics::FlexibleOptions opt;
+  opt.revolutions = 1;
+  dynamics::FlexibleResult res;
+  REQUIRE(dynamics::run_flexible(mech, model, {}, 1000, 0, 10, 1, opt, res).ok());
+  const double e_star = dynamics::contact_modulus(210e3, 0.3, 210e3, 0.3);
+  const double k_c = dynamics::line_contact_tangent_stiffness(500, 8, e_star, 18);
+  const double k1 = k_c + 40 + k_a, m = 0.035e-3;
+  // det([[k1 - m w2, -k_a], [-k_a, k_a - m w2]]) = 0, lower root
+  const double b = (k1 + k_a) / m, c = (k1 * k_a - k_a * k_a) / (m * m);
+  const double w2 = 0.5 * (b - std::sqrt(b * b - 4 * c));
+  CHECK(res.train_frequency_hz == Approx(std::sqrt(w2) / (2 * pi)).epsilon(1e-9));
 }

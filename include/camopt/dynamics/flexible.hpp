@@ -31,8 +31,15 @@ struct FlexibleOptions {
   double relative_tolerance = 1e-6;
   double absolute_tolerance = 1e-7;    // deviations [mm or rad]; rates x 1e4 [per s]
   double contact_stiffness_scale = 1.0;  // multiplies every Hertz force (studies, rigid limit)
-  double contact_damping_ratio = 0.05;   // contact and seat damping when the design gives none
-  double component_damping_ratio = 0.03; // compliant node when it has no damping_ratio
+  // contacts and the valve seat: Hunt-Crossley damping (hertz.hpp) with this coefficient of
+  // restitution at restitution_speed when the design gives no damping_N_s_per_mm (a design
+  // damping c becomes alpha = c / (1.5 reference_force): the same dF/d(rate) at that load)
+  double contact_restitution = 0.8;
+  double restitution_speed_m_per_s = 0.5;
+  double contact_damping_ratio = 0.05;   // links and gears (bilateral), of their local mode
+  // compliant nodes without damping_ratio: stiffness-proportional (Rayleigh) damping
+  // c = 2 zeta k / w1, w1 the first natural frequency of the train (train_frequency_hz)
+  double component_damping_ratio = 0.05;
   double spring_damping_ratio = 0.01;    // first surge mode of a multi-mass spring
   double friction_velocity_m_per_s = 0.01;  // regularised Coulomb: mu v / sqrt(v^2 + v0^2)
   double link_stiffness = 1e5;         // links [N/mm], gears [N mm/rad] (bilateral)
@@ -43,6 +50,12 @@ struct FlexibleOptions {
   double table_step_deg = 0.25;        // kinematic path tabulated on this grid (one revolution)
   long max_steps = 2000000;            // steps plus contact events over the whole run
   bool restart_at_events = true;       // CVodeReInit at every contact / seat / coil event
+  bool analytic_jacobian = true;       // Newton matrix from K and D; false: CVODE's finite differences
+  // periodic steady state: stop before `revolutions` once every state component at a
+  // window's start repeats the previous window's within this many integration tolerances
+  // (|dy| <= periodic_tolerance (rtol |y| + atol), CVODE's error weight); 0: never. The
+  // integration's own revolution-to-revolution noise is ~20-130 of these (direct-acting valve)
+  double periodic_tolerance = 1000.0;
 };
 
 struct FlexibleEvent {
@@ -81,10 +94,14 @@ struct FlexibleResult {
   // energy bookkeeping from t = 0 (quadratures), at the output points [N mm]
   std::vector<double> drive_work, gas_work, viscous_loss, friction_loss, energy;
   std::vector<FlexibleEvent> events;  // in the reported revolution
-  std::vector<double> contact_damping;  // per connection [N s/mm]
+  std::vector<double> contact_damping;  // per connection [N s/mm] (contacts: at reference_force)
+  double train_frequency_hz = 0.0;      // first mode at peak lift, the component damping's reference
   double start_time_s = 0.0;          // time of the reported revolution's first point
   long steps = 0, rhs_evaluations = 0;  // rhs includes the finite-difference Jacobian's
   long jacobian_evaluations = 0;
+  int revolutions_integrated = 0;     // windows integrated (periodic: the last one is not recorded)
+  bool periodic = false;              // stopped at a periodic steady state
+  double periodic_difference = -1.0;  // last start-state difference [integration tolerances]; < 0: none
 };
 
 // integrate `options.revolutions` cam revolutions ending at stop_deg at one engine speed

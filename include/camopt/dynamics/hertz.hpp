@@ -35,4 +35,18 @@ double line_contact_secant_stiffness(double force, double length, double e_star,
 // elastic energy stored at a force: int_0^delta F d(delta) = F^2/(2 pi L E*) (ln(4R*/a) - 3/2) [N mm]
 double line_contact_energy(double force, double length, double e_star, double reduced_radius);
 
+// Hunt-Crossley contact damping (Hunt & Crossley, J. Appl. Mech. 42 (1975) 440-445): the
+// dissipative force is proportional to the elastic one, F = F_e (1 + 3/2 alpha d(delta)/dt),
+// so it vanishes at touch-down (no force jump) and the coefficient of restitution of an
+// impact at speed v is e = 1 - alpha v to first order. Clamped at 0 (no tension while the
+// bodies part faster than 2 / (3 alpha)). elastic [N], rate [mm/s], alpha [s/mm].
+inline double hunt_crossley_force(double elastic, double rate, double alpha) {
+  const double f = elastic * (1.0 + 1.5 * alpha * rate);
+  return f > 0.0 ? f : 0.0;
+}
+// alpha [s/mm] giving restitution e at the impact speed [mm/s] (e = 1 - alpha v)
+inline double hunt_crossley_alpha(double restitution, double impact_speed) {
+  return (1.0 - restitution) / impact_speed;
+}
+
 }  // namespace camopt::dynamics
