@@ -1466,12 +1466,12 @@ Status continue_from_drawing(const Mechanism& m, Workspace& ws, const std::vecto
 Status solve_fresh(const Mechanism& mech, Workspace& ws, double driver, const Request& request,
                    const Workspace* drawing) {
   const std::vector<double> target = ws.controls();
-  CamProfile::clear_thread_memo();  // the continuation does not depend on the thread's past
   Status st = Status::success();
   if (drawing != nullptr)
     ws = *drawing;
   else
     st = solve_drawing(mech, ws);
+  CamProfile::clear_thread_memo();  // the continuation does not depend on the thread's past
   if (st.ok()) st = continue_from_drawing(mech, ws, target, driver, request);
   if (st.ok()) return st;
   // the drawing does not assemble or continue: assemble at the point directly
