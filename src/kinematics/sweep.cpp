@@ -20,18 +20,22 @@ void run_position(const Mechanism& m, const SweepSpec& spec, const std::vector<d
   out.condition.assign(driver.size(), 0.0);
   if (spec.request.contacts) out.contacts.assign(driver.size() * nc, ContactState{});
   const double unit = m.driver_is_angle() ? deg : 1.0;  // driver deg -> rad
+  // output k of variable v = (k! c_k) x scale: rad -> deg for angles, x unit^k (per driver deg)
+  std::vector<double> scale(nv * 4);
+  for (std::size_t v = 0; v < nv; ++v) {
+    double f = m.variables[v].is_angle ? 1.0 / deg : 1.0;
+    for (int k = 0; k <= 3; ++k, f *= unit) scale[v * 4 + k] = f;
+  }
+  constexpr double factorial[4] = {1.0, 1.0, 2.0, 6.0};
   for (std::size_t i = 0; i < driver.size(); ++i) {
     Status st = solve(m, ws, driver[i] * unit, spec.request, drawing);
     if (!st.ok()) {
       out.status = st;
       break;
     }
-    for (std::size_t v = 0; v < nv; ++v) {
-      const Jet3& j = ws.vars[v];
-      const double to_output = m.variables[v].is_angle ? 1.0 / deg : 1.0;  // rad -> deg for angles
-      double scale = to_output;
-      for (int k = 0; k <= 3; ++k, scale *= unit) out.data[(i * nv + v) * 4 + k] = j.derivative(k) * scale;
-    }
+    double* row = out.data.data() + i * nv * 4;
+    for (std::size_t v = 0; v < nv; ++v)
+      for (int k = 0; k <= 3; ++k) row[v * 4 + k] = factorial[k] * ws.vars[v].c[k] * scale[v * 4 + k];
     out.condition[i] = ws.max_condition;
     if (spec.request.contacts)
       std::copy(ws.contacts.begin(), ws.contacts.end(), out.contacts.begin() + static_cast<long>(i * nc));
@@ -65,13 +69,21 @@ SweepResult sweep(const Mechanism& m, const SweepSpec& spec) {
   r.positions.resize(positions.size());
   for (std::size_t p = 0; p < positions.size(); ++p) r.positions[p].controls = positions[p];
   std::atomic<std::size_t> next{0};
+  const std::vector<double> defaults = [&] {
+    std::vector<double> d;
+    for (const auto& c : m.controls) d.push_back(c.default_value);
+    return d;
+  }();
   auto worker = [&] {
-    // every position starts from the same drawing: solved once per thread (the
-    // continuation from it, and so each result, does not depend on the thread)
+    // every position away from the drawing starts from the same drawing: solved once per
+    // thread, when a position first needs it (the continuation from it, and so each
+    // result, does not depend on the thread)
     Workspace drawing(m);
-    const bool have_drawing = solve_drawing(m, drawing).ok();
+    enum { unsolved, solved, failed } drawing_state = unsolved;
     for (std::size_t p = next++; p < positions.size(); p = next++) {
-      run_position(m, spec, r.driver, r.positions[p], have_drawing ? &drawing : nullptr);
+      const bool at_drawing = r.driver.front() == 0.0 && r.positions[p].controls == defaults;
+      if (!at_drawing && drawing_state == unsolved) drawing_state = solve_drawing(m, drawing).ok() ? solved : failed;
+      run_position(m, spec, r.driver, r.positions[p], drawing_state == solved ? &drawing : nullptr);
       if (spec.on_position_done) spec.on_position_done();
     }
   };
