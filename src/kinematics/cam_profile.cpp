@@ -42,8 +42,8 @@ CamProfile CamProfile::build(const ProfileSpec& spec) {
       for (std::size_t i = 0; i < values.size(); ++i) {
         u[i] = spec.angle_deg[i] * deg;
         r[i] = lift ? spec.base_radius_mm + values[i] : values[i];
-        require(r[i] > 0, spec, "radius at " + std::to_string(spec.angle_deg[i]) + " deg is not > 0");
-        if (i > 0) require(u[i] > u[i - 1], spec, "angles must be strictly increasing");
+        if (!(r[i] > 0)) require(false, spec, "radius at " + std::to_string(spec.angle_deg[i]) + " deg is not > 0");
+        if (i > 0 && !(u[i] > u[i - 1])) require(false, spec, "angles must be strictly increasing");
       }
       require(u.back() - u.front() < two_pi, spec, "angles must span less than 360 deg");
       p.polar_ = true;
@@ -59,7 +59,7 @@ CamProfile CamProfile::build(const ProfileSpec& spec) {
       for (std::size_t i = 0; i < n; ++i) {
         const std::size_t j = (i + 1) % n;
         const double chord = std::hypot(spec.x_mm[j] - spec.x_mm[i], spec.y_mm[j] - spec.y_mm[i]);
-        require(chord > 0, spec, "point " + std::to_string(i) + " repeats its successor");
+        if (!(chord > 0)) require(false, spec, "point " + std::to_string(i) + " repeats its successor");
         if (i + 1 < n) s[i + 1] = s[i] + chord;
         total += chord;
         area2 += spec.x_mm[i] * spec.y_mm[j] - spec.x_mm[j] * spec.y_mm[i];

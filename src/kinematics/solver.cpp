@@ -579,7 +579,9 @@ detail::Pose<To> convert_pose(const detail::Pose<Jet<N>>& p) {
 // kept out of line: inlined into run() it changes the inlining of its own callees
 template <int M>
 [[gnu::noinline]] Status Kernel::solve_offset_contact(Workspace::Block& b, double driver, bool& solved) {
-  constexpr double shift_limit = 1e-7;  // [rad or 2 pi chord fraction]
+  // [rad or 2 pi chord fraction]: the first neglected term q_(M+1) du^(M+1) of the value
+  // stays below round-off (order 1: ~1e-16 q_2)
+  constexpr double shift_limit = M == 1 ? 1e-8 : 1e-7;
   const auto& oc = b.offset;
   const Connection& c = m_.connections[oc.connection];
   const Surface& curve = oc.curve_on_a ? c.surface_a : c.surface_b;
@@ -1058,9 +1060,9 @@ Status Kernel::run(double driver) {
     }
     if (b.offset.active && !fresh && ws_.offset_contacts) {
       bool solved = false;
-      // values need the centre's series to order 2 in u, derivatives to order 4 (see there)
+      // values need the centre's series to order 1 in u, derivatives to order 4 (see there)
       Status st = rq_.derivative_order > 0 ? solve_offset_contact<4>(b, driver, solved)
-                                           : solve_offset_contact<2>(b, driver, solved);
+                                           : solve_offset_contact<1>(b, driver, solved);
       if (!st.ok()) return st;
       if (solved) {
         finish_block(b);
