@@ -1,6 +1,7 @@
 #pragma once
 // shared by the subcommands: exit codes, global options, progress bar, messages.
 #include <cstdio>
+#include <limits>
 #include <string>
 
 namespace CLI {
@@ -26,6 +27,16 @@ struct GlobalOptions {
 
 GlobalOptions& global_options();
 int thread_count();  // resolved --threads
+
+// largest and smallest value of a series and where (e.g. the cam angle) each occurred
+struct Extremes {
+  double max = -std::numeric_limits<double>::infinity(), min = std::numeric_limits<double>::infinity();
+  double max_at = 0, min_at = 0;
+  void add(double v, double at) {
+    if (v > max) max = v, max_at = at;
+    if (v < min) min = v, min_at = at;
+  }
+};
 
 // informational output on stderr (suppressed by --quiet); results go to files / stdout
 void info(const std::string& message);

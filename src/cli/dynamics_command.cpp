@@ -15,6 +15,7 @@
 #include "camopt/io/design_file.hpp"
 #include "camopt/kinematics/drawing_check.hpp"
 #include "cli_common.hpp"
+#include "flexible_summary.hpp"
 #include "range_option.hpp"
 
 namespace camopt::cli {
@@ -29,16 +30,6 @@ struct DynamicsOptions {
 
 // json number, or null for +-inf (a separation speed that never happens)
 nlohmann::json finite_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
-
-// the extremes of one column over a sweep
-struct Extremes {
-  double max = -std::numeric_limits<double>::infinity(), min = std::numeric_limits<double>::infinity();
-  double max_at = 0, min_at = 0;
-  void add(double v, double at) {
-    if (v > max) max = v, max_at = at;
-    if (v < min) min = v, min_at = at;
-  }
-};
 
 // what both modes read from the design and the options
 struct Setup {
@@ -573,95 +564,14 @@ void run_flexible_model(const DynamicsOptions& o) {
     nlohmann::json j;
     j["rpm"] = run.rpm;
     j["control_" + su.control_unit] = su.control_values[run.position];
-    Extremes kin_lift, dyn_lift, torque, loss;
-    double friction = 0.0, bounce_height = 0.0;
-    for (std::size_t i = 0; i < r.cam_deg.size(); ++i) {
-      kin_lift.add(r.lift_kinematic[i], r.cam_deg[i]);
-      dyn_lift.add(r.lift[i], r.cam_deg[i]);
-      loss.add(r.lift_kinematic[i] - r.lift[i], r.cam_deg[i]);
-      torque.add(r.cam_torque[i] * 1e-3, r.cam_deg[i]);
-      for (std::size_t c = 0; c < nc; ++c) friction += r.friction_power[i * nc + c];
-      if (std::abs(r.lift_kinematic[i]) <= 1e-12) bounce_height = std::max(bounce_height, std::abs(r.lift[i]));
-    }
-    j["max_lift_kinematic_" + lift_unit] = kin_lift.max;
-    j["max_lift_" + lift_unit] = dyn_lift.max;
-    j["max_lift_loss_" + lift_unit] = loss.max;
-    j["max_lift_loss_at_cam_deg"] = loss.max_at;
-    j["max_cam_torque_Nm"] = torque.max;
-    j["min_cam_torque_Nm"] = torque.min;
-    j["mean_friction_power_W"] = friction / static_cast<double>(r.cam_deg.size());
-    bool separates = false;
-    for (std::size_t c = 0; c < nc; ++c) {
-      Extremes f;
-      for (std::size_t i = 0; i < r.cam_deg.size(); ++i) f.add(r.force[i * nc + c], r.cam_deg[i]);
-      nlohmann::json cj = {{"max_force_N", f.max}, {"max_force_at_cam_deg", f.max_at}, {"min_force_N", f.min},
-                           {"min_force_at_cam_deg", f.min_at}, {"damping_N_s_per_mm", r.contact_damping[c]}};
-      // separation intervals: opens .. next closes of this connection (not the lash gap)
-      nlohmann::json intervals = nlohmann::json::array();
-      const bool lash = model.contacts[c].held_node > 0;
-      double opened = std::numeric_limits<double>::quiet_NaN();
-      for (const auto& ev : r.events) {
-        if (ev.what != mech.connections[c].name) continue;
-        if (ev.opens) opened = ev.cam_deg;
-        else if (!std::isnan(opened)) intervals.push_back({opened, ev.cam_deg}), opened = std::numeric_limits<double>::quiet_NaN();
-      }
-      if (!std::isnan(opened)) intervals.push_back({opened, nullptr});
-      cj["open_intervals_cam_deg"] = intervals;
-      if (!lash && !intervals.empty()) separates = true;
-      if (lash && intervals.size() > 1) separates = true;
-      j["connections"][mech.connections[c].name] = cj;
-    }
-    j["any_contact_separates"] = separates;
-    int seat_closes = 0;
-    double seating_velocity = 0.0;
-    for (const auto& ev : r.events)
-      if (ev.what.size() > 5 && ev.what.compare(ev.what.size() - 5, 5, " seat") == 0 && !ev.opens) {
-        if (seat_closes == 0) seating_velocity = ev.speed_m_per_s;
-        ++seat_closes;
-      }
-    if (has_seat) {
-      j["seating_velocity_m_per_s"] = seat_closes > 0 ? nlohmann::json(seating_velocity) : nlohmann::json(nullptr);
-      j["bounce_count"] = std::max(0, seat_closes - 1);
-      j["bounce_height_" + lift_unit] = bounce_height;
-    }
-    for (std::size_t s = 0; s < nch; ++s) {
-      double surge = 0.0, coil = 0.0;
-      for (std::size_t i = 0; i < r.cam_deg.size(); ++i) {
-        surge = std::max(surge, std::abs(r.coil_force_base[i * nch + s] - r.spring_static_load[i * nch + s]));
-        coil = std::max(coil, r.coil_force_top[i * nch + s]);
-      }
-      int clashes = 0;
-      for (const auto& ev : r.events)
-        if (ev.what.rfind(first.chain_names[s] + " coil", 0) == 0 && !ev.opens) ++clashes;
-      j["springs"][first.chain_names[s]] = {{"segments", first.chain_segments[s]},
-                                             {"max_retainer_force_N", coil},
-                                             {"surge_amplitude_N", surge},
-                                             {"coil_clash_events", clashes}};
-    }
-    for (std::size_t e = 0; e < first.element_names.size(); ++e) {
-      double worst = 0.0;
-      const std::size_t ne = first.element_names.size();
-      for (std::size_t i = 0; i < r.cam_deg.size(); ++i) worst = std::max(worst, std::abs(r.deformation[i * ne + e]));
-      const bool angle = mech.nodes[mech.node_index(first.element_names[e])].kind != NodeKind::translational;
-      j["deformation"][first.element_names[e]] = {{std::string("max_") + (angle ? "deg" : "mm"), angle ? worst * 180.0 / M_PI : worst}};
-    }
-    nlohmann::json events = nlohmann::json::array();
-    for (const auto& e : r.events)
-      events.push_back({{"what", e.what}, {"cam_deg", e.cam_deg}, {"event", e.opens ? "opens" : "closes"},
-                        {"speed_m_per_s", e.speed_m_per_s}});
-    j["events"] = events;
-    j["integrator_steps"] = r.steps;
-    j["rhs_evaluations"] = r.rhs_evaluations;
-    j["revolutions_integrated"] = r.revolutions_integrated;
-    j["periodic_steady_state"] = r.periodic;
-    if (r.periodic_difference >= 0) j["periodic_difference"] = r.periodic_difference;
-    j["train_frequency_Hz"] = r.train_frequency_hz;
+    j.update(flexible_run_summary(mech, model, r));
+    const bool separates = j["any_contact_separates"].get<bool>();
     map.push_back({{"rpm", run.rpm},
                    {"control_" + su.control_unit, su.control_values[run.position]},
                    {"any_contact_separates", separates},
                    {"bounce_count", has_seat ? j["bounce_count"] : nlohmann::json(nullptr)},
                    {"bounce_height_" + lift_unit, has_seat ? j["bounce_height_" + lift_unit] : nlohmann::json(nullptr)},
-                   {"max_lift_loss_" + lift_unit, loss.max}});
+                   {"max_lift_loss_" + lift_unit, j["max_lift_loss_" + lift_unit]}});
     results.push_back(j);
   }
   summary["results"] = results;

@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 #include <numbers>
 
+#include "camopt/dynamics/flexible.hpp"
 #include "camopt/dynamics/model.hpp"
 #include "camopt/dynamics/rigid.hpp"
 #include "camopt/io/atomic_file.hpp"
@@ -16,6 +17,7 @@
 #include "camopt/opt/solve.hpp"
 #include "camopt/synthesis/envelope.hpp"
 #include "cli_common.hpp"
+#include "flexible_summary.hpp"
 #include "profile_exports.hpp"
 #include "target_input.hpp"
 
@@ -336,7 +338,7 @@ void run_optimize(const OptimizeOptions& o) {
         {"max_roller_speed_rpm", s.max_roller_speed * 180.0 / kPi * rpm_scale},
         {"duration_at_1mm_deg", s.duration_at_1mm}};
     // rigid (kinematically constrained) dynamics at the set's speed: the designed contact's
-    // force, its separation speed and the cam torque; flexible dynamics is issue #7
+    // force, its separation speed and the cam torque
     try {
       const dynamics::Model model = dynamics::compile_dynamics(mech);
       dynamics::RigidSweep rs;
@@ -371,10 +373,24 @@ void run_optimize(const OptimizeOptions& o) {
         dyn["separation_speed_rpm"] = "none";
       }
       report["verify"]["rigid_dynamics"] = dyn;
+      // flexible dynamics (compliance, Hertz contacts, lash, seat, spring surge) at the same
+      // speed, default options: lift loss, separation, seating velocity and bounce
+      dynamics::FlexibleResult fr;
+      st = dynamics::run_flexible(mech, model, so_syn.controls, set.rpm, 0.0, 360.0, 0.5, dynamics::FlexibleOptions{},
+                                  fr);
+      if (st.ok()) {
+        nlohmann::json flex = flexible_run_summary(mech, model, fr);
+        flex["model"] = "flexible";
+        flex["rpm"] = set.rpm;
+        flex.erase("events");
+        report["verify"]["flexible_dynamics"] = flex;
+      } else {
+        report["verify"]["flexible_dynamics"] = "failed: " + st.str();
+      }
     } catch (const InputError& e) {
       report["verify"]["rigid_dynamics"] = std::string("not run: the design lacks dynamics data: ") + e.what();
+      report["verify"]["flexible_dynamics"] = std::string("not run: the design lacks dynamics data: ") + e.what();
     }
-    report["verify"]["flexible_dynamics"] = "not run: flexible dynamics is not built yet (issue #7)";
     info("optimize --verify: kinematic lift matches the optimised lift to " + std::to_string(rt.max_error_mm) +
          " mm; max pressure angle " + std::to_string(s.max_pressure_angle_deg) + " deg");
   }
@@ -411,7 +427,7 @@ void setup_optimize(CLI::App& app) {
       ->check(CLI::Range(1, 1000000))
       ->capture_default_str();
   cmd->add_option("--starts", opts->starts, "global: number of starts")->check(CLI::Range(1, 1000))->capture_default_str();
-  cmd->add_flag("--verify", opts->verify, "run the optimised design through kinematics and rigid dynamics and report both");
+  cmd->add_flag("--verify", opts->verify, "run the optimised design through kinematics, rigid and flexible dynamics and report them");
   cmd->callback([opts] { run_optimize(*opts); });
 }
 

@@ -1,6 +1,7 @@
 // camopt optimize end to end: the bundled constraint set, its outputs checked against the
 // kinematic solver, and bad input (contradictions, unknown keys and solvers, infeasible sets).
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <nlohmann/json.hpp>
 
 #include <sstream>
@@ -52,6 +53,18 @@ TEST_CASE("optimize: the passenger-car intake set converges, every constraint ho
   REQUIRE(dyn.is_object());
   CHECK(dyn["min_contact_force_N"].get<double>() > 0.0);
   CHECK(dyn["separation_speed_rpm"].get<double>() > 6500.0);
+  // flexible dynamics of the same design at the same speed: it runs on the kinematic path
+  // of the delivered design (same peak lift as the kinematic check), and reports the
+  // dynamic lift, lift loss and each contact's open intervals
+  const auto& flex = report["verify"]["flexible_dynamics"];
+  INFO(flex.dump());
+  REQUIRE(flex.is_object());
+  CHECK(flex["rpm"].get<double>() == 6500.0);
+  CHECK(flex["max_lift_kinematic_mm"].get<double>() == Approx(k["max_lift_mm"].get<double>()).margin(1e-9));
+  CHECK(flex["train_frequency_Hz"].get<double>() > 0.0);
+  CHECK(flex["revolutions_integrated"].get<int>() >= 1);
+  CHECK(std::isfinite(flex["max_lift_loss_mm"].get<double>()));
+  CHECK(flex["connections"].contains("cam_roller"));
 }
 
 TEST_CASE("optimize: bad input names the field and exits 3 without output", "[cli][opt]") {
