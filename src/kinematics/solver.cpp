@@ -501,6 +501,7 @@ Status Kernel::differentiate(Workspace::Block& b, double driver) {
   }
   b.lu.solve(rhs, xk);
   for (int i = 0; i < n; ++i) ws_.vars[b.unknowns[i]].c[1] = xk[i];
+  ++ws_.stats.taylor_orders;
   if (rq_.derivative_order >= 2) {
     // order 2 needs only second-order jets: the known variables truncated to Jet<2>
     for (std::size_t v = 0; v < ws_.values.size(); ++v) ws_.vars2[v] = truncate<2>(ws_.vars[v]);
@@ -510,6 +511,7 @@ Status Kernel::differentiate(Workspace::Block& b, double driver) {
     for (int i = 0; i < n; ++i) rhs[i] = -out2[i].c[2];
     b.lu.solve(rhs, xk);
     for (int i = 0; i < n; ++i) ws_.vars[b.unknowns[i]].c[2] = xk[i];
+    ++ws_.stats.taylor_orders;
   }
   if (rq_.derivative_order >= 3) {
     Jet3 out[Workspace::max_block];
@@ -518,6 +520,7 @@ Status Kernel::differentiate(Workspace::Block& b, double driver) {
     for (int i = 0; i < n; ++i) rhs[i] = -out[i].c[3];
     b.lu.solve(rhs, xk);
     for (int i = 0; i < n; ++i) ws_.vars[b.unknowns[i]].c[3] = xk[i];
+    ++ws_.stats.taylor_orders;
   }
   return Status::success();
 }
@@ -701,6 +704,7 @@ template <int M>
       uk = -detail::dot(travel_normal, ck) / detail::dot(travel_normal, centre_u);
     }
     uj.c[k] = uk;
+    ++ws_.stats.taylor_orders;
     lever[k] = {known.x + q1.x * uk, known.y + q1.y * uk};
     cx.c[k] = ck.x + centre_u.x * uk;
     cy.c[k] = ck.y + centre_u.y * uk;
@@ -846,7 +850,10 @@ Status Kernel::closed_form(const SolveStep& step, int step_index, double driver)
   ws_.open[step_index] = false;
   // evaluates f on jets (derivatives requested) or on values
   auto on_best_type = [&](auto&& f, Jet3& result) -> Status {
-    if (jets) return f(ws_.vars.data(), result);
+    if (jets) {
+      ++ws_.stats.jet_closed_forms;
+      return f(ws_.vars.data(), result);
+    }
     double v = 0.0;
     Status st = f(ws_.values.data(), v);
     result = Jet3(v);
@@ -908,6 +915,7 @@ Status Kernel::closed_form(const SolveStep& step, int step_index, double driver)
       double gap_at_rest = 0.0;
       Status st;
       if (jets) {
+        ++ws_.stats.jet_closed_forms;
         st = line_closed_form(step, ws_.vars.data(), q, u, gap_at_rest, driver);
       } else {
         double qv = 0, uv = 0;
@@ -1139,6 +1147,7 @@ void Kernel::contact_outputs(int step_index) {
     const Connection& c = m_.connections[ci];
     if (c.kind != ConnectionKind::contact) continue;
     ContactState& out = ws_.contacts[ci];
+    ++ws_.stats.contact_outputs;
     out.open = ws_.open[step_index];
     if (!out.open) out.gap = 0.0;
     using J1 = Jet<1>;

@@ -42,6 +42,10 @@ struct ContactState {
 struct SolveStats {
   long broyden_iterations = 0, newton_iterations = 0, newton_fallbacks = 0, points = 0;
   long rejected_steps = 0;  // driver (or control) steps halved by the trust check
+  // work done for outputs (a run computes only what it asked for; tests check these):
+  long taylor_orders = 0;     // implicit blocks' taylor orders solved (one per block and order)
+  long jet_closed_forms = 0;  // closed-form steps run on jets (derivatives) instead of values
+  long contact_outputs = 0;   // contacts whose per-contact quantities were computed
 };
 
 class Workspace {
