@@ -335,7 +335,8 @@ std::string format_csv(const std::vector<std::string>& header, const std::vector
   for (std::size_t r = 0; r < rows; ++r) {
     for (std::size_t c = 0; c < columns.size(); ++c) {
       if (c > 0) text += ',';
-      std::snprintf(buffer, sizeof buffer, "%.*g", significant_digits, columns[c][r]);
+      // + 0.0 turns a negative zero (e.g. a lift of -0 at rest) into 0
+      std::snprintf(buffer, sizeof buffer, "%.*g", significant_digits, columns[c][r] + 0.0);
       text += buffer;
     }
     text += '\n';

@@ -375,3 +375,8 @@ TEST_CASE("real data: ICESym intake valve lift in crank degrees covers one cycle
   CHECK_NOTHROW(require_full_cycle(table, 720.0));
   CHECK_THROWS_WITH(require_full_cycle(table, 360.0), Contains("Lv_I-mb.csv") && Contains("more than one cycle"));
 }
+
+TEST_CASE("format_csv writes a negative zero as 0 and keeps the given significant digits", "[io][csv]") {
+  const std::string text = camopt::io::format_csv({"cam_deg", "lift_mm"}, {{0.0, 1.0}, {-0.0, -1.234567890123}}, 6);
+  CHECK(text == "cam_deg,lift_mm\n0,0\n1,-1.23457\n");
+}
