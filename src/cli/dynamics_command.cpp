@@ -59,8 +59,7 @@ Setup make_setup(const DynamicsOptions& o) {
                      std::to_string(su.stop - su.start));
   // control positions: the first control swept, the others at their defaults
   const kin::Mechanism& mech = su.mech;
-  std::vector<double> defaults;
-  for (const auto& c : mech.controls) defaults.push_back(c.default_value);
+  const std::vector<double> defaults = mech.default_controls();
   if (!o.control.empty()) {
     if (mech.controls.empty()) throw InputError("--control: design '" + o.design + "' has no [[control]]");
     const auto& c0 = mech.controls[0];

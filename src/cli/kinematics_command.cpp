@@ -106,8 +106,7 @@ void setup_kinematics(CLI::App& app) {
     sweep.request.derivative_order = sel.contacts ? std::max(sel.order, 1) : sel.order;
     sweep.request.contacts = sel.contacts;
     sweep.threads = thread_count();
-    std::vector<double> defaults;
-    for (const auto& c : mech.controls) defaults.push_back(c.default_value);
+    const std::vector<double> defaults = mech.default_controls();
     std::vector<double> control_values;
     if (!o.control.empty()) {
       if (mech.controls.empty()) throw InputError("--control: design '" + o.design + "' has no [[control]]");

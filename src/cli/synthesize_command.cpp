@@ -67,8 +67,7 @@ double max_lift_control(const kin::Mechanism& mech) {
   double best = c0.default_value, best_lift = -1e300;
   for (int i = 0; i <= 8; ++i) {
     const double v = c0.min + (c0.max - c0.min) * i / 8.0;
-    std::vector<double> pos;
-    for (const auto& c : mech.controls) pos.push_back(c.default_value);
+    std::vector<double> pos = mech.default_controls();
     pos[0] = v;
     kin::SweepSpec s;
     s.start = 0;

@@ -4,7 +4,6 @@
 #include <cmath>
 #include <numbers>
 #include <sstream>
-#include <type_traits>
 
 
 namespace camopt::kin {
@@ -553,19 +552,13 @@ double offset_residual(const Workspace::Block::OffsetContact& oc, const Node& no
   return node.direction.x() * (centre.y - oc.centre.y()) - node.direction.y() * (centre.x - oc.centre.x());
 }
 
-template <class To, int N>
-detail::Pose<To> convert_pose(const detail::Pose<Jet<N>>& p) {
-  detail::Pose<To> out;
-  auto conv = [](const Jet<N>& x) {
-    if constexpr (std::is_same_v<To, double>)
-      return x.value();
-    else
-      return truncate<To::order>(x);
-  };
-  out.tx = conv(p.tx);
-  out.ty = conv(p.ty);
-  out.c = conv(p.c);
-  out.s = conv(p.s);
+// the pose's values (its Taylor coefficients dropped)
+detail::Pose<double> pose_values(const detail::Pose<Jet3>& p) {
+  detail::Pose<double> out;
+  out.tx = p.tx.value();
+  out.ty = p.ty.value();
+  out.c = p.c.value();
+  out.s = p.s.value();
   out.rx = p.rx;
   out.ry = p.ry;
   return out;
@@ -595,7 +588,7 @@ template <int M>
   const auto& pose3 = detail::CachedPoses<Jet3>{m_, ws_.vars.data(), ws_.pivots.data(), ws_.poses3, ws_.point_id,
                                                 b.solving}
                           .get(oc.known_node);
-  const auto pose0 = convert_pose<double>(pose3);
+  const auto pose0 = pose_values(pose3);
   const bool rotational = node.kind == NodeKind::rotational;
   // d g / d centre (a unit vector for the rotational arm, the travel's normal otherwise)
   auto gradient = [&](const V2<double>& centre) {
@@ -1436,19 +1429,13 @@ Status step_to(const Mechanism& m, Workspace& ws, double target, const Request& 
   return st;
 }
 
-std::vector<double> default_controls(const Mechanism& m) {
-  std::vector<double> controls(m.controls.size());
-  for (std::size_t i = 0; i < controls.size(); ++i) controls[i] = m.controls[i].default_value;
-  return controls;
-}
-
 // from the solved drawing (driver 0, default controls, where every node is at its drawing
 // position): the controls moved to `target` in steps, then the driver continued to
 // `driver`, all under the trust check, so the first point is on the drawing's assembly
 // branch rather than wherever Newton from the drawing lands
 Status continue_from_drawing(const Mechanism& m, Workspace& ws, const std::vector<double>& target, double driver,
                              const Request& rq) {
-  const std::vector<double> defaults = default_controls(m);
+  const std::vector<double> defaults = m.default_controls();
   std::vector<double> controls = defaults;
   const Request inner{3, false};
   double done = 0.0, step = 1.0;  // fraction of the control move
@@ -1493,9 +1480,13 @@ Status solve_fresh(const Mechanism& mech, Workspace& ws, double driver, const Re
 }
 }  // namespace
 
+bool at_drawing(const Mechanism& mech, const std::vector<double>& controls, double driver) {
+  return driver == 0.0 && controls == mech.default_controls();
+}
+
 Status solve_drawing(const Mechanism& mech, Workspace& ws) {
   CamProfile::clear_thread_memo();  // the drawing does not depend on the thread's past
-  ws.set_controls(default_controls(mech));
+  ws.set_controls(mech.default_controls());
   place_pivots(mech, ws);
   Status st = Kernel(mech, ws, Request{3, false}).run(0.0);
   if (!st.ok()) ws.reset();
@@ -1505,11 +1496,8 @@ Status solve_drawing(const Mechanism& mech, Workspace& ws) {
 Status solve(const Mechanism& mech, Workspace& ws, double driver, const Request& request, const Workspace* drawing) {
   CAMOPT_ASSERT(request.derivative_order >= 0 && request.derivative_order <= 3);
   CAMOPT_ASSERT(!request.contacts || request.derivative_order >= 1);
-  if (ws.history == 0) {
-    bool at_drawing = driver == 0.0;
-    for (std::size_t i = 0; i < mech.controls.size(); ++i) at_drawing &= ws.controls()[i] == mech.controls[i].default_value;
-    if (!at_drawing) return solve_fresh(mech, ws, driver, request, drawing);
-  }
+  if (ws.history == 0 && !at_drawing(mech, ws.controls(), driver))
+    return solve_fresh(mech, ws, driver, request, drawing);
   Status st = step_to(mech, ws, driver, request);
   if (!st.ok()) ws.reset();
   return st;

@@ -61,19 +61,10 @@ SweepResult sweep(const Mechanism& m, const SweepSpec& spec) {
   const long n = std::lround((spec.stop - spec.start) / spec.step);
   for (long i = 0; i <= n; ++i) r.driver.push_back(std::min(spec.stop, spec.start + spec.step * static_cast<double>(i)));
   auto positions = spec.control_positions;
-  if (positions.empty()) {
-    std::vector<double> defaults;
-    for (const auto& c : m.controls) defaults.push_back(c.default_value);
-    positions.push_back(defaults);
-  }
+  if (positions.empty()) positions.push_back(m.default_controls());
   r.positions.resize(positions.size());
   for (std::size_t p = 0; p < positions.size(); ++p) r.positions[p].controls = positions[p];
   std::atomic<std::size_t> next{0};
-  const std::vector<double> defaults = [&] {
-    std::vector<double> d;
-    for (const auto& c : m.controls) d.push_back(c.default_value);
-    return d;
-  }();
   auto worker = [&] {
     // every position away from the drawing starts from the same drawing: solved once per
     // thread, when a position first needs it (the continuation from it, and so each
@@ -81,8 +72,8 @@ SweepResult sweep(const Mechanism& m, const SweepSpec& spec) {
     Workspace drawing(m);
     enum { unsolved, solved, failed } drawing_state = unsolved;
     for (std::size_t p = next++; p < positions.size(); p = next++) {
-      const bool at_drawing = r.driver.front() == 0.0 && r.positions[p].controls == defaults;
-      if (!at_drawing && drawing_state == unsolved) drawing_state = solve_drawing(m, drawing).ok() ? solved : failed;
+      const bool from_drawing = at_drawing(m, r.positions[p].controls, r.driver.front());
+      if (!from_drawing && drawing_state == unsolved) drawing_state = solve_drawing(m, drawing).ok() ? solved : failed;
       run_position(m, spec, r.driver, r.positions[p], drawing_state == solved ? &drawing : nullptr);
       if (spec.on_position_done) spec.on_position_done();
     }

@@ -921,9 +921,7 @@ Status round_trip(const DesignSpec& spec, const PeriodicSpline& lift, const std:
   s.stop = 360.0;
   s.step = 0.25;
   s.request = {1, true};
-  std::vector<double> pos = controls;
-  if (pos.empty())
-    for (const auto& c : mech.controls) pos.push_back(c.default_value);
+  const std::vector<double> pos = controls.empty() ? mech.default_controls() : controls;
   s.control_positions = {pos};
   const kin::SweepResult r = kin::sweep(mech, s);
   const auto& p = r.positions[0];

@@ -21,7 +21,15 @@ using camopt::dyn_test::steel;
 
 namespace {
 
-
+// the direct-acting valve with a compliant valve (60 kN/mm) and a 45 g spring of
+// `surge_masses` internal masses: the flexible model's standard test train
+DesignSpec compliant_valve(int surge_masses) {
+  DesignSpec d = direct_valve(40, 250);
+  d.nodes[1].axial_stiffness_N_per_mm = 60000;
+  d.springs[0].mass_kg = 0.045;
+  d.springs[0].surge_masses = surge_masses;
+  return d;
+}
 
 // independent Hertz line law: solve delta = a (ln(4R/a) - 1) for a by the fixed point
 // a = delta / (ln(4R/a) - 1) (contraction ~ 1/ln(4R/a) < 0.1), F = pi L E* a
@@ -252,10 +260,7 @@ TEST_CASE("flexible: single-mass follower against an RK4 integration with tiny s
 }
 
 TEST_CASE("flexible: power balance over a revolution (drive work = energy change + losses)") {
-  DesignSpec d = direct_valve(40, 250);
-  d.nodes[1].axial_stiffness_N_per_mm = 60000;
-  d.springs[0].mass_kg = 0.045;
-  d.springs[0].surge_masses = 6;
+  DesignSpec d = compliant_valve(6);
   d.connections[0].friction_coefficient = 0.08;
   const kin::Mechanism mech = kin::compile(d);
   const dynamics::Model model = dynamics::compile_dynamics(mech);
@@ -282,10 +287,7 @@ TEST_CASE("flexible: power balance over a revolution (drive work = energy change
 }
 
 TEST_CASE("flexible: at low speed the contact forces approach mode (a)") {
-  DesignSpec d = direct_valve(40, 250);
-  d.nodes[1].axial_stiffness_N_per_mm = 60000;
-  d.springs[0].mass_kg = 0.045;
-  d.springs[0].surge_masses = 4;
+  const DesignSpec d = compliant_valve(4);
   const kin::Mechanism mech = kin::compile(d);
   const dynamics::Model model = dynamics::compile_dynamics(mech);
   dynamics::RigidSweep a;
@@ -323,10 +325,7 @@ TEST_CASE("flexible: at 10-50 rpm the contact force is mode (a) less spring rate
   // the deficit k_s delta ~ 0.13 N: the "0.5 N floor" of the test above is this effect
   // plus the inertia left at 500 rpm. Without a maximum step CVODE stepped over the lift
   // at these speeds and the force stayed at the preload (mode (b) had the same bug).
-  DesignSpec d = direct_valve(40, 250);
-  d.nodes[1].axial_stiffness_N_per_mm = 60000;
-  d.springs[0].mass_kg = 0.045;
-  d.springs[0].surge_masses = 4;
+  const DesignSpec d = compliant_valve(4);
   const kin::Mechanism mech = kin::compile(d);
   const dynamics::Model model = dynamics::compile_dynamics(mech);
   dynamics::RigidSweep a;
@@ -379,10 +378,7 @@ TEST_CASE("flexible: max_steps bounds the whole run, events included (no endless
 TEST_CASE("flexible: a periodic steady state stops the run early and reports the converged revolution") {
   // the direct-acting valve at 3000 rpm keeps contact; its vibration decays revolution by
   // revolution, so the start state repeats to the tolerance well before 16 revolutions
-  DesignSpec d = direct_valve(40, 250);
-  d.nodes[1].axial_stiffness_N_per_mm = 60000;
-  d.springs[0].mass_kg = 0.045;
-  d.springs[0].surge_masses = 4;
+  const DesignSpec d = compliant_valve(4);
   const kin::Mechanism mech = kin::compile(d);
   const dynamics::Model model = dynamics::compile_dynamics(mech);
   dynamics::FlexibleOptions opt;

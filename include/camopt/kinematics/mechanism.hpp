@@ -113,6 +113,13 @@ struct Mechanism {
   int node_index(const std::string& name) const;  // -1 if absent
   int driver_variable() const { return nodes[driver_node].first_variable; }
   bool driver_is_angle() const { return nodes[driver_node].kind == NodeKind::rotational; }
+  // every control at its default [deg or mm], in `controls` order (the drawing's setting)
+  std::vector<double> default_controls() const {
+    std::vector<double> d;
+    d.reserve(controls.size());
+    for (const Control& c : controls) d.push_back(c.default_value);
+    return d;
+  }
 };
 
 // validate the spec and build the immutable model; throws InputError naming the field

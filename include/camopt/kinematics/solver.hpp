@@ -154,6 +154,10 @@ class Workspace {
 Status solve(const Mechanism& mech, Workspace& ws, double driver, const Request& request,
              const Workspace* drawing = nullptr);
 
+// the drawing's setting: driver 0 [rad or mm] and every control at its default. A fresh
+// workspace asked for any other point is assembled by continuation from the drawing.
+bool at_drawing(const Mechanism& mech, const std::vector<double>& controls, double driver);
+
 // the drawing (driver 0, every control at its default) solved in `ws` with derivatives: the
 // start of every continuation. A control sweep solves it once per thread and passes it to
 // solve() for each position.
