@@ -534,7 +534,7 @@ V2<Jet<M>> offset_local(const Mechanism& m, const Surface& s, double offset, dou
   using std::sqrt;
   using T = Jet<M>;
   const CurvePoint<T> c = m.profiles[s.profile].point_series<M>(u);
-  const T len = sqrt(c.dx * c.dx + c.dy * c.dy);
+  const T len = sqrt(square(c.dx) + square(c.dy));
   const T k = offset / len;
   const T qx = c.x + k * c.dy, qy = c.y - k * c.dx;
   const double co = s.cos_orient, so = s.sin_orient;
@@ -553,7 +553,8 @@ double offset_residual(const Workspace::Block::OffsetContact& oc, const Node& no
 }
 
 // the pose's values (its Taylor coefficients dropped)
-detail::Pose<double> pose_values(const detail::Pose<Jet3>& p) {
+template <int N>
+detail::Pose<double> pose_values(const detail::Pose<Jet<N>>& p) {
   detail::Pose<double> out;
   out.tx = p.tx.value();
   out.ty = p.ty.value();
@@ -1146,46 +1147,54 @@ void Kernel::contact_outputs(int step_index) {
     using J1 = Jet<1>;
     const J1* vars = ws_.vars1.data();
     // a body's pose serves every contact it carries (every variable is final here)
-    const detail::CachedPoses<J1> poses{m_, vars, ws_.pivots.data(), ws_.poses1, ws_.point_id, ws_.no_node_solving};
+    const detail::CachedPoses<J1> poses{
+        m_, vars, ws_.pivots.data(), ws_.poses1, ws_.point_id, ws_.no_node_solving, &ws_.poses3};
     const auto& pa = poses.get(c.node_a);
     const auto& pb = poses.get(c.node_b);
-    const auto A = surface_point(m_, c.surface_a, pa, vars);
-    const auto B = surface_point(m_, c.surface_b, pb, vars);
-    // unit normal from a into b and the contact point (on a's surface)
-    V2<J1> n, p;
-    auto curvature = [](const detail::SurfacePoint<J1>& s) {
-      const double dx = s.d1.x.value(), dy = s.d1.y.value();
-      const double q = dx * dx + dy * dy;
-      return (dx * s.d2.y.value() - dy * s.d2.x.value()) / (q * std::sqrt(q));
+    // the surfaces at the values: points, tangents d/du and d2/du2 (global) [mm]
+    const auto A = surface_point(m_, c.surface_a, pose_values(pa), ws_.values.data(), true, true);
+    const auto B = surface_point(m_, c.surface_b, pose_values(pb), ws_.values.data(), true, true);
+    auto curvature = [](const detail::SurfacePoint<double>& s) {
+      const double q = detail::dot(s.d1, s.d1);
+      return detail::cross(s.d1, s.d2) / (q * std::sqrt(q));
     };
     const Surface& sa = c.surface_a;
     const Surface& sb = c.surface_b;
-    using std::sqrt;
+    // unit normal n from a into b, the contact point p and its velocity vc [mm per driver
+    // unit]. On a curve or line surface p = X(t) (S(u(t))): vc = the material velocity of
+    // X at p + S_u u'. Between two circles p = C_a + |r_a| e, e = d / |d|, d = C_b - C_a:
+    // vc = C_a' + |r_a| (d' - e (e . d')) / |d|
+    V2<double> n, p, vc;
+    auto on_surface = [&](const detail::SurfacePoint<double>& sp, const Surface& s, const detail::Pose<J1>& pose) {
+      p = sp.p;
+      const V2<double> vm = material_velocity(pose, to_local(pose, p.x, p.y));
+      const double du = vars[s.variable].c[1];
+      vc = {vm.x + sp.d1.x * du, vm.y + sp.d1.y * du};
+    };
     if (sa.kind != SurfaceKind::point) {
-      const J1 len = sqrt(detail::dot(A.d1, A.d1));
+      const double len = std::sqrt(detail::dot(A.d1, A.d1));
       n = {A.d1.y / len, -A.d1.x / len};
-      p = A.p;
+      on_surface(A, sa, pa);
     } else if (sb.kind != SurfaceKind::point) {
-      const J1 len = sqrt(detail::dot(B.d1, B.d1));
+      const double len = std::sqrt(detail::dot(B.d1, B.d1));
       n = {-B.d1.y / len, B.d1.x / len};  // b's outward normal points into a
-      p = {B.p.x + n.x * 0.0, B.p.y + n.y * 0.0};
-      // the point on a's surface (the circle) lies along the normal from a's centre
-      p = {A.p.x + n.x * sa.offset, A.p.y + n.y * sa.offset};
+      on_surface(B, sb, pb);
     } else {
-      const V2<J1> d{B.p.x - A.p.x, B.p.y - A.p.y};
-      const J1 len = sqrt(detail::dot(d, d));
+      const V2<double> d{B.p.x - A.p.x, B.p.y - A.p.y};
+      const double len = std::sqrt(detail::dot(d, d));
+      const V2<double> e{d.x / len, d.y / len};
       const double sign = (sa.offset < 0 || sb.offset < 0) ? (sa.offset < 0 ? -1.0 : 1.0) : 1.0;
-      n = {sign * d.x / len, sign * d.y / len};
-      p = {A.p.x + d.x / len * std::abs(sa.offset), A.p.y + d.y / len * std::abs(sa.offset)};
+      n = {sign * e.x, sign * e.y};
+      p = {A.p.x + e.x * std::abs(sa.offset), A.p.y + e.y * std::abs(sa.offset)};
+      const V2<double> va_centre = material_velocity(pa, sa.origin), vb_centre = material_velocity(pb, sb.origin);
+      const V2<double> dd{vb_centre.x - va_centre.x, vb_centre.y - va_centre.y};
+      const double along = detail::dot(e, dd), k = std::abs(sa.offset) / len;
+      vc = {va_centre.x + k * (dd.x - e.x * along), va_centre.y + k * (dd.y - e.y * along)};
     }
-    if (sa.kind == SurfaceKind::point && sb.kind != SurfaceKind::point) {
-      // contact point on b's surface is the parametrised point
-      p = B.p;
-    }
-    out.x = p.x.value();
-    out.y = p.y.value();
-    out.normal_x = n.x.value();
-    out.normal_y = n.y.value();
+    out.x = p.x;
+    out.y = p.y;
+    out.normal_x = n.x;
+    out.normal_y = n.y;
     const Eigen::Vector2d la = to_local(pa, out.x, out.y);
     const Eigen::Vector2d lb = to_local(pb, out.x, out.y);
     out.local_a_x = la.x();
@@ -1195,10 +1204,9 @@ void Kernel::contact_outputs(int step_index) {
     out.polar_angle_a = sa.variable >= 0 ? ws_.values[sa.variable] : 0.0;
     out.curvature_a = sa.kind == SurfaceKind::curve ? curvature(A) : sa.kind == SurfaceKind::point ? 1.0 / sa.offset : 0.0;
     out.curvature_b = sb.kind == SurfaceKind::curve ? curvature(B) : sb.kind == SurfaceKind::point ? 1.0 / sb.offset : 0.0;
-    // material and contact-point velocities [mm per driver unit]
+    // material velocities at the contact point [mm per driver unit]
     const V2<double> va = material_velocity(pa, la);
     const V2<double> vb = material_velocity(pb, lb);
-    const V2<double> vc{p.x.c[1], p.y.c[1]};
     const V2<double> t{-out.normal_y, out.normal_x};
     double ua = (va.x - vc.x) * t.x + (va.y - vc.y) * t.y;
     double ub = (vb.x - vc.x) * t.x + (vb.y - vc.y) * t.y;

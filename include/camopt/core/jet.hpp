@@ -156,6 +156,12 @@ constexpr double value(const Jet<N>& x) noexcept {
   return x.c[0];
 }
 
+// true for a Jet<N> (generic code that treats jets apart from doubles and duals)
+template <class T>
+inline constexpr bool is_jet_v = false;
+template <int N>
+inline constexpr bool is_jet_v<Jet<N>> = true;
+
 // the first M+1 coefficients of a jet (M <= N)
 template <int M, int N>
 constexpr Jet<M> truncate(const Jet<N>& x) noexcept {

@@ -114,12 +114,37 @@ struct CachedPoses {
   PoseCache<T>& cache;
   long point;
   const std::vector<char>& solving;  // per node: its variables are unknowns of this block
+  // optional: a cache of third-order poses of the same variables; a pose it holds for this
+  // point gives this one by truncation (a jet's order-k coefficient depends only on the
+  // orders <= k of its arguments, so the coefficients are the same numbers)
+  const PoseCache<Jet<3>>* higher = nullptr;
   const Pose<T>& get(int n) const {
     if (solving[n] || cache.stamp[n] != point) {
+      if constexpr (is_jet_v<T>) {
+        if (higher != nullptr && !solving[n] && higher->stamp[n] == point) {
+          cache.poses[n] = truncate_pose(higher->poses[n]);
+          cache.stamp[n] = point;
+          return cache.poses[n];
+        }
+      }
       cache.poses[n] = node_pose(m, n, vars, pivots);
       cache.stamp[n] = solving[n] ? -1 : point;
     }
     return cache.poses[n];
+  }
+
+ private:
+  template <int N>
+  static Pose<T> truncate_pose(const Pose<Jet<N>>& p) {
+    constexpr int order = T::order;
+    Pose<T> out;
+    out.tx = truncate<order>(p.tx);
+    out.ty = truncate<order>(p.ty);
+    out.c = truncate<order>(p.c);
+    out.s = truncate<order>(p.s);
+    out.rx = p.rx;
+    out.ry = p.ry;
+    return out;
   }
 };
 
@@ -129,10 +154,11 @@ struct SurfacePoint {
   V2<T> p, d1, d2;
 };
 
-// second = false skips d2 (the residuals need only the point and its tangent)
+// second = false skips d2 (the residuals need only the point and its tangent); memo: a
+// profile's values through the per-thread spline memo (CamProfile::point)
 template <class T>
 SurfacePoint<T> surface_point(const Mechanism& m, const Surface& s, const Pose<T>& pose, const T* vars,
-                              bool second = true) {
+                              bool second = true, bool memo = false) {
   SurfacePoint<T> out;
   switch (s.kind) {
     case SurfaceKind::point:
@@ -149,7 +175,7 @@ SurfacePoint<T> surface_point(const Mechanism& m, const Surface& s, const Pose<T
       break;
     }
     case SurfaceKind::curve: {
-      const CurvePoint<T> c = m.profiles[s.profile].point(vars[s.variable], second);
+      const CurvePoint<T> c = m.profiles[s.profile].point(vars[s.variable], second, memo);
       const double co = s.cos_orient, so = s.sin_orient;
       out.p = pose.apply(s.origin.x() + co * c.x - so * c.y, s.origin.y() + so * c.x + co * c.y);
       out.d1 = pose.rotate(co * c.dx - so * c.dy, so * c.dx + co * c.dy);
