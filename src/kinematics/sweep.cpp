@@ -16,9 +16,14 @@ void run_position(const Mechanism& m, const SweepSpec& spec, const std::vector<d
   Workspace ws(m);
   ws.set_controls(out.controls);
   const std::size_t nv = m.variables.size(), nc = m.connections.size();
-  out.data.assign(driver.size() * nv * 4, 0.0);
-  out.condition.assign(driver.size(), 0.0);
-  if (spec.request.contacts) out.contacts.assign(driver.size() * nc, ContactState{});
+  // rows are appended as they are solved (no zero pass over the whole table first); a
+  // failed position is padded with zeros below, so every table has one row per point
+  out.data.clear();
+  out.data.reserve(driver.size() * nv * 4);
+  out.condition.clear();
+  out.condition.reserve(driver.size());
+  out.contacts.clear();
+  if (spec.request.contacts) out.contacts.reserve(driver.size() * nc);
   const double unit = m.driver_is_angle() ? deg : 1.0;  // driver deg -> rad
   // output k of variable v = (k! c_k) x scale: rad -> deg for angles, x unit^k (per driver deg)
   std::vector<double> scale(nv * 4);
@@ -33,13 +38,14 @@ void run_position(const Mechanism& m, const SweepSpec& spec, const std::vector<d
       out.status = st;
       break;
     }
-    double* row = out.data.data() + i * nv * 4;
     for (std::size_t v = 0; v < nv; ++v)
-      for (int k = 0; k <= 3; ++k) row[v * 4 + k] = factorial[k] * ws.vars[v].c[k] * scale[v * 4 + k];
-    out.condition[i] = ws.max_condition;
-    if (spec.request.contacts)
-      std::copy(ws.contacts.begin(), ws.contacts.end(), out.contacts.begin() + static_cast<long>(i * nc));
+      for (int k = 0; k <= 3; ++k) out.data.push_back(factorial[k] * ws.vars[v].c[k] * scale[v * 4 + k]);
+    out.condition.push_back(ws.max_condition);
+    if (spec.request.contacts) out.contacts.insert(out.contacts.end(), ws.contacts.begin(), ws.contacts.end());
   }
+  out.data.resize(driver.size() * nv * 4, 0.0);
+  out.condition.resize(driver.size(), 0.0);
+  if (spec.request.contacts) out.contacts.resize(driver.size() * nc, ContactState{});
   out.stats = ws.stats;
 }
 
