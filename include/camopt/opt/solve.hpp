@@ -37,6 +37,9 @@ struct SolverOptions {
   // (CamProblem::objective_hessian); automatic = objective for a conventional cam (whose lift is
   // linear in u: faster, bench/README.md), limited_memory for a swing cam
   IpoptHessian ipopt_hessian = IpoptHessian::automatic;
+  // ipopt: solve on a working set of the rows near their limits, re-solving with the rows
+  // found violated at the end until every row holds (ipopt_backend.cpp); false: every row
+  bool ipopt_screening = true;
 };
 
 struct SolveResult {
@@ -49,6 +52,8 @@ struct SolveResult {
   double max_violation = 0.0;      // largest normalised constraint violation (0: feasible)
   bool evaluated = false;          // `final` holds a successful evaluation at u
   std::string solver_message;      // the backend's own status
+  int solver_rows = 0;             // ipopt: inequality rows in its last working set
+  int rounds = 1;                  // ipopt: solves over a growing working set
 };
 
 SolveResult optimize(CamProblem& problem, const SolverOptions& options);
