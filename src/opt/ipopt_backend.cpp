@@ -356,12 +356,12 @@ void run_ipopt(CamProblem& problem, const SolverOptions& options, const std::vec
                                              options.time_limit_s, objective_hessian);
   const bool screening = options.ipopt_screening && start_ok;
   std::vector<int> working;
-  if (screening) {
-    working = initial_working_set(problem, nlp->all_rows(), cache.eval());
-  } else {
+  auto take_every_row = [&] {
     working.resize(nlp->all_rows().size());
     for (std::size_t k = 0; k < working.size(); ++k) working[k] = static_cast<int>(k);
-  }
+  };
+  if (screening) working = initial_working_set(problem, nlp->all_rows(), cache.eval());
+  else take_every_row();
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
   app->Options()->SetIntegerValue("print_level", std::getenv("CAMOPT_IPOPT_PRINT") ? 5 : 0);
   app->Options()->SetStringValue("sb", "yes");
@@ -395,7 +395,20 @@ void run_ipopt(CamProblem& problem, const SolverOptions& options, const std::vec
     ++rounds;
     app->OptimizeTNLP(nlp);
     const bool solved = nlp->status_ == Ipopt::SUCCESS || nlp->status_ == Ipopt::STOP_AT_ACCEPTABLE_POINT;
-    if (!screening || !solved) break;
+    const bool out_of_time = nlp->status_ == Ipopt::USER_REQUESTED_STOP || nlp->status_ == Ipopt::MAXITER_EXCEEDED ||
+                             nlp->status_ == Ipopt::CPUTIME_EXCEEDED;
+    if (!solved) {
+      if (!screening || out_of_time || working.size() == nlp->all_rows().size()) break;
+      // the working set alone failed (locally infeasible): one solve on every row from the
+      // start, so that the point reported, and its worst row, are those of the whole problem
+      take_every_row();
+      nlp->x_ = start;
+      app->Options()->SetStringValue("warm_start_init_point", "no");
+      app->Options()->SetNumericValue("tol", options.tolerance);
+      app->Options()->SetNumericValue("acceptable_tol", 1e3 * options.tolerance);
+      continue;
+    }
+    if (!screening) break;
     const bool first_loose = loose_first && rounds == 1;
     if (!first_loose && working.size() == nlp->all_rows().size()) break;
     bool ok = false;
@@ -407,10 +420,7 @@ void run_ipopt(CamProblem& problem, const SolverOptions& options, const std::vec
     if (!ok) break;
     if (!grow_working_set(problem, nlp->all_rows(), cache.eval(), options.constraint_tolerance, working) && !first_loose)
       break;
-    if (rounds + 1 >= kMaxRounds) {
-      working.resize(nlp->all_rows().size());
-      for (std::size_t k = 0; k < working.size(); ++k) working[k] = static_cast<int>(k);
-    }
+    if (rounds + 1 >= kMaxRounds) take_every_row();
     if (first_loose) {
       app->Options()->SetNumericValue("tol", options.tolerance);
       app->Options()->SetNumericValue("acceptable_tol", 1e3 * options.tolerance);
