@@ -1,7 +1,8 @@
 #pragma once
 // run a CamProblem through a solver backend:
 //   ipopt   interior point (Ipopt 3.11 TNLP): exact first derivatives, sparse jacobian,
-//           the objective's hessian or a limited-memory quasi-newton one (IpoptHessian)
+//           the objective's hessian or a limited-memory quasi-newton one (IpoptHessian);
+//           solved on a screened working set of the rows, grown until every row holds
 //   slsqp   NLopt sequential quadratic programming (Kraft 1988), exact gradients
 //   mma     NLopt method of moving asymptotes (Svanberg 2002); the closure equalities go
 //           through NLopt's augmented lagrangian (AUGLAG_EQ) around MMA
