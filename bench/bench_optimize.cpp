@@ -46,10 +46,11 @@ int main(int argc, char** argv) {
                         {"designs/cvvl_swing_cam.toml", "constraints/cvvl_swing_cam.toml", "swing"},
                         {"designs/vvld.toml", "constraints/vvld_swing_cam.toml", "swing"}};
   std::ostringstream csv;
-  csv << "constraint_set,solver,variables,constraints,status,iterations,evaluations,time_s,cpu_s,objective,"
-         "objective_error,max_violation\n";
-  std::printf("| constraint set | solver | vars | constraints | status | iterations | evaluations | time s | cpu s | "
-              "objective | objective error | max violation |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  csv << "constraint_set,solver,variables,constraints,solver_rows,rounds,status,iterations,evaluations,time_s,cpu_s,"
+         "objective,objective_error,max_violation\n";
+  std::printf("| constraint set | solver | vars | constraints | solver rows | rounds | status | iterations | evaluations | "
+              "time s | cpu s | objective | objective error | max violation |\n"
+              "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const Case& c : cases) {
     if (!only.empty() && std::string(c.design).find(only) == std::string::npos) continue;
     const DesignSpec d = io::load_design(root + "/" + c.design);
@@ -57,7 +58,7 @@ int main(int argc, char** argv) {
     set.cam = c.cam;
     struct Row {
       std::string solver, status;
-      int it, ev;
+      int rows, rounds, it, ev;
       double t, cpu, f, v;
     };
     std::vector<Row> rows;
@@ -66,24 +67,28 @@ int main(int argc, char** argv) {
     for (const auto& s : solvers) {
       opt::SolverOptions so;
       // "ipopt-h" / "ipopt-lbfgs": ipopt with the objective's own hessian / limited-memory bfgs
-      // ("ipopt": the default, the objective's for a conventional cam, bfgs for a swing cam)
+      // ("ipopt": the default, the objective's for a conventional cam, bfgs for a swing cam);
+      // "-full" after any of them: every row in ipopt's problem (no row screening)
       so.solver = opt::parse_solver(s.rfind("ipopt", 0) == 0 ? "ipopt" : s);
-      if (s == "ipopt-h") so.ipopt_hessian = opt::IpoptHessian::objective;
-      if (s == "ipopt-lbfgs") so.ipopt_hessian = opt::IpoptHessian::limited_memory;
+      if (s.rfind("ipopt-h", 0) == 0) so.ipopt_hessian = opt::IpoptHessian::objective;
+      if (s.rfind("ipopt-lbfgs", 0) == 0) so.ipopt_hessian = opt::IpoptHessian::limited_memory;
+      if (s.size() > 5 && s.compare(s.size() - 5, 5, "-full") == 0) so.ipopt_screening = false;
       const std::clock_t c0 = std::clock();
       const auto r = opt::optimize(problem, so);
       const double cpu = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
-      rows.push_back({s, r.status.ok() ? "converged" : to_string(r.status.code), r.iterations, r.evaluations, r.seconds, cpu,
+      const bool ipopt = so.solver == opt::SolverKind::ipopt;
+      rows.push_back({s, r.status.ok() ? "converged" : to_string(r.status.code), ipopt ? r.solver_rows : 0,
+                      ipopt ? r.rounds : 0, r.iterations, r.evaluations, r.seconds, cpu,
                       r.final.objective, r.max_violation});
       if (r.max_violation <= 1e-6) best = std::min(best, r.final.objective);
     }
     for (const auto& r : rows) {
       const double err = std::abs(r.f - best) / std::max(1.0, std::abs(best));
-      std::printf("| %s | %s | %d | %zu | %s | %d | %d | %.3f | %.3f | %.9f | %.1e | %.1e |\n", set.name.c_str(),
-                  r.solver.c_str(), problem.variables(), problem.rows().size(), r.status.c_str(), r.it, r.ev, r.t, r.cpu, r.f,
-                  err, r.v);
+      std::printf("| %s | %s | %d | %zu | %d | %d | %s | %d | %d | %.3f | %.3f | %.9f | %.1e | %.1e |\n",
+                  set.name.c_str(), r.solver.c_str(), problem.variables(), problem.rows().size(), r.rows, r.rounds,
+                  r.status.c_str(), r.it, r.ev, r.t, r.cpu, r.f, err, r.v);
       csv << '"' << set.name << "\"," << r.solver << ',' << problem.variables() << ',' << problem.rows().size() << ','
-          << r.status << ',' << r.it << ',' << r.ev << ',' << r.t << ',' << r.cpu << ',' << r.f << ',' << err << ',' << r.v << '\n';
+          << r.rows << ',' << r.rounds << ',' << r.status << ',' << r.it << ',' << r.ev << ',' << r.t << ',' << r.cpu << ',' << r.f << ',' << err << ',' << r.v << '\n';
     }
   }
   if (!csv_path.empty()) std::ofstream(csv_path) << csv.str();

@@ -3,8 +3,10 @@
 // callback: every callback catches and reports failure to Ipopt.
 #include <IpIpoptApplication.hpp>
 #include <IpTNLP.hpp>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 
 #include "backends.hpp"
@@ -16,18 +18,99 @@ namespace {
 using Ipopt::Index;
 using Ipopt::Number;
 
+// one ipopt row: an inequality of CamProblem::rows(), or two of them at one grid angle that
+// are affine in one another with opposite gradients as one two-sided row (pair_rows)
+struct IpRow {
+  int row;       // the inequality (index into CamProblem::rows())
+  double lower;  // lower bound on its g (-2e19: none)
+};
+
+// distance past the nearer bound of an ipopt row, normalised (<= 0: both rows met). the
+// carrying row has the larger gradient, so this bounds the partner's own g too (|a| <= 1)
+double excess(const IpRow& r, const Evaluation& e) {
+  const double g = e.g(static_cast<Eigen::Index>(r.row));
+  return std::max(g, r.lower - g);
+}
+
+// one ipopt row per inequality, except that two rows at one grid angle, affine in one
+// another with opposite gradients (acc_max / acc_min, the two jerk rows, lift_max /
+// lift_nonnegative, a roller's radius_min / concave_radius) become one two-sided row: g1 <= 0 and g2 = a g1 + b <= 0 (a < 0) is
+// -b / a <= g1 <= 0. ipopt's time goes into factorising its KKT system (MUMPS), one row per
+// constraint: this drops a quarter of them on a conventional cam. e: an evaluation with gradients
+std::vector<IpRow> pair_rows(const CamProblem& p, const Evaluation* e) {
+  const auto& rows = p.rows();
+  std::vector<IpRow> ip_rows;
+  std::vector<char> taken(rows.size(), 0);
+  const bool can_pair = !p.is_swing() && e != nullptr;
+  // rows that are affine in one another wherever they are evaluated: the valve-motion rows
+  // (linear in u), and the two radius rows of a roller (both affine in the pitch curvature)
+  auto family = [](ConstraintKind k) {
+    switch (k) {
+      case ConstraintKind::acc_max:
+      case ConstraintKind::acc_min:
+      case ConstraintKind::jerk_max:
+      case ConstraintKind::lift_max:
+      case ConstraintKind::lift_nonnegative: return 1;
+      case ConstraintKind::radius_min:
+      case ConstraintKind::concave_radius: return 2;
+      default: return 0;
+    }
+  };
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    if (taken[r]) continue;
+    IpRow ip{static_cast<int>(r), -2e19};
+    if (can_pair && family(rows[r].kind) != 0 && rows[r].grid >= 0) {
+      const auto j1 = e->jacobian.row(static_cast<Eigen::Index>(r));
+      const double n1 = j1.squaredNorm();
+      for (std::size_t q = r + 1; q < rows.size() && rows[q].grid == rows[r].grid && n1 > 0; ++q) {
+        if (taken[q] || family(rows[q].kind) != family(rows[r].kind)) continue;
+        const auto j2 = e->jacobian.row(static_cast<Eigen::Index>(q));
+        const double a = j2.dot(j1) / n1;
+        if (!(a < 0) || (j2 - a * j1).cwiseAbs().maxCoeff() > 1e-12 * j2.cwiseAbs().maxCoeff()) continue;
+        const double b = e->g(static_cast<Eigen::Index>(q)) - a * e->g(static_cast<Eigen::Index>(r));
+        // the row with the larger gradient carries both (|a| <= 1): ipopt's feasibility
+        // tolerance on it then holds for the other row too
+        if (a >= -1.0) ip.lower = -b / a;
+        else ip = {static_cast<int>(q), b};
+        taken[q] = 1;
+        break;
+      }
+    }
+    ip_rows.push_back(ip);
+  }
+  return ip_rows;
+}
+
+// the TNLP over a working set of ipopt rows (all of them, or a screened subset); the
+// multipliers of the last solve are kept per ipopt row for a warm start of the next
 class CamTnlp : public Ipopt::TNLP {
  public:
-  CamTnlp(CamProblem& p, const std::vector<double>& start, double time_limit, bool hessian)
-      : cache_(p), start_(start), time_limit_(time_limit), hessian_(hessian), t0_(std::chrono::steady_clock::now()) {
-    pair_rows();
+  CamTnlp(CachedProblem& cache, std::vector<IpRow> all_rows, const std::vector<double>& start, double time_limit,
+          bool hessian)
+      : cache_(cache),
+        all_(std::move(all_rows)),
+        x_(start),
+        lambda_all_(all_.size(), 0.0),
+        time_limit_(time_limit),
+        hessian_(hessian),
+        t0_(std::chrono::steady_clock::now()) {}
+
+  // the working set: indices into all_rows(), ascending
+  void set_working(std::vector<int> working) {
+    working_ = std::move(working);
+    std::vector<int> slot(cache_.problem().rows().size(), -1);
+    for (std::size_t k = 0; k < working_.size(); ++k)
+      slot[static_cast<std::size_t>(all_[static_cast<std::size_t>(working_[k])].row)] = static_cast<int>(k);
+    pattern_.clear();
+    for (const auto& [r, j] : cache_.problem().jacobian_pattern())
+      if (slot[static_cast<std::size_t>(r)] >= 0) pattern_.emplace_back(slot[static_cast<std::size_t>(r)], j);
   }
+  const std::vector<IpRow>& all_rows() const { return all_; }
+  const std::vector<int>& working() const { return working_; }
 
   bool get_nlp_info(Index& n, Index& m, Index& nnz_jac_g, Index& nnz_h_lag, IndexStyleEnum& index_style) override {
-    CamProblem& p = cache_.problem();
-    n = p.variables();
-    (void)p;
-    m = neq() + static_cast<Index>(ip_rows_.size());
+    n = cache_.problem().variables();
+    m = neq() + static_cast<Index>(working_.size());
     nnz_jac_g = neq() * n + static_cast<Index>(pattern_.size());
     nnz_h_lag = hessian_ ? n * (n + 1) / 2 : 0;
     index_style = C_STYLE;
@@ -41,15 +124,31 @@ class CamTnlp : public Ipopt::TNLP {
       x_u[j] = p.upper()[static_cast<std::size_t>(j)];
     }
     for (Index i = 0; i < m; ++i) {
-      g_l[i] = i < neq() ? 0.0 : ip_rows_[static_cast<std::size_t>(i - neq())].lower;
+      g_l[i] = i < neq() ? 0.0 : ip_row(i).lower;
       g_u[i] = 0.0;
     }
     return true;
   }
 
-  bool get_starting_point(Index n, bool init_x, Number* x, bool, Number*, Number*, Index, bool, Number*) override {
+  // x from the last solve (the start at first); with a warm start also its multipliers,
+  // zero for the rows new to the working set
+  bool get_starting_point(Index n, bool init_x, Number* x, bool init_z, Number* z_l, Number* z_u, Index m,
+                          bool init_lambda, Number* lambda) override {
     if (init_x)
-      for (Index j = 0; j < n; ++j) x[j] = start_[static_cast<std::size_t>(j)];
+      for (Index j = 0; j < n; ++j) x[j] = x_[static_cast<std::size_t>(j)];
+    if (init_z) {
+      if (z_l_.size() != static_cast<std::size_t>(n)) return false;
+      for (Index j = 0; j < n; ++j) {
+        z_l[j] = z_l_[static_cast<std::size_t>(j)];
+        z_u[j] = z_u_[static_cast<std::size_t>(j)];
+      }
+    }
+    if (init_lambda) {
+      if (lambda_eq_.size() != static_cast<std::size_t>(neq())) return false;
+      for (Index i = 0; i < m; ++i)
+        lambda[i] = i < neq() ? lambda_eq_[static_cast<std::size_t>(i)]
+                              : lambda_all_[static_cast<std::size_t>(working_[static_cast<std::size_t>(i - neq())])];
+    }
     return true;
   }
 
@@ -70,7 +169,7 @@ class CamTnlp : public Ipopt::TNLP {
     const Evaluation& e = cache_.eval();
     const Index ne = neq();
     for (Index i = 0; i < ne; ++i) g[i] = e.equality(i);
-    for (Index i = ne; i < m; ++i) g[i] = e.g(ip_rows_[static_cast<std::size_t>(i - ne)].row);
+    for (Index i = ne; i < m; ++i) g[i] = e.g(ip_row(i).row);
     return true;
   }
 
@@ -95,7 +194,7 @@ class CamTnlp : public Ipopt::TNLP {
     Index k = 0;
     for (Index r = 0; r < neq(); ++r)
       for (Index j = 0; j < n; ++j) values[k++] = p.equality_matrix()(r, j);
-    for (const auto& [r, j] : pattern_) values[k++] = e.jacobian(ip_rows_[static_cast<std::size_t>(r)].row, j);
+    for (const auto& [r, j] : pattern_) values[k++] = e.jacobian(ip_row(r + neq()).row, j);
     return true;
   }
 
@@ -121,87 +220,39 @@ class CamTnlp : public Ipopt::TNLP {
 
   bool intermediate_callback(Ipopt::AlgorithmMode, Index iter, Number, Number, Number, Number, Number, Number, Number,
                              Number, Index, const Ipopt::IpoptData*, Ipopt::IpoptCalculatedQuantities*) override {
-    iterations_ = iter;
+    last_iterations_ = iter;
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count() < time_limit_;
   }
 
-  void finalize_solution(Ipopt::SolverReturn status, Index n, const Number* x, const Number*, const Number*, Index,
-                         const Number*, const Number*, Number, const Ipopt::IpoptData*,
+  void finalize_solution(Ipopt::SolverReturn status, Index n, const Number* x, const Number* z_l, const Number* z_u,
+                         Index m, const Number*, const Number* lambda, Number, const Ipopt::IpoptData*,
                          Ipopt::IpoptCalculatedQuantities*) override {
     status_ = status;
+    iterations_ += last_iterations_;
+    last_iterations_ = 0;
     x_.assign(x, x + n);
+    z_l_.assign(z_l, z_l + n);
+    z_u_.assign(z_u, z_u + n);
+    lambda_eq_.assign(lambda, lambda + neq());
+    for (Index i = neq(); i < m; ++i)
+      lambda_all_[static_cast<std::size_t>(working_[static_cast<std::size_t>(i - neq())])] = lambda[i];
   }
 
-  struct IpRow {
-    int row;       // the inequality (index into CamProblem::rows())
-    double lower;  // lower bound on its g (-2e19: none)
-  };
-  CachedProblem cache_;
-  std::vector<double> start_, x_;
-  std::vector<IpRow> ip_rows_;
-  std::vector<std::pair<int, int>> pattern_;  // (ipopt inequality row, column)
+  CachedProblem& cache_;
+  std::vector<IpRow> all_;
+  std::vector<int> working_;                  // indices into all_
+  std::vector<std::pair<int, int>> pattern_;  // (working row, column)
+  std::vector<double> x_, z_l_, z_u_, lambda_eq_, lambda_all_;
   Ipopt::SolverReturn status_ = Ipopt::INTERNAL_ERROR;
-  int iterations_ = 0;
+  int iterations_ = 0, last_iterations_ = 0;
   double time_limit_;
   bool hessian_ = false;
   std::chrono::steady_clock::time_point t0_;
 
  private:
   Index neq() { return static_cast<Index>(cache_.problem().equality_matrix().rows()); }
-
-  // one ipopt row per inequality, except that two rows at one grid angle, affine in one
-  // another with opposite gradients (acc_max / acc_min, the two jerk rows, lift_max /
-  // lift_nonnegative, a roller's radius_min / concave_radius) become one two-sided row: g1 <= 0 and g2 = a g1 + b <= 0 (a < 0) is
-  // -b / a <= g1 <= 0. ipopt's time goes into factorising its KKT system (MUMPS), one row per
-  // constraint: this drops a quarter of them on a conventional cam.
-  void pair_rows() {
-    CamProblem& p = cache_.problem();
-    const auto& rows = p.rows();
-    ip_rows_.clear();
-    std::vector<char> taken(rows.size(), 0);
-    const bool can_pair = !p.is_swing() && guarded(start_.data(), true);
-    // rows that are affine in one another wherever they are evaluated: the valve-motion rows
-    // (linear in u), and the two radius rows of a roller (both affine in the pitch curvature)
-    auto family = [](ConstraintKind k) {
-      switch (k) {
-        case ConstraintKind::acc_max:
-        case ConstraintKind::acc_min:
-        case ConstraintKind::jerk_max:
-        case ConstraintKind::lift_max:
-        case ConstraintKind::lift_nonnegative: return 1;
-        case ConstraintKind::radius_min:
-        case ConstraintKind::concave_radius: return 2;
-        default: return 0;
-      }
-    };
-    std::vector<int> slot(rows.size(), -1);
-    for (std::size_t r = 0; r < rows.size(); ++r) {
-      if (taken[r]) continue;
-      IpRow ip{static_cast<int>(r), -2e19};
-      if (can_pair && family(rows[r].kind) != 0 && rows[r].grid >= 0) {
-        const Evaluation& e = cache_.eval();
-        const auto j1 = e.jacobian.row(static_cast<Eigen::Index>(r));
-        const double n1 = j1.squaredNorm();
-        for (std::size_t q = r + 1; q < rows.size() && rows[q].grid == rows[r].grid && n1 > 0; ++q) {
-          if (taken[q] || family(rows[q].kind) != family(rows[r].kind)) continue;
-          const auto j2 = e.jacobian.row(static_cast<Eigen::Index>(q));
-          const double a = j2.dot(j1) / n1;
-          if (!(a < 0) || (j2 - a * j1).cwiseAbs().maxCoeff() > 1e-12 * j2.cwiseAbs().maxCoeff()) continue;
-          const double b = e.g(static_cast<Eigen::Index>(q)) - a * e.g(static_cast<Eigen::Index>(r));
-          // the row with the larger gradient carries both (|a| <= 1): ipopt's feasibility
-          // tolerance on it then holds for the other row too
-          if (a >= -1.0) ip.lower = -b / a;
-          else ip = {static_cast<int>(q), b};
-          taken[q] = 1;
-          break;
-        }
-      }
-      slot[r] = static_cast<int>(ip_rows_.size());
-      ip_rows_.push_back(ip);
-    }
-    pattern_.clear();
-    for (const auto& [r, j] : p.jacobian_pattern())
-      if (slot[static_cast<std::size_t>(r)] >= 0) pattern_.emplace_back(slot[static_cast<std::size_t>(r)], j);
+  const IpRow& ip_row(Index i) {
+    return all_[static_cast<std::size_t>(working_[static_cast<std::size_t>(i - neq())])];
   }
   bool guarded(const Number* x, bool gradients) {
     try {
@@ -232,13 +283,85 @@ const char* describe(Ipopt::SolverReturn s) {
   }
 }
 
+// row screening. ipopt's time goes into its KKT system, one row per constraint (MUMPS, about
+// 9 us per row and iteration), and on a cam only the rows near a peak of their quantity can
+// be active. the working set starts with the scalar rows, every kStride-th grid point (no
+// stretch of the lift is left free) and the rows within kStartMargin of their limit at the
+// start. after each solve every row is evaluated: the rows past the feasibility tolerance,
+// their neighbours of the same kind within kNeighbours grid points and every row within
+// kAddMargin of its limit join the working set, and the next solve starts from the last one's
+// point and multipliers, until no row outside the working set is violated. the last round
+// allowed takes every row. with an exact hessian the first round stops at kFirstRoundTolerance
+// (its point only serves to find the active rows; ipopt's warm start does not shorten a
+// second solve from a converged point); with L-BFGS, whose history each solve starts anew,
+// it runs to the full tolerance.
+constexpr int kStride = 8;
+constexpr double kStartMargin = 0.1;
+constexpr double kAddMargin = 0.05;
+constexpr int kNeighbours = 4;
+constexpr int kMaxRounds = 8;
+constexpr double kFirstRoundTolerance = 1e-2;
+
+std::vector<int> initial_working_set(const CamProblem& p, const std::vector<IpRow>& all, const Evaluation& e) {
+  std::vector<int> w;
+  for (std::size_t k = 0; k < all.size(); ++k) {
+    const ConstraintRow& row = p.rows()[static_cast<std::size_t>(all[k].row)];
+    if (row.grid < 0 || row.grid % kStride == 0 || excess(all[k], e) > -kStartMargin) w.push_back(static_cast<int>(k));
+  }
+  return w;
+}
+
+// the working set grown at the evaluation e; false when no row outside it is past tolerance
+bool grow_working_set(const CamProblem& p, const std::vector<IpRow>& all, const Evaluation& e, double tolerance,
+                      std::vector<int>& working) {
+  std::vector<char> in(all.size(), 0);
+  for (int k : working) in[static_cast<std::size_t>(k)] = 1;
+  // kinds (bit per ConstraintKind) violated within kNeighbours of each grid point
+  std::vector<std::uint32_t> hot(p.grid_deg().size(), 0);
+  bool violated = false;
+  for (std::size_t k = 0; k < all.size(); ++k) {
+    const ConstraintRow& row = p.rows()[static_cast<std::size_t>(all[k].row)];
+    if (in[k] || excess(all[k], e) <= tolerance) continue;
+    violated = true;
+    if (row.grid < 0) continue;
+    const int lo = std::max(0, row.grid - kNeighbours);
+    const int hi = std::min(static_cast<int>(hot.size()) - 1, row.grid + kNeighbours);
+    for (int g = lo; g <= hi; ++g) hot[static_cast<std::size_t>(g)] |= 1u << static_cast<unsigned>(row.kind);
+  }
+  for (std::size_t k = 0; k < all.size(); ++k) {
+    const ConstraintRow& row = p.rows()[static_cast<std::size_t>(all[k].row)];
+    const bool near_violation = row.grid >= 0 && ((hot[static_cast<std::size_t>(row.grid)] >> static_cast<unsigned>(row.kind)) & 1u);
+    if (!in[k] && (near_violation || excess(all[k], e) > -kAddMargin)) in[k] = 1;
+  }
+  working.clear();
+  for (std::size_t k = 0; k < in.size(); ++k)
+    if (in[k]) working.push_back(static_cast<int>(k));
+  return violated;
+}
+
 }  // namespace
 
 void run_ipopt(CamProblem& problem, const SolverOptions& options, const std::vector<double>& start, SolveResult& result) {
   const bool objective_hessian =
       options.ipopt_hessian == IpoptHessian::objective ||
       (options.ipopt_hessian == IpoptHessian::automatic && !problem.is_swing());
-  Ipopt::SmartPtr<CamTnlp> nlp = new CamTnlp(problem, start, options.time_limit_s, objective_hessian);
+  CachedProblem cache(problem);
+  bool start_ok = false;
+  try {
+    start_ok = cache.at(start.data(), true);
+  } catch (...) {
+    start_ok = false;
+  }
+  Ipopt::SmartPtr<CamTnlp> nlp = new CamTnlp(cache, pair_rows(problem, start_ok ? &cache.eval() : nullptr), start,
+                                             options.time_limit_s, objective_hessian);
+  const bool screening = options.ipopt_screening && start_ok;
+  std::vector<int> working;
+  auto take_every_row = [&] {
+    working.resize(nlp->all_rows().size());
+    for (std::size_t k = 0; k < working.size(); ++k) working[k] = static_cast<int>(k);
+  };
+  if (screening) working = initial_working_set(problem, nlp->all_rows(), cache.eval());
+  else take_every_row();
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
   app->Options()->SetIntegerValue("print_level", std::getenv("CAMOPT_IPOPT_PRINT") ? 5 : 0);
   app->Options()->SetStringValue("sb", "yes");
@@ -261,13 +384,63 @@ void run_ipopt(CamProblem& problem, const SolverOptions& options, const std::vec
     result.status = {StatusCode::no_convergence, "Ipopt could not be initialised", ""};
     return;
   }
-  app->OptimizeTNLP(nlp);
+  const bool loose_first = screening && objective_hessian;
+  if (loose_first) {
+    app->Options()->SetNumericValue("tol", kFirstRoundTolerance);
+    app->Options()->SetNumericValue("acceptable_tol", kFirstRoundTolerance);
+  }
+  int rounds = 0;
+  for (;;) {
+    nlp->set_working(working);
+    ++rounds;
+    app->OptimizeTNLP(nlp);
+    const bool solved = nlp->status_ == Ipopt::SUCCESS || nlp->status_ == Ipopt::STOP_AT_ACCEPTABLE_POINT;
+    const bool out_of_time = nlp->status_ == Ipopt::USER_REQUESTED_STOP || nlp->status_ == Ipopt::MAXITER_EXCEEDED ||
+                             nlp->status_ == Ipopt::CPUTIME_EXCEEDED;
+    if (!solved) {
+      if (!screening || out_of_time || working.size() == nlp->all_rows().size()) break;
+      // the working set alone failed (locally infeasible): one solve on every row from the
+      // start, so that the point reported, and its worst row, are those of the whole problem
+      take_every_row();
+      nlp->x_ = start;
+      app->Options()->SetStringValue("warm_start_init_point", "no");
+      app->Options()->SetNumericValue("tol", options.tolerance);
+      app->Options()->SetNumericValue("acceptable_tol", 1e3 * options.tolerance);
+      continue;
+    }
+    if (!screening) break;
+    const bool first_loose = loose_first && rounds == 1;
+    if (!first_loose && working.size() == nlp->all_rows().size()) break;
+    bool ok = false;
+    try {
+      ok = cache.at(nlp->x_.data(), false);
+    } catch (...) {
+      ok = false;
+    }
+    if (!ok) break;
+    if (!grow_working_set(problem, nlp->all_rows(), cache.eval(), options.constraint_tolerance, working) && !first_loose)
+      break;
+    if (rounds + 1 >= kMaxRounds) take_every_row();
+    if (first_loose) {
+      app->Options()->SetNumericValue("tol", options.tolerance);
+      app->Options()->SetNumericValue("acceptable_tol", 1e3 * options.tolerance);
+    }
+    // warm start from the last solve's point and multipliers (zero for the new rows)
+    app->Options()->SetStringValue("warm_start_init_point", "yes");
+    app->Options()->SetNumericValue("warm_start_bound_push", 1e-6);
+    app->Options()->SetNumericValue("warm_start_mult_bound_push", 1e-6);
+  }
   result.u = nlp->x_;
   result.iterations = nlp->iterations_;
-  result.evaluations = nlp->cache_.evaluations();
+  result.evaluations = cache.evaluations();
+  result.solver_rows = static_cast<int>(working.size());
+  result.rounds = rounds;
   result.solver_message = std::string("ipopt: ") + describe(nlp->status_);
-  if (!nlp->cache_.status().ok() && nlp->status_ != Ipopt::SUCCESS)
-    result.solver_message += "; last failed evaluation: " + nlp->cache_.status().str();
+  if (screening)
+    result.solver_message += " (" + std::to_string(working.size()) + " of " + std::to_string(nlp->all_rows().size()) +
+                             " rows, " + std::to_string(rounds) + " rounds)";
+  if (!cache.status().ok() && nlp->status_ != Ipopt::SUCCESS)
+    result.solver_message += "; last failed evaluation: " + cache.status().str();
   const bool converged = nlp->status_ == Ipopt::SUCCESS || nlp->status_ == Ipopt::STOP_AT_ACCEPTABLE_POINT;
   result.status = converged ? Status::success()
                             : Status{StatusCode::no_convergence, result.solver_message, ""};

@@ -71,8 +71,7 @@ struct SwingCamLift::Impl {
   // spline of h on [s_a, s_b] [rad]
   int p = 5, ncoef = 20;
   double sa = 0.0, sb = 1.0;
-  std::array<std::vector<double>, 5> knots;                 // of h^(m)
-  std::array<std::vector<std::vector<double>>, 5> unit;     // per free j: coefficients of N_j^(m)
+  std::vector<double> knots;                                // of h (clamped, uniform)
   std::vector<double> initial;
 
   int free() const { return ncoef - kZeroCoefficients; }
@@ -102,19 +101,83 @@ struct SwingCamLift::Impl {
     return out;
   }
 
+  // the degree-p basis functions of the span of s on knots (the span rule of
+  // synthesis::bspline_value: s outside [t_p, t_n] takes the end span) and their derivatives
+  // up to min(p, 4): ders[m][r] = N_{k-p+r}^(m)(s). returns k. (Piegl & Tiller, The NURBS
+  // Book, 2nd ed., algorithm A2.3)
+  int basis_derivatives(double s, double ders[5][8]) const {
+    const auto& t = knots;
+    const int orders = std::min(p, 4);
+    const int k = static_cast<int>(std::upper_bound(t.begin() + p + 1, t.begin() + ncoef, s) - t.begin()) - 1;
+    double ndu[8][8], left[8], right[8], a[2][8];
+    ndu[0][0] = 1.0;
+    for (int j = 1; j <= p; ++j) {
+      left[j] = s - t[static_cast<std::size_t>(k + 1 - j)];
+      right[j] = t[static_cast<std::size_t>(k + j)] - s;
+      double saved = 0.0;
+      for (int r = 0; r < j; ++r) {
+        ndu[j][r] = right[r + 1] + left[j - r];  // knot difference
+        const double temp = ndu[r][j - 1] / ndu[j][r];
+        ndu[r][j] = saved + right[r + 1] * temp;
+        saved = left[j - r] * temp;
+      }
+      ndu[j][j] = saved;
+    }
+    for (int r = 0; r <= p; ++r) ders[0][r] = ndu[r][p];
+    for (int r = 0; r <= p; ++r) {
+      int s1 = 0, s2 = 1;
+      a[0][0] = 1.0;
+      for (int m = 1; m <= orders; ++m) {
+        double dm = 0.0;
+        const int rk = r - m, pk = p - m;
+        if (r >= m) {
+          a[s2][0] = a[s1][0] / ndu[pk + 1][rk];
+          dm = a[s2][0] * ndu[rk][pk];
+        }
+        const int j1 = rk >= -1 ? 1 : -rk, j2 = r - 1 <= pk ? m - 1 : p - r;
+        for (int j = j1; j <= j2; ++j) {
+          a[s2][j] = (a[s1][j] - a[s1][j - 1]) / ndu[pk + 1][rk + j];
+          dm += a[s2][j] * ndu[rk + j][pk];
+        }
+        if (r <= pk) {
+          a[s2][m] = -a[s1][m - 1] / ndu[pk + 1][r];
+          dm += a[s2][m] * ndu[r][pk];
+        }
+        ders[m][r] = dm;
+        std::swap(s1, s2);
+      }
+    }
+    double f = p;
+    for (int m = 1; m <= orders; ++m) {
+      for (int r = 0; r <= p; ++r) ders[m][r] *= f;
+      f *= p - m;
+    }
+    for (int m = orders + 1; m <= 4; ++m)
+      for (int r = 0; r <= p; ++r) ders[m][r] = 0.0;
+    return k;
+  }
+
+  // free coefficient j of basis function k - p + r, or -1 when it is not a free one or its
+  // support does not hold se
+  int free_index(int k, int r, double se) const {
+    const int jj = k - p + r, j = jj - kZeroCoefficients;
+    if (j < 0 || j >= free()) return -1;
+    if (se < knots[static_cast<std::size_t>(jj)] || se > knots[static_cast<std::size_t>(jj + p + 1)]) return -1;
+    return j;
+  }
+
   void h_derivatives(std::span<const double> c, double s, double out[5]) const {
     std::fill(out, out + 5, 0.0);
     if (s <= sa) return;
     const double se = std::min(s, sb);
-    const auto& t0 = knots[0];
-    for (int j = 0; j < free(); ++j) {
-      const int jj = j + kZeroCoefficients;
-      if (se < t0[static_cast<std::size_t>(jj)] || se > t0[static_cast<std::size_t>(jj + p + 1)]) continue;
+    double ders[5][8];
+    const int k = basis_derivatives(s, ders);
+    for (int r = 0; r <= p; ++r) {
+      const int j = free_index(k, r, se);
+      if (j < 0) continue;
       const double cj = c[static_cast<std::size_t>(j)];
       if (cj == 0.0) continue;
-      for (int m = 0; m <= 4 && m <= p; ++m)
-        out[m] += cj * synthesis::bspline_value(knots[static_cast<std::size_t>(m)],
-                                                unit[static_cast<std::size_t>(m)][static_cast<std::size_t>(j)], p - m, s);
+      for (int m = 0; m <= 4 && m <= p; ++m) out[m] += cj * ders[m][r];
     }
   }
 
@@ -258,13 +321,13 @@ struct SwingCamLift::Impl {
     const double q_shift = 1.0 / g_q.value();  // dq/dc_j = q_shift N_j
     if (s0 <= sa) return Status::success();
     const double se = std::min(s0, sb);
-    for (int j = 0; j < free(); ++j) {
-      const int jj = j + kZeroCoefficients;
-      if (se < knots[0][static_cast<std::size_t>(jj)] || se > knots[0][static_cast<std::size_t>(jj + p + 1)]) continue;
+    double ders[5][8];
+    const int span = basis_derivatives(s0, ders);
+    for (int ib = 0; ib <= p; ++ib) {
+      const int j = free_index(span, ib, se);
+      if (j < 0) continue;
       double nd_[4];
-      for (int m = 0; m < 4; ++m)  // N_j^(m)(s0)
-        nd_[m] = synthesis::bspline_value(knots[static_cast<std::size_t>(m)],
-                                          unit[static_cast<std::size_t>(m)][static_cast<std::size_t>(j)], p - m, s0);
+      for (int m = 0; m < 4; ++m) nd_[m] = ders[m][ib];  // N_j^(m)(s0)
       const Jet<3> sj = taylor(nd_, 4, ds) / g_q;  // dq/dc_j along theta
       const Jet<3> dl = lift_q * sj;
       if (contact) {
@@ -396,17 +459,7 @@ SwingCamLift::SwingCamLift(const DesignSpec& design, const SwingProfileSpec& spe
   // spline bases
   m.p = spec.degree;
   m.ncoef = spec.coefficients;
-  m.knots[0] = synthesis::clamped_uniform_knots(m.ncoef, m.p, m.sa, m.sb);
-  m.unit[0].assign(static_cast<std::size_t>(m.free()), std::vector<double>(static_cast<std::size_t>(m.ncoef), 0.0));
-  for (int j = 0; j < m.free(); ++j) m.unit[0][static_cast<std::size_t>(j)][static_cast<std::size_t>(j + kZeroCoefficients)] = 1.0;
-  for (int d = 1; d <= 4; ++d) {
-    m.unit[static_cast<std::size_t>(d)].resize(static_cast<std::size_t>(m.free()));
-    for (int j = 0; j < m.free(); ++j)
-      synthesis::bspline_derivative(m.knots[static_cast<std::size_t>(d - 1)],
-                                    m.unit[static_cast<std::size_t>(d - 1)][static_cast<std::size_t>(j)], m.p - d + 1,
-                                    m.knots[static_cast<std::size_t>(d)],
-                                    m.unit[static_cast<std::size_t>(d)][static_cast<std::size_t>(j)]);
-  }
+  m.knots = synthesis::clamped_uniform_knots(m.ncoef, m.p, m.sa, m.sb);
   // initial: least squares to the traced pitch curve over [s_a, s_max], with a weak penalty
   // on the coefficients' second differences (the zero ones at s_a included) that carries the
   // curve on smoothly past the traced range
@@ -417,8 +470,11 @@ SwingCamLift::SwingCamLift(const DesignSpec& design, const SwingProfileSpec& spe
     Eigen::VectorXd row(nf);
     for (std::size_t i = 0; i < s_raw.size(); ++i) {
       if (s_raw[i] < m.sa || s_raw[i] > m.sb) continue;
-      for (int j = 0; j < nf; ++j)
-        row(j) = synthesis::bspline_value(m.knots[0], m.unit[0][static_cast<std::size_t>(j)], m.p, s_raw[i]);
+      double ders[5][8];
+      const int k = m.basis_derivatives(s_raw[i], ders);
+      row.setZero();
+      for (int r = 0; r <= m.p; ++r)
+        if (const int j = m.free_index(k, r, s_raw[i]); j >= 0) row(j) = ders[0][r];
       ata += row * row.transpose();
       atb += row * h_raw[i];
     }

@@ -1,7 +1,8 @@
 #pragma once
 // run a CamProblem through a solver backend:
 //   ipopt   interior point (Ipopt 3.11 TNLP): exact first derivatives, sparse jacobian,
-//           the objective's hessian or a limited-memory quasi-newton one (IpoptHessian)
+//           the objective's hessian or a limited-memory quasi-newton one (IpoptHessian);
+//           solved on a screened working set of the rows, grown until every row holds
 //   slsqp   NLopt sequential quadratic programming (Kraft 1988), exact gradients
 //   mma     NLopt method of moving asymptotes (Svanberg 2002); the closure equalities go
 //           through NLopt's augmented lagrangian (AUGLAG_EQ) around MMA
@@ -37,6 +38,9 @@ struct SolverOptions {
   // (CamProblem::objective_hessian); automatic = objective for a conventional cam (whose lift is
   // linear in u: faster, bench/README.md), limited_memory for a swing cam
   IpoptHessian ipopt_hessian = IpoptHessian::automatic;
+  // ipopt: solve on a working set of the rows near their limits, re-solving with the rows
+  // found violated at the end until every row holds (ipopt_backend.cpp); false: every row
+  bool ipopt_screening = true;
 };
 
 struct SolveResult {
@@ -49,6 +53,8 @@ struct SolveResult {
   double max_violation = 0.0;      // largest normalised constraint violation (0: feasible)
   bool evaluated = false;          // `final` holds a successful evaluation at u
   std::string solver_message;      // the backend's own status
+  int solver_rows = 0;             // ipopt: inequality rows in its last working set
+  int rounds = 1;                  // ipopt: solves over a growing working set
 };
 
 SolveResult optimize(CamProblem& problem, const SolverOptions& options);
