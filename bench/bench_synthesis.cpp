@@ -5,7 +5,7 @@
 //    lift: target = the design's own forward lift at 0.25 deg; error = round trip (forward
 //    lift of the new cam against the target).
 // resolution: 360 / points deg (polar angle, cam angle and tangent turn); samples = points.
-// usage: bench_synthesis [--repeat N] [--csv FILE] [--only TEXT]
+// usage: bench_synthesis [--repeat N] [--csv FILE] [--only TEXT] [--points N]
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -35,12 +35,14 @@ PeriodicSpline forward_lift(const DesignSpec& d) {
 int main(int argc, char** argv) {
   int repeat = 5;
   std::string csv_path, only;  // only: the cases whose "design:cam" contains this text
+  std::vector<int> resolutions{360, 720, 1440};  // points per revolution (--points: one of them)
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--repeat") && i + 1 < argc) repeat = std::atoi(argv[++i]);
     else if (!std::strcmp(argv[i], "--csv") && i + 1 < argc) csv_path = argv[++i];
     else if (!std::strcmp(argv[i], "--only") && i + 1 < argc) only = argv[++i];
+    else if (!std::strcmp(argv[i], "--points") && i + 1 < argc) resolutions = {std::atoi(argv[++i])};
     else {
-      std::fprintf(stderr, "usage: bench_synthesis [--repeat N] [--csv FILE] [--only TEXT]\n");
+      std::fprintf(stderr, "usage: bench_synthesis [--repeat N] [--csv FILE] [--only TEXT] [--points N]\n");
       return 2;
     }
   }
@@ -66,7 +68,7 @@ int main(int argc, char** argv) {
     for (auto& conn : d.connections) conn.lash_mm = 0.0;
     const PeriodicSpline target = forward_lift(d);
     const auto m = kin::compile(d);
-    for (int points : {360, 720, 1440}) {
+    for (int points : resolutions) {
       synthesis::SynthesisOptions o;
       o.points = points;
       o.samples = points;

@@ -164,27 +164,30 @@ bool solve_cyclic_pentadiagonal(const std::vector<std::array<double, 5>>& band, 
   constexpr int m = 4;
   const int n = static_cast<int>(band.size());
   const int N = n - m;
-  // A11 (band, N rows), [b1 | A12] (N x 5), A21 (4 x N), A22 (4 x 4)
+  // column of band[i][d] (rows near the ends wrap)
+  auto column = [n](int i, int d) { return ((i - 2 + d) % n + n) % n; };
+  // A11 (band, N rows), [b1 | A12] (N x 5, column-major: rhs[c * N + i]), A21 (4 x N), A22 (4 x 4)
   std::vector<std::array<double, 5>> lu(band.begin(), band.begin() + N);
-  Eigen::Matrix<double, Eigen::Dynamic, 5> rhs = Eigen::Matrix<double, Eigen::Dynamic, 5>::Zero(N, 5);
+  std::vector<double> rhs(static_cast<std::size_t>(5 * N), 0.0);
   Eigen::Matrix<double, m, Eigen::Dynamic> a21 = Eigen::Matrix<double, m, Eigen::Dynamic>::Zero(m, N);
   Eigen::Matrix4d a22 = Eigen::Matrix4d::Zero();
-  for (int i = 0; i < n; ++i)
+  // rows of A11 whose band wraps past column N (the first two and the last two)
+  for (int i : {0, 1, N - 2, N - 1})
     for (int d = 0; d < 5; ++d) {
-      const int k = ((i - 2 + d) % n + n) % n;
-      const double v = band[static_cast<std::size_t>(i)][static_cast<std::size_t>(d)];
-      if (i < N && k >= N) {
-        rhs(i, 1 + k - N) = v;
-        lu[static_cast<std::size_t>(i)][static_cast<std::size_t>(d)] = 0.0;
-      } else if (i < N && (k - i < -2 || k - i > 2)) {
-        return false;  // cannot happen for n >= 6 (wrapped columns are >= N)
-      } else if (i >= N && k < N) {
-        a21(i - N, k) += v;
-      } else if (i >= N) {
-        a22(i - N, k - N) += v;
-      }
+      const int k = column(i, d);
+      if (k < N) continue;
+      rhs[static_cast<std::size_t>((1 + k - N) * N + i)] = band[static_cast<std::size_t>(i)][static_cast<std::size_t>(d)];
+      lu[static_cast<std::size_t>(i)][static_cast<std::size_t>(d)] = 0.0;
     }
-  for (int i = 0; i < N; ++i) rhs(i, 0) = b[i];
+  for (int i = N; i < n; ++i)
+    for (int d = 0; d < 5; ++d) {
+      const int k = column(i, d);
+      const double v = band[static_cast<std::size_t>(i)][static_cast<std::size_t>(d)];
+      if (k < N) a21(i - N, k) += v;
+      else a22(i - N, k - N) += v;
+    }
+  for (int i = 0; i < N; ++i) rhs[static_cast<std::size_t>(i)] = b[i];
+  double* const r = rhs.data();
   // banded LU (no pivoting), applied to the 5 right-hand sides as it goes
   for (int i = 0; i < N; ++i) {
     const double pivot = lu[static_cast<std::size_t>(i)][2];
@@ -195,38 +198,80 @@ bool solve_cyclic_pentadiagonal(const std::vector<std::array<double, 5>>& band, 
       if (l == 0.0) continue;
       for (int c = i; c <= std::min(i + 2, N - 1); ++c)
         row[static_cast<std::size_t>(c - j + 2)] -= l * lu[static_cast<std::size_t>(i)][static_cast<std::size_t>(c - i + 2)];
-      rhs.row(j) -= l * rhs.row(i);
+      for (int c = 0; c < 5; ++c) r[c * N + j] -= l * r[c * N + i];
     }
   }
   for (int i = N - 1; i >= 0; --i) {
     const auto& row = lu[static_cast<std::size_t>(i)];
-    for (int c = i + 1; c <= std::min(i + 2, N - 1); ++c) rhs.row(i) -= row[static_cast<std::size_t>(c - i + 2)] * rhs.row(c);
-    rhs.row(i) /= row[2];
+    for (int c = i + 1; c <= std::min(i + 2, N - 1); ++c)
+      for (int q = 0; q < 5; ++q) r[q * N + i] -= row[static_cast<std::size_t>(c - i + 2)] * r[q * N + c];
+    for (int q = 0; q < 5; ++q) r[q * N + i] /= row[2];
   }
   // Schur complement S = A22 - A21 A11^-1 A12; x2 = S^-1 (b2 - A21 A11^-1 b1)
-  const Eigen::Matrix4d schur = a22 - a21 * rhs.rightCols<4>();
+  const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 5>> solved(r, N, 5);
+  const Eigen::Matrix4d schur = a22 - a21 * solved.rightCols<4>();
   Eigen::Vector4d b2;
   for (int i = 0; i < m; ++i) b2[i] = b[N + i];
-  b2 -= a21 * rhs.col(0);
+  b2 -= a21 * solved.col(0);
   const Eigen::PartialPivLU<Eigen::Matrix4d> s_lu(schur);
   const Eigen::Vector4d x2 = s_lu.solve(b2);
   x.resize(n);
-  x.head(N) = rhs.col(0) - rhs.rightCols<4>() * x2;
+  x.head(N) = solved.col(0) - solved.rightCols<4>() * x2;
   x.tail(m) = x2;
   if (!x.allFinite()) return false;
   // residual at round-off, else let the sparse LU (with its messages) decide
   double residual = 0.0, scale = 0.0;
   for (int i = 0; i < n; ++i) {
-    double r = -b[i], size = std::abs(b[i]);
+    const bool wraps = i < 2 || i >= n - 2;
+    double res = -b[i], size = std::abs(b[i]);
     for (int d = 0; d < 5; ++d) {
-      const double term = band[static_cast<std::size_t>(i)][static_cast<std::size_t>(d)] * x[((i - 2 + d) % n + n) % n];
-      r += term;
+      const double term =
+          band[static_cast<std::size_t>(i)][static_cast<std::size_t>(d)] * x[wraps ? column(i, d) : i - 2 + d];
+      res += term;
       size += std::abs(term);
     }
-    residual = std::max(residual, std::abs(r));
+    residual = std::max(residual, std::abs(res));
     scale = std::max(scale, size);
   }
   return residual <= 1e-12 * scale;
+}
+
+// A x = b for a band matrix (kl sub-, ku super-diagonals) by gaussian elimination with
+// partial pivoting (Golub & Van Loan, "Matrix Computations", 4th ed., sec. 4.3.5): the row
+// interchanges widen U to kl + ku super-diagonals, so each row keeps columns i - kl ..
+// i + kl + ku: band[i * w + (j - i + kl)], w = 2 kl + ku + 1. O(n kl (kl + ku)). b is
+// overwritten by x. false when a pivot is below 1e-14 of the largest (singular).
+bool solve_banded(int n, int kl, int ku, std::vector<double>& band, Eigen::VectorXd& b) {
+  const int w = 2 * kl + ku + 1;
+  auto at = [&](int i, int j) -> double& { return band[static_cast<std::size_t>(i * w + (j - i + kl))]; };
+  double largest = 0.0, smallest = INFINITY;
+  for (int k = 0; k < n; ++k) {
+    const int last_row = std::min(k + kl, n - 1), last_col = std::min(k + kl + ku, n - 1);
+    int pivot = k;
+    for (int i = k + 1; i <= last_row; ++i)
+      if (std::abs(at(i, k)) > std::abs(at(pivot, k))) pivot = i;
+    if (pivot != k) {
+      for (int j = k; j <= last_col; ++j) std::swap(at(k, j), at(pivot, j));
+      std::swap(b[k], b[pivot]);
+    }
+    const double d = at(k, k);
+    largest = std::max(largest, std::abs(d));
+    smallest = std::min(smallest, std::abs(d));
+    if (!(d != 0.0) || !std::isfinite(d)) return false;
+    for (int i = k + 1; i <= last_row; ++i) {
+      const double l = at(i, k) / d;
+      if (l == 0.0) continue;
+      for (int j = k + 1; j <= last_col; ++j) at(i, j) -= l * at(k, j);
+      b[i] -= l * b[k];
+    }
+  }
+  if (!(smallest > 1e-14 * largest)) return false;
+  for (int k = n - 1; k >= 0; --k) {
+    double v = b[k];
+    for (int j = k + 1; j <= std::min(k + kl + ku, n - 1); ++j) v -= at(k, j) * b[j];
+    b[k] = v / at(k, k);
+  }
+  return b.allFinite();
 }
 
 }  // namespace
@@ -442,37 +487,41 @@ Spline Spline::interpolate(std::span<const double> x, std::span<const double> y)
   for (int k = 0; k < p; ++k) U.push_back(x.back());
   const int last_span = n + p - 2;  // piece n-2: [x_{n-2}, x_{n-1}]
 
-  // rows: interpolation at every site, then f''' = f'''' = 0 at both ends (scaled by
-  // h^k of the end piece for conditioning)
+  // rows: f''' = f'''' = 0 at x0 (scaled by h^k of the end piece for conditioning), the
+  // interpolation at every site, then f''' = f'''' = 0 at xn: in this order the system is
+  // banded (row r holds columns r - 5 .. r + 5), solved by banded elimination with pivoting
+  constexpr int kl = p, ku = p;
+  constexpr int w = 2 * kl + ku + 1;
+  std::vector<double> band(static_cast<std::size_t>(nb * w), 0.0);
+  auto put = [&](int r, int col, double v) {
+    CAMOPT_ASSERT(col - r >= -kl && col - r <= ku);
+    band[static_cast<std::size_t>(r * w + (col - r + kl))] = v;
+  };
   double ders[6][6];
-  std::vector<Eigen::Triplet<double>> triplets;
-  triplets.reserve(static_cast<std::size_t>(nb) * (p + 1));
   Eigen::VectorXd b = Eigen::VectorXd::Zero(nb);
+  const double h_first = x[1] - x[0];
+  const double h_last = x[static_cast<std::size_t>(n - 1)] - x[static_cast<std::size_t>(n - 2)];
+  auto end_rows = [&](int span, int row) {
+    const bool first = span == p;
+    const double h = first ? h_first : h_last;
+    basis_derivatives(U.data(), span, first ? x.front() : x.back(), 4, ders);
+    for (int k = 3; k <= 4; ++k, ++row) {
+      const double scale = std::pow(h, k);
+      for (int r = 0; r <= p; ++r) put(row, span - p + r, ders[k][r] * scale);
+    }
+  };
+  end_rows(p, 0);
   for (int i = 0; i < n; ++i) {
     const int span = std::min(i + p, last_span);
     basis_derivatives(U.data(), span, x[static_cast<std::size_t>(i)], 0, ders);
-    for (int r = 0; r <= p; ++r) {
-      if (ders[0][r] != 0.0) triplets.emplace_back(i, span - p + r, ders[0][r]);
-    }
-    b[i] = y[static_cast<std::size_t>(i)];
+    for (int r = 0; r <= p; ++r)
+      if (ders[0][r] != 0.0) put(i + 2, span - p + r, ders[0][r]);
+    b[i + 2] = y[static_cast<std::size_t>(i)];
   }
-  int row = n;
-  const double h_first = x[1] - x[0];
-  const double h_last = x[static_cast<std::size_t>(n - 1)] - x[static_cast<std::size_t>(n - 2)];
-  for (const int span : {p, last_span}) {
-    const double u = span == p ? x.front() : x.back();
-    const double h = span == p ? h_first : h_last;
-    basis_derivatives(U.data(), span, u, 4, ders);
-    for (int k = 3; k <= 4; ++k, ++row) {
-      const double scale = std::pow(h, k);
-      for (int r = 0; r <= p; ++r) {
-        if (ders[k][r] != 0.0) triplets.emplace_back(row, span - p + r, ders[k][r] * scale);
-      }
-    }
-  }
-  Eigen::SparseMatrix<double> A(nb, nb);
-  A.setFromTriplets(triplets.begin(), triplets.end());
-  const Eigen::VectorXd c = solve(who, A, b);
+  end_rows(last_span, n + 2);
+  Eigen::VectorXd c = b;
+  if (!solve_banded(nb, kl, ku, band, c))
+    throw std::invalid_argument(std::string(who) + ": singular collocation system (nearly coincident x?)");
 
   Spline s;
   s.x_.assign(x.begin(), x.end());

@@ -76,8 +76,18 @@ CamProfile CamProfile::build(const ProfileSpec& spec) {
   constexpr int scan = 4096;
   double rmin = 1e300, rmax = 0.0;
   for (int i = 0; i < scan; ++i) {
-    const auto c = p.point(two_pi * i / scan);
-    const double rad = std::hypot(c.x, c.y);
+    const double u = two_pi * i / scan;
+    // polar: the point's x, y as point() forms them (the same bits) without its derivatives
+    double rad = 0.0;
+    if (p.polar_) {
+      double sn, cs;
+      sin_cos(u, sn, cs);
+      const double r = p.r_(u);
+      rad = std::hypot(r * cs, r * sn);
+    } else {
+      const auto c = p.point(u);
+      rad = std::hypot(c.x, c.y);
+    }
     rmin = std::min(rmin, rad);
     rmax = std::max(rmax, rad);
   }

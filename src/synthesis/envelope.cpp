@@ -87,6 +87,21 @@ PolarHit envelope_at_polar_angle(const P2<Jet2>& a, const P2<Jet2>& b, double ph
   return p;
 }
 
+// radius of an envelope point and its first two derivatives in polar angle phi (out[0..2]),
+// from the point's derivatives in its local parameter t: r_t = (x x' + y y') / r,
+// phi_t = (x y' - y x') / r^2, then dr/dphi = r_t / phi_t and
+// d2r/dphi2 = (r_tt - dr/dphi phi_tt) / phi_t^2
+void polar_derivatives(const PolarHit& p, double out[3]) {
+  const double r = std::hypot(p.x, p.y);
+  const double r_t = (p.x * p.x1 + p.y * p.y1) / r;
+  const double phi_t = (p.x * p.y1 - p.y * p.x1) / (r * r);
+  const double r_tt = (p.x1 * p.x1 + p.y1 * p.y1 + p.x * p.x2 + p.y * p.y2 - r_t * r_t) / r;
+  const double phi_tt = (p.x * p.y2 - p.y * p.x2) / (r * r) - 2 * phi_t * r_t / r;
+  out[0] = r;
+  out[1] = r_t / phi_t;
+  out[2] = (r_tt - out[1] * phi_tt) / (phi_t * phi_t);
+}
+
 // samples of the envelope per revolution: at least `requested`; when the target's knots
 // are uniform from 0 (a table or a periodic_motion grid), a multiple of their count, so
 // every sample interval lies inside one piece of the target and the hermite resampling in
@@ -214,12 +229,12 @@ std::vector<double> resolution_angles(const std::vector<P2<Jet2>>& env, const st
 
 namespace {
 
-// profile quantities from a polar table r(phi): point, curvature radius (convex > 0, 0 flat)
-void finish_from_polar(SynthesisResult& result, double wheel_radius) {
+// profile quantities from a polar table r(phi) with its derivatives dr/dphi, d2r/dphi2 at
+// every point (those of the synthesized curve itself): point, curvature radius (convex > 0,
+// 0 flat)
+void finish_from_polar(SynthesisResult& result, double wheel_radius, const std::vector<double>& dr,
+                       const std::vector<double>& ddr) {
   const int m = static_cast<int>(result.angle_deg.size());
-  std::vector<double> u(m);
-  for (int k = 0; k < m; ++k) u[k] = result.angle_deg[k] * pi / 180;
-  const PeriodicSpline r = PeriodicSpline::interpolate_banded(u, result.radius_mm, 2 * pi);
   result.x_mm.resize(m);
   result.y_mm.resize(m);
   result.radius_of_curvature_mm.resize(m);
@@ -227,12 +242,11 @@ void finish_from_polar(SynthesisResult& result, double wheel_radius) {
   result.min_concave_radius_mm = 1e300;
   result.has_concave = false;
   for (int k = 0; k < m; ++k) {
-    double d[3];
-    r.evaluate(u[k], 2, d);
-    result.x_mm[k] = d[0] * std::cos(u[k]);
-    result.y_mm[k] = d[0] * std::sin(u[k]);
+    const double u = result.angle_deg[k] * pi / 180, r = result.radius_mm[k];
+    result.x_mm[k] = r * std::cos(u);
+    result.y_mm[k] = r * std::sin(u);
     // polar curvature (r^2 + 2 r'^2 - r r'') / (r^2 + r'^2)^1.5, + convex
-    const double kappa = (d[0] * d[0] + 2 * d[1] * d[1] - d[0] * d[2]) / curvature_denominator(d[0] * d[0] + d[1] * d[1]);
+    const double kappa = (r * r + 2 * dr[k] * dr[k] - r * ddr[k]) / curvature_denominator(r * r + dr[k] * dr[k]);
     const double roc = std::abs(kappa) > 1e-12 ? 1.0 / kappa : 0.0;
     result.radius_of_curvature_mm[k] = roc;
     if (kappa > 0 && roc < result.min_radius_of_curvature_mm)
@@ -317,16 +331,21 @@ Status swing_profile(const DesignSpec& spec, const kin::Mechanism& up, const Mec
     if ((phi[j] - phi[j - 1]) * dir <= 0)
       return {StatusCode::undercut, "the synthesized swing profile folds back on itself (undercut or cusp)",
               "cam " + fmt(theta[run[j]] * 180 / pi) + " deg"};
-  // radius on the traced stretch at polar angle a (quintic hermite in theta between samples)
+  // radius on the traced stretch at polar angle a (quintic hermite in theta between
+  // samples), with dr/da and d2r/da2 (out[0..2])
   const double h = 2 * pi / n;
-  auto traced_radius = [&](double a) {
+  auto traced_polar = [&](double a, double out[3]) {
     int lo = 0, hi = static_cast<int>(phi.size()) - 1;
     while (hi - lo > 1) {
       const int mid = (lo + hi) / 2;
       ((phi[mid] - a) * dir <= 0 ? lo : hi) = mid;
     }
-    const PolarHit p = envelope_at_polar_angle(env[lo], env[hi], phi[lo], phi[hi], h, a);
-    return std::hypot(p.x, p.y);
+    polar_derivatives(envelope_at_polar_angle(env[lo], env[hi], phi[lo], phi[hi], h, a), out);
+  };
+  auto traced_radius = [&](double a) {
+    double d[3];
+    traced_polar(a, d);
+    return d[0];
   };
   // the closing stroke must retrace the opening one: radial distance of each closing
   // envelope point from the traced profile at its polar angle (or from the nearer end of
@@ -367,12 +386,18 @@ Status swing_profile(const DesignSpec& spec, const kin::Mechanism& up, const Mec
   const double py = floating ? 0.0 : -so * (swing.pivot.x() - ox) + co * (swing.pivot.y() - oy);
   const double rest_x = env.front().x.value(), rest_y = env.front().y.value();
   const double dwell = std::hypot(rest_x - px, rest_y - py);
-  auto dwell_radius = [&](double a) {
-    // ray from the origin at angle a meets the circle |x - P| = dwell
+  auto dwell_polar = [&](double a, double out[3]) {
+    // ray from the origin at angle a meets the circle |x - P| = dwell: r = b + sqrt(D),
+    // b = P.u(a), D = b^2 - |P|^2 + dwell^2 (b'' = -b)
     const double ux = std::cos(a), uy = std::sin(a);
-    const double b = px * ux + py * uy;
+    const double b = px * ux + py * uy, b1 = -px * uy + py * ux;
     const double disc = b * b - (px * px + py * py - dwell * dwell);
-    return b + std::sqrt(std::max(0.0, disc));
+    const double root = std::sqrt(std::max(0.0, disc));
+    out[0] = b + root;
+    // D' = 2 b b', D'' = 2 (b'^2 - b^2)
+    const double disc1 = 2 * b * b1, disc2 = 2 * (b1 * b1 - b * b);
+    out[1] = root > 0 ? b1 + disc1 / (2 * root) : b1;
+    out[2] = root > 0 ? -b + disc2 / (2 * root) - disc1 * disc1 / (4 * root * root * root) : -b;
   };
   // idle curve: where the follower rests at the other control positions. With controls,
   // the envelope of the resting roller over the control family (its centres in the profile
@@ -432,15 +457,26 @@ Status swing_profile(const DesignSpec& spec, const kin::Mechanism& up, const Mec
     settled_radius = d[0] + 0.5 * d[1] * settle;
     to_arc.emplace(d[0], d[1] * settle, d[2] * settle * settle, settled_radius, 0.0, 0.0);
   }
-  auto rest_side_radius = [&](double a) {
-    if (idle_reach <= 0) return dwell_radius(a);
+  // radius beyond the rest contact with dr/da, d2r/da2 (delta runs against a: d/da = -dir d/ddelta)
+  auto rest_side_polar = [&](double a, double out[3]) {
+    if (idle_reach <= 0) return dwell_polar(a, out);
     double delta = (phi_start - a) * dir;
     delta -= 2 * pi * std::floor(delta / (2 * pi));
-    if (delta <= idle_reach) return idle(delta);
-    if (delta >= idle_reach + settle) return settled_radius;
-    double f, d1, d2;
-    to_arc->eval((delta - idle_reach) / settle, f, d1, d2);
-    return f;
+    if (delta <= idle_reach) {
+      idle.evaluate(delta, 2, out);
+      out[1] *= -dir;
+    } else if (delta >= idle_reach + settle) {
+      out[0] = settled_radius, out[1] = 0.0, out[2] = 0.0;
+    } else {
+      to_arc->eval((delta - idle_reach) / settle, out[0], out[1], out[2]);
+      out[1] *= -dir / settle;
+      out[2] /= settle * settle;
+    }
+  };
+  auto rest_side_radius = [&](double a) {
+    double d[3];
+    rest_side_polar(a, d);
+    return d[0];
   };
   // bridge between the nose end (phi_end) and the idle curve's far end (or the dwell arc at
   // the middle of the untouched range)
@@ -468,37 +504,42 @@ Status swing_profile(const DesignSpec& spec, const kin::Mechanism& up, const Mec
   for (double a : resolution_angles(env, phi, h, step, false)) along.push_back((a - phi_start) * dir);
   const int rest_count = std::max(2, static_cast<int>(std::ceil(untouched / step - 1e-9)));
   for (int j = 1; j < rest_count; ++j) along.push_back(traced + untouched * j / rest_count);
-  std::vector<std::pair<double, double>> table;  // (polar angle in [0, 2 pi), radius)
+  // (polar angle in [0, 2 pi), radius, dr/da, d2r/da2)
+  std::vector<std::array<double, 4>> table;
   for (double d : along) {
     const double a = phi_start + dir * d;
-    double r = 0.0;
+    double r[3];
     if (d <= traced) {
-      r = traced_radius(a);
+      traced_polar(a, r);
     } else if (d <= 2 * pi - rest_reach) {
-      double f, d1, d2;
-      bridge.eval((a - phi_end) / span, f, d1, d2);
-      r = f;
+      bridge.eval((a - phi_end) / span, r[0], r[1], r[2]);
+      r[1] /= span;
+      r[2] /= span * span;
     } else {
-      r = rest_side_radius(a);
+      rest_side_polar(a, r);
     }
     double a0 = std::fmod(a, 2 * pi);
     if (a0 < 0) a0 += 2 * pi;
     if (a0 >= 2 * pi) a0 = 0.0;
-    table.push_back({a0, r});
+    table.push_back({a0, r[0], r[1], r[2]});
   }
   // the table runs once round in polar angle (either sense) from the rest point: reversed
   // and rotated it ascends (sorted only if rounding left it out of order)
   if (dir < 0) std::reverse(table.begin(), table.end());
   std::rotate(table.begin(), std::min_element(table.begin(), table.end()), table.end());
   if (!std::is_sorted(table.begin(), table.end())) std::sort(table.begin(), table.end());
-  table.erase(std::unique(table.begin(), table.end(), [](auto a, auto b) { return a.first == b.first; }), table.end());
+  table.erase(std::unique(table.begin(), table.end(), [](const auto& a, const auto& b) { return a[0] == b[0]; }),
+              table.end());
   result.angle_deg.clear();
   result.radius_mm.clear();
-  for (const auto& [a0, r] : table) {
+  std::vector<double> dr, ddr;
+  for (const auto& [a0, r, r1, r2] : table) {
     result.angle_deg.push_back(a0 * 180 / pi);
     result.radius_mm.push_back(r);
+    dr.push_back(r1);
+    ddr.push_back(r2);
   }
-  finish_from_polar(result, options.wheel_radius_mm);
+  finish_from_polar(result, options.wheel_radius_mm, dr, ddr);
   result.profile.name = cut.profile;
   result.profile.form = ProfileForm::polar;
   result.profile.angle_deg = result.angle_deg;
@@ -541,15 +582,25 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
       result.notes.push_back("lash of '" + c.name + "' (" + fmt(c.lash_mm) +
                              " mm) is ignored: the target lift's ramps are expected to take it up");
 
+  // a floating follower (intermediate lever) is not fixed by the target motion during its
+  // idle travel: inverted through its cam roller's travel instead (floating_inversion.hpp),
+  // on a mechanism of its own, so the downstream half is compiled only where it is solved
+  // (a conventional follower, or the idle family of a swing cam)
+  const auto follower_spec = std::find_if(spec.nodes.begin(), spec.nodes.end(),
+                                          [&](const NodeSpec& nd) { return nd.name == cut.follower_node; });
+  CAMOPT_ASSERT(follower_spec != spec.nodes.end());
+  const bool floating_follower = follower_spec->kind == NodeKind::floating;
+  const bool needs_downstream = !floating_follower || options.cam == "swing";
   const kin::Mechanism up = kin::compile(cut.upstream);
-  const kin::Mechanism down = kin::compile(cut.downstream);
+  const kin::Mechanism down = needs_downstream ? kin::compile(cut.downstream) : kin::Mechanism{};
   kin::Workspace up_ws(up), down_ws(down);
   std::vector<double> controls = options.controls;
   if (controls.empty())
     for (const auto& c : spec.controls) controls.push_back(c.default_value);
   up_ws.set_controls(controls);
-  down_ws.set_controls(controls);
-  const int cam = up.node_index(cut.cam_node), follower = down.node_index(cut.follower_node);
+  if (needs_downstream) down_ws.set_controls(controls);
+  const int cam = up.node_index(cut.cam_node);
+  const int follower = needs_downstream ? down.node_index(cut.follower_node) : -1;
   // the cam's angle: its one variable, or the third (phi) of a floating lever
   const int cam_angle_variable = up.nodes[cam].first_variable + (up.nodes[cam].kind == NodeKind::floating ? 2 : 0);
   const bool angle_driver = up.driver_is_angle();
@@ -583,15 +634,12 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
   // they are solved at levels across L's range (F and three derivatives, by implicit
   // differentiation in the solver) and interpolated by septic hermite pieces in L, then
   // composed with L(theta) (Faa di Bruno). levels run up from the rest (L = 0) for warm starts.
-  const kin::Node& fn = down.nodes[follower];
-  const int dof = fn.dof;
+  const kin::Node* fn = floating_follower ? nullptr : &down.nodes[follower];
+  const int dof = floating_follower ? 0 : fn->dof;
   if (motion_hi - motion_lo < 1e-9) motion_hi = motion_lo + 1e-3;  // no motion: any small bracket
   const int levels = kInversionLevels;
   const double level_step = (motion_hi - motion_lo) / levels;
   std::vector<double> inverse((levels + 1) * dof * 4);  // [level][dof][derivative]
-  // a floating follower (intermediate lever) is not fixed by the target motion during its
-  // idle travel: inverted through its cam roller's travel instead (floating_inversion.hpp)
-  const bool floating_follower = fn.kind == NodeKind::floating;
   FloatingInversion through_lever;
   if (floating_follower) {
     const Status st = invert_floating_follower(spec, cut, target_node, controls, theta, motion, through_lever);
@@ -627,7 +675,7 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
       }
       for (int k = 0; k < dof; ++k)
         for (int d = 0; d < 4; ++d)
-          inverse[(q * dof + k) * 4 + d] = down_ws.vars[fn.first_variable + k].derivative(d);
+          inverse[(q * dof + k) * 4 + d] = down_ws.vars[fn->first_variable + k].derivative(d);
     }
   }
   // a rotational cam that is the only body upstream turns with the driver: no solve needed
@@ -667,9 +715,8 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
       }
       Septic(e0, e1).eval(u - q, d);
       for (int j = 1; j < 4; ++j) d[j] /= step_power[j];
-      vars[fn.first_variable + k] = compose(d, L);  // follower(theta) = F(L(theta))
+      vars[fn->first_variable + k] = compose(d, L);  // follower(theta) = F(L(theta))
     }
-    const auto fpose = kin::detail::node_pose(down, follower, vars.data(), down_ws.pivots.data());
     // the cam's motion: the driver itself (its angle is theta), or interpolated from upstream
     const Jet3* up_vars = &driver_alone;
     driver_alone = Jet3::variable(theta[i]);
@@ -693,9 +740,12 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
       const Jet3 lx = cpose.c * v.x + cpose.s * v.y, ly = -cpose.s * v.x + cpose.c * v.y;
       return P2<Jet3>{co * lx + so * ly, -so * lx + co * ly};
     };
-    path[i] = floating_follower
-                  ? to_profile(kin::detail::V2<Jet3>{through_lever.centre_x[i], through_lever.centre_y[i]})
-                  : to_profile(fpose.apply(follower_surface.origin_mm[0], follower_surface.origin_mm[1]));
+    if (floating_follower) {
+      path[i] = to_profile(kin::detail::V2<Jet3>{through_lever.centre_x[i], through_lever.centre_y[i]});
+      continue;  // a roller (invert_floating_follower requires one)
+    }
+    const auto fpose = kin::detail::node_pose(down, follower, vars.data(), down_ws.pivots.data());
+    path[i] = to_profile(fpose.apply(follower_surface.origin_mm[0], follower_surface.origin_mm[1]));
     if (!roller) {
       const Vec2 nn = follower_surface.normal;
       const double len = std::hypot(nn[0], nn[1]);

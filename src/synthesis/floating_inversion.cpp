@@ -76,16 +76,15 @@ Status invert_floating_follower(const DesignSpec& spec, const MechanismCut& cut,
   if (!(base > 1e-9))
     throw InputError(conn.where, "synthesize: the roller of '" + cut.follower_node + "' is centred on the cam pivot");
   const double r = follower_surface.radius_mm;
-  auto make_probe = [&](double cx, double cy) {
+  // the probe pushing the roller radially through (cx, cy): its node and its face
+  auto probe_parts = [&](double cx, double cy) {
     const double len = std::hypot(cx - px, cy - py), dx = (cx - px) / len, dy = (cy - py) / len;
-    DesignSpec probe_spec = cut.downstream;
-    NodeSpec probe;
+    std::pair<NodeSpec, ConnectionSpec> parts;
+    auto& [probe, face] = parts;
     probe.name = "synthesis_probe";
     probe.kind = NodeKind::translational;
     probe.origin_mm = {cx, cy};
     probe.direction = {dx, dy};
-    probe_spec.nodes.push_back(probe);
-    ConnectionSpec face;
     face.name = "synthesis_probe_face";
     face.kind = ConnectionKind::contact;
     face.surface_a.node = probe.name;
@@ -94,10 +93,40 @@ Status invert_floating_follower(const DesignSpec& spec, const MechanismCut& cut,
     face.surface_a.normal = {dx, dy};
     face.surface_b = follower_surface;
     face.surface_b.concave = false;
+    return parts;
+  };
+  auto make_probe = [&](double cx, double cy) {
+    DesignSpec probe_spec = cut.downstream;
+    auto [probe, face] = probe_parts(cx, cy);
+    probe_spec.nodes.push_back(probe);
     probe_spec.connections.push_back(face);
     probe_spec.driver.node = probe.name;
     probe_spec.output_node = target_node;
     return kin::compile(probe_spec);
+  };
+  // the compiled probe mechanism moved to push through (cx, cy): compile takes nothing else
+  // from the probe than its node's line and its face (and their distances from the origin
+  // for the length scale), so moving those gives what a fresh compile would, without
+  // building the lever's profiles again. false (m untouched) when the length scale would
+  // change: compile afresh then.
+  auto move_probe = [&](kin::Mechanism& mech, double cx, double cy) {
+    const auto [probe, face] = probe_parts(cx, cy);
+    kin::Node& node = mech.nodes[static_cast<std::size_t>(mech.node_index(probe.name))];
+    kin::Connection& contact = mech.connections.back();
+    CAMOPT_ASSERT(contact.name == face.name && mech.spec.connections.back().name == face.name &&
+                  mech.spec.nodes.back().name == probe.name);
+    const Eigen::Vector2d origin(probe.origin_mm[0], probe.origin_mm[1]);
+    const Eigen::Vector2d face_origin(face.surface_a.origin_mm[0], face.surface_a.origin_mm[1]);
+    const double scale = mech.length_scale;
+    if (!(std::max({node.pivot.norm(), contact.surface_a.origin.norm(), origin.norm(), face_origin.norm()}) < scale))
+      return false;
+    node.pivot = origin;
+    node.direction = Eigen::Vector2d(probe.direction[0], probe.direction[1]).normalized();  // as compile does
+    contact.surface_a.origin = face_origin;
+    contact.surface_a.normal = Eigen::Vector2d(face.surface_a.normal[0], face.surface_a.normal[1]).normalized();
+    mech.spec.nodes.back() = probe;
+    mech.spec.connections.back() = face;
+    return true;
   };
   // the lever at rest: its cam roller on the base circle (as far from the cam pivot as in
   // the drawing). Away from the drawing's control position the other contacts move the
@@ -129,7 +158,8 @@ Status invert_floating_follower(const DesignSpec& spec, const MechanismCut& cut,
   // the probe through the rest pose (the drawing's own when the lever rests as drawn, to
   // the rest newton's tolerance)
   const bool rests_as_drawn = std::hypot(rest_x - c0x, rest_y - c0y) < 1e-12 * base;
-  const kin::Mechanism m = rests_as_drawn ? std::move(m0) : make_probe(rest_x, rest_y);
+  if (!rests_as_drawn && !move_probe(m0, rest_x, rest_y)) m0 = make_probe(rest_x, rest_y);
+  const kin::Mechanism m = std::move(m0);
   kin::Workspace ws(m);
   ws.set_controls(controls);
   const int lift_var = m.nodes[static_cast<std::size_t>(m.node_index(target_node))].first_variable;

@@ -2,10 +2,12 @@
 // disc is that disc (roller and flat-faced followers), a bundled finger-follower design
 // gives back its own lobe, and an impossible lift is reported as an undercut with its angle.
 #include <catch2/catch.hpp>
+#include <algorithm>
 #include <cmath>
 
 #include "camopt/io/csv.hpp"
 #include "camopt/io/design_file.hpp"
+#include "camopt/kinematics/cam_profile.hpp"
 #include "camopt/kinematics/sweep.hpp"
 #include "camopt/synthesis/envelope.hpp"
 #include "camopt/synthesis/target_lift.hpp"
@@ -183,6 +185,42 @@ TEST_CASE("synthesis: the CVVL swing cam synthesized at maximum lift reproduces 
     const double worst = worst_lift_difference(d, synthesized, control);
     INFO("control " << control << " deg: worst lift difference " << worst << " mm");
     CHECK(worst < 1e-3);
+  }
+}
+
+TEST_CASE("synthesis: a swing cam's reported curvature is that of the kinematic profile built from its table",
+          "[synthesis][envelope][swing]") {
+  // the report takes r, dr/dphi, d2r/dphi2 from the synthesized pieces (traced envelope,
+  // bridge, idle curve, dwell arc); the kinematics interpolates the table by the periodic
+  // quintic spline: away from the few points next to a join of two pieces (where the
+  // spline rounds a curvature step) the two agree to the spline's interpolation error
+  for (const char* name : {"cvvl_swing_cam", "valvetronic"}) {
+    INFO(name);
+    DesignSpec d = io::load_design(std::string(CAMOPT_SOURCE_DIR) + "/designs/" + name + ".toml");
+    for (auto& c : d.connections) c.lash_mm = 0.0;
+    synthesis::SynthesisOptions o;
+    o.cam = "swing";
+    synthesis::SynthesisResult res;
+    REQUIRE(synthesis::synthesize(d, forward_lift(d), o, res).ok());
+    const auto cam = kin::CamProfile::build(res.profile);
+    std::vector<double> miss;  // |curvature difference| x smallest radius of curvature
+    double max_curvature = 0.0, min_curvature = 0.0;
+    for (std::size_t k = 0; k < res.angle_deg.size(); ++k) {
+      const auto p = cam.point(res.angle_deg[k] * deg);
+      const double curvature = (p.dx * p.ddy - p.dy * p.ddx) / std::pow(p.dx * p.dx + p.dy * p.dy, 1.5);
+      const double reported = res.radius_of_curvature_mm[k] != 0.0 ? 1.0 / res.radius_of_curvature_mm[k] : 0.0;
+      miss.push_back(std::abs(curvature - reported) * res.min_radius_of_curvature_mm);
+      max_curvature = std::max(max_curvature, curvature);
+      min_curvature = std::min(min_curvature, curvature);
+    }
+    std::sort(miss.begin(), miss.end());
+    CHECK(miss[miss.size() / 2] < 1e-8);
+    CHECK(miss[miss.size() * 99 / 100] < 1e-3);
+    CHECK(res.min_radius_of_curvature_mm == Approx(1.0 / max_curvature).epsilon(1e-8));
+    // the concave stretch (the bridge's foot): its smallest radius within 1e-4 (the spline
+    // rounds the curvature there by 2e-5 of it)
+    CHECK(res.has_concave == (min_curvature < 0.0));
+    CHECK(res.min_concave_radius_mm == Approx(-1.0 / min_curvature).epsilon(1e-4));
   }
 }
 
