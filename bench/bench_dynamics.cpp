@@ -13,7 +13,10 @@
 //    a CVODE restart at each contact event.
 //    The time per cycle is the whole run (tabulation plus `revolutions` revolutions) divided
 //    by the revolutions integrated.
-// usage: bench_dynamics [--repeat N] [--csv FILE]
+// usage: bench_dynamics [--repeat N] [--csv FILE] [--flexible-only] [--single RTOL ATOL]
+//  --flexible-only: only the flexible table (its reference run included);
+//  --single RTOL ATOL: one flexible run at these tolerances and its counters, no reference,
+//    no timing repeat (for a profiler: valgrind --tool=callgrind ... --single 1e-6 1e-7).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -69,11 +72,19 @@ Peaks peaks_of(const dynamics::RigidSweep& s, const dynamics::Model& model) {
 int main(int argc, char** argv) {
   int repeat = 5;
   std::string csv_path;
+  bool flexible_only = false, single = false;
+  double single_rtol = 0, single_atol = 0;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--repeat") && i + 1 < argc) repeat = std::atoi(argv[++i]);
     else if (!std::strcmp(argv[i], "--csv") && i + 1 < argc) csv_path = argv[++i];
-    else {
-      std::fprintf(stderr, "usage: bench_dynamics [--repeat N] [--csv FILE]\n");
+    else if (!std::strcmp(argv[i], "--flexible-only")) flexible_only = true;
+    else if (!std::strcmp(argv[i], "--single") && i + 2 < argc) {
+      single = true;
+      single_rtol = std::atof(argv[++i]);
+      single_atol = std::atof(argv[++i]);
+    } else {
+      std::fprintf(stderr,
+                   "usage: bench_dynamics [--repeat N] [--csv FILE] [--flexible-only] [--single RTOL ATOL]\n");
       return 2;
     }
   }
@@ -83,6 +94,7 @@ int main(int argc, char** argv) {
   const std::vector<double> controls{0.0};
   std::vector<std::string> rows{"mode,setting,ms_per_cycle,error_metric,error,steps,rhs_evaluations"};
 
+  if (!flexible_only && !single) {
   // ---- mode (a) ----
   dynamics::RigidSweep fine;
   check(dynamics::rigid_sweep(mech, model, controls, 0, 360, 0.05, fine));
@@ -147,6 +159,7 @@ int main(int argc, char** argv) {
     rows.push_back("b,rtol " + num(rtol) + " atol " + num(atol) + " table " + num(table) + " deg," + num(t * 1e3) + ",peak contact force err / peak," +
                    num(peak_err) + "," + std::to_string(r.steps) + "," + std::to_string(r.rhs_evaluations));
   }
+  }
   // ---- flexible ----
   constexpr int kRevolutions = 3;
   auto run_flex = [&](double rtol, double atol, bool restart, dynamics::FlexibleResult& r) {
@@ -158,6 +171,15 @@ int main(int argc, char** argv) {
     opt.periodic_tolerance = 0;  // always the same 3 revolutions (the reference too)
     check(dynamics::run_flexible(mech, model, controls, kRpm, 0, 360, 1, opt, r));
   };
+  if (single) {
+    dynamics::FlexibleResult r;
+    const std::clock_t c0 = std::clock();
+    run_flex(single_rtol, single_atol, true, r);
+    const double cpu = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC / kRevolutions;
+    std::printf("flexible rtol %g atol %g: %.2f CPU ms/cycle, steps %ld, rhs %ld, jac %ld, events %zu\n", single_rtol,
+                single_atol, cpu * 1e3, r.steps, r.rhs_evaluations, r.jacobian_evaluations, r.events.size());
+    return 0;
+  }
   dynamics::FlexibleResult ref_flex;
   run_flex(1e-10, 1e-12, true, ref_flex);
   const auto peak_force = [](const dynamics::FlexibleResult& r) {

@@ -112,8 +112,11 @@ struct System {
 
   double omega = 0.0, theta0 = 0.0;
   Eigen::MatrixXd m;
-  Eigen::LDLT<Eigen::MatrixXd> ldlt;
-  double factored_theta = std::nan("");  // angle of m and ldlt
+  // m is block diagonal: the free rows' R x R block (coupled through the kinematic path),
+  // then a diagonal (far ends, spring masses); factored block by block
+  Eigen::LDLT<Eigen::MatrixXd> ldlt;  // R x R block
+  Eigen::VectorXd inv_diagonal;       // rows R .. N - 1
+  double factored_theta = std::nan("");  // angle of m and its factors
   Forces fr;
   Eigen::VectorXd x, v, acc;
   Eigen::MatrixXd jk, jd;  // Jacobian work: stiffness and damping
@@ -407,13 +410,22 @@ struct System {
   void factor_mass() {
     if (factored_theta == evaluated_theta) return;
     mass_matrix();
-    ldlt.compute(m);
+    ldlt.compute(m.topLeftCorner(R, R));
+    inv_diagonal = m.diagonal().tail(N - R).cwiseInverse();
     factored_theta = evaluated_theta;
+  }
+  // b <- M^-1 b (a vector or the columns of a matrix), after factor_mass
+  template <class Rows>
+  void solve_mass(Rows& b) const {
+    auto coupled = b.topRows(R);
+    ldlt.solveInPlace(coupled);
+    b.bottomRows(N - R) = inv_diagonal.asDiagonal() * b.bottomRows(N - R);
   }
   void accelerations(const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
     forces(q, qd);
     factor_mass();
-    acc = ldlt.solve(fr.f);
+    acc = fr.f;
+    solve_mass(acc);
   }
 
   // root function i: contacts' penetration, seats' penetration, coil gaps
@@ -492,8 +504,8 @@ int jacobian_callback(sunrealtype t, N_Vector y, N_Vector, SUNMatrix jac, void* 
     s->stiffness_matrix(s->x, s->jk);
     s->damping_matrix(s->x, s->jd);
     s->factor_mass();
-    s->jk = s->ldlt.solve(s->jk);
-    s->jd = s->ldlt.solve(s->jd);
+    s->solve_mass(s->jk);
+    s->solve_mass(s->jd);
     SUNMatZero(jac);
     for (int i = 0; i < n; ++i) {
       SM_ELEMENT_D(jac, i, n + i) = 1.0;
@@ -513,13 +525,19 @@ int jacobian_callback(sunrealtype t, N_Vector y, N_Vector, SUNMatrix jac, void* 
 // (A21 = -gamma (-M^-1 K), A22 = I - gamma (-M^-1 D)). Its solve reduces exactly to the N x N
 // Schur complement: x_q = b_q + gamma x_v, (A22 + gamma A21) x_v = b_v - A21 b_q. LU of N x N
 // instead of 2N x 2N (the dense GETRF / GETRS were 26 % of the CVVL's instructions).
+// The setup keeps the explicit inverse of the Schur complement (from its LU): a solve is then
+// two N x N products instead of two triangular solves.
 struct SchurSolver {
   int n = 0;
   double gamma = 0.0;
-  Eigen::MatrixXd s;
+  Eigen::MatrixXd s, s_inverse;
   Eigen::PartialPivLU<Eigen::MatrixXd> lu;
   Eigen::VectorXd rhs, xv;
 };
+// the lower-left N x N block A21 of CVODE's 2N x 2N dense Newton matrix (column-major)
+Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>> lower_left(SUNMatrix a, int n) {
+  return {SM_DATA_D(a) + n, n, n, Eigen::OuterStride<>(2 * n)};
+}
 SUNLinearSolver_Type schur_type(SUNLinearSolver) { return SUNLINEARSOLVER_DIRECT; }
 SUNLinearSolver_ID schur_id(SUNLinearSolver) { return SUNLINEARSOLVER_CUSTOM; }
 int schur_setup(SUNLinearSolver ls, SUNMatrix a) {
@@ -529,19 +547,18 @@ int schur_setup(SUNLinearSolver ls, SUNMatrix a) {
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) c->s(i, j) = SM_ELEMENT_D(a, n + i, n + j) + c->gamma * SM_ELEMENT_D(a, n + i, j);
   c->lu.compute(c->s);
-  return c->lu.matrixLU().allFinite() && c->lu.matrixLU().diagonal().cwiseAbs().minCoeff() > 0.0 ? 0 : 1;
+  if (!(c->lu.matrixLU().allFinite() && c->lu.matrixLU().diagonal().cwiseAbs().minCoeff() > 0.0)) return 1;
+  c->s_inverse = c->lu.inverse();
+  return c->s_inverse.allFinite() ? 0 : 1;
 }
 int schur_solve(SUNLinearSolver ls, SUNMatrix a, N_Vector x, N_Vector b, sunrealtype) {
   auto* c = static_cast<SchurSolver*>(ls->content);
   const int n = c->n;
   const double* bv = N_VGetArrayPointer(b);
   double* xv = N_VGetArrayPointer(x);
-  for (int i = 0; i < n; ++i) {
-    double r = bv[n + i];
-    for (int j = 0; j < n; ++j) r -= SM_ELEMENT_D(a, n + i, j) * bv[j];
-    c->rhs(i) = r;
-  }
-  c->xv = c->lu.solve(c->rhs);
+  const Eigen::Map<const Eigen::VectorXd> b_q(bv, n), b_v(bv + n, n);
+  c->rhs.noalias() = b_v - lower_left(a, n) * b_q;
+  c->xv.noalias() = c->s_inverse * c->rhs;
   for (int i = 0; i < n; ++i) {
     xv[i] = bv[i] + c->gamma * c->xv(i);
     xv[n + i] = c->xv(i);
@@ -562,7 +579,9 @@ SUNLinearSolver make_schur_solver(SUNContext ctx, int n) {
   auto* c = new SchurSolver;
   c->n = n;
   c->s.resize(n, n);
+  c->s_inverse.resize(n, n);
   c->rhs.resize(n);
+  c->xv.resize(n);
   ls->content = c;
   ls->ops->gettype = schur_type;
   ls->ops->getid = schur_id;
@@ -797,6 +816,8 @@ Status build_system(System& s, const Model& model, const std::vector<double>& co
   s.theta0 = theta_first;
   s.evaluate(0.0);
   s.mass_matrix();
+  CAMOPT_ASSERT(s.m.bottomLeftCorner(s.N - s.R, s.R).isZero(0.0) &&
+                s.m.bottomRightCorner(s.N - s.R, s.N - s.R).isDiagonal(0.0));  // factor_mass relies on it
   const Eigen::MatrixXd m_inv = s.m.inverse();
   s.damping.assign(s.C, 0.0);
   s.seat_row.assign(s.C, -1);
@@ -988,6 +1009,7 @@ Status run_flexible(const kin::Mechanism& mech, const Model& model, const std::v
     NV_Ith_S(su.atol, N + i) = options.absolute_tolerance * 1e4;
   }
   su.quad = N_VNew_Serial(4, su.ctx);
+  detail::use_fast_ops(su.quad);
   N_VConst(0.0, su.quad);
   out = FlexibleResult{};
   out.initial_state.resize(2 * N);
