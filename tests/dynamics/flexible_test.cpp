@@ -476,3 +476,53 @@ TEST_CASE("flexible: the train frequency (the component damping's reference) aga
   const double w2 = 0.5 * (b - std::sqrt(b * b - 4 * c));
   CHECK(res.train_frequency_hz == Approx(std::sqrt(w2) / (2 * pi)).epsilon(1e-9));
 }
+
+TEST_CASE("flexible: the Newton matrices K = -df/dq, D = -df/dq' equal central differences of the forces") {
+  // the CVVL at 6000 rpm: in the lift (150 deg: every contact closed, the pad sliding with
+  // friction) and on the seat (30 deg), at the static start with rates added so that the
+  // Hunt-Crossley rate factor (1 + 1.5 alpha rate) and the friction's dmu/dv matter
+  const DesignSpec d = io::load_design(std::string(CAMOPT_SOURCE_DIR) + "/designs/cvvl_swing_cam.toml");
+  const kin::Mechanism mech = kin::compile(d);
+  const dynamics::Model model = dynamics::compile_dynamics(mech);
+  dynamics::FlexibleOptions opt;
+  opt.table_step_deg = 1.0;  // the check holds on any path table; 4x less tabulation per call
+  constexpr double kRpm = 6000;
+  constexpr double kTolerance = 1e-6;  // of the largest entry (central differences: ~1e-8)
+  for (const double cam_deg : {150.0, 30.0}) {
+    dynamics::FlexibleLinearisation base;
+    REQUIRE(dynamics::flexible_linearise(mech, model, {0.0}, kRpm, cam_deg, opt, {}, {}, base).ok());
+    const int n = base.layout.size();
+    std::vector<double> q = base.q, qd = base.qd;
+    for (int i = 0; i < n; ++i) qd[i] += 20.0 * std::sin(1.7 * i + 0.3);  // [mm/s or rad/s]
+    dynamics::FlexibleLinearisation lin;
+    REQUIRE(dynamics::flexible_linearise(mech, model, {0.0}, kRpm, cam_deg, opt, q, qd, lin).ok());
+    auto force_at = [&](const std::vector<double>& x, const std::vector<double>& xd) {
+      dynamics::FlexibleLinearisation l;
+      REQUIRE(dynamics::flexible_linearise(mech, model, {0.0}, kRpm, cam_deg, opt, x, xd, l).ok());
+      return l.force;
+    };
+    double k_max = 0, d_max = 0, k_err = 0, d_err = 0, asymmetry = 0;
+    for (int j = 0; j < n; ++j) {
+      // [mm or rad], [per s]: the light dwell contacts (~16 N) have approaches of ~1e-4 mm
+      const double hq = 1e-9, hv = 1e-4;
+      std::vector<double> qp = q, qm = q, vp = qd, vm = qd;
+      qp[j] += hq, qm[j] -= hq, vp[j] += hv, vm[j] -= hv;
+      const std::vector<double> fqp = force_at(qp, qd), fqm = force_at(qm, qd), fvp = force_at(q, vp),
+                                fvm = force_at(q, vm);
+      for (int i = 0; i < n; ++i) {
+        const double k_fd = -(fqp[i] - fqm[i]) / (2 * hq), d_fd = -(fvp[i] - fvm[i]) / (2 * hv);
+        k_max = std::max(k_max, std::abs(lin.stiffness[i * n + j]));
+        d_max = std::max(d_max, std::abs(lin.damping[i * n + j]));
+        k_err = std::max(k_err, std::abs(lin.stiffness[i * n + j] - k_fd));
+        d_err = std::max(d_err, std::abs(lin.damping[i * n + j] - d_fd));
+        asymmetry = std::max(asymmetry, std::abs(lin.stiffness[i * n + j] - lin.stiffness[j * n + i]));
+      }
+    }
+    INFO("cam " << cam_deg << " deg: |K - K_fd| " << k_err << " of " << k_max << ", |D - D_fd| " << d_err << " of "
+                << d_max << ", K asymmetry " << asymmetry);
+    CHECK(k_err <= kTolerance * k_max);
+    CHECK(d_err <= kTolerance * d_max);
+    // friction makes K unsymmetric in the lift (mu g_t g_n^T); on the seat the pad is open
+    if (cam_deg == 150.0) CHECK(asymmetry > 100 * kTolerance * k_max);
+  }
+}
