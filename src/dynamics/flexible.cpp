@@ -170,13 +170,17 @@ struct System {
     // the kinematic held displacement is constant while the seat can close
     return -seat_sign[c] * qd(seat_row[c]);
   }
+  // Hertz forces, Newton started from each contact's last load length (per connection; the
+  // seats their own): consecutive right-hand sides differ little
+  mutable std::vector<double> hertz_start, seat_hertz_start;
   double hertz(int c, double pen) const {
     const ContactData& cd = flex.contacts[c];
-    return opt.contact_stiffness_scale * line_contact_force(pen, cd.width, cd.e_star, reduced_radius(c));
+    return opt.contact_stiffness_scale *
+           line_contact_force(pen, cd.width, cd.e_star, reduced_radius(c), hertz_start[c]);
   }
   double seat_hertz(int c, double pen) const {
-    return opt.contact_stiffness_scale *
-           line_contact_force(pen, opt.seat_length_mm, flex.contacts[c].e_star, opt.seat_radius_mm);
+    return opt.contact_stiffness_scale * line_contact_force(pen, opt.seat_length_mm, flex.contacts[c].e_star,
+                                                            opt.seat_radius_mm, seat_hertz_start[c]);
   }
   // chain node travel and rate
   double chain_x(const Chain& ch, const Eigen::VectorXd& q) const { return path[L.xs + ch.table_index] + q(ch.row); }
@@ -887,6 +891,8 @@ Status build_system(System& s, const Model& model, const std::vector<double>& co
       hunt_crossley_alpha(opt.contact_restitution, opt.restitution_speed_m_per_s * 1e3);
   s.frozen.assign(s.C, 0);
   s.frozen_force.assign(s.C, 0.0);
+  s.hertz_start.assign(s.C, 0.0);
+  s.seat_hertz_start.assign(s.C, 0.0);
   s.fr.connection.assign(s.C, 0.0);
   s.fr.mu_eff.assign(s.C, 0.0);
   s.fr.friction_power.assign(s.C, 0.0);

@@ -63,7 +63,19 @@ TEST_CASE("Hertz line law: force and approach are inverse, stiffness and energy 
     const double du = (dynamics::line_contact_energy(f + h, 8, e_star, 12) -
                        dynamics::line_contact_energy(f - h, 8, e_star, 12)) / (2 * h);
     CHECK(du == Approx(f / kd).epsilon(1e-7));
+    // a warm start (the load length a = F / (pi L E*) of a nearby or far-off solution) gives
+    // the cold start's force; a returns the solution
+    const double a = f / (pi * 8 * e_star);
+    for (double start : {a, a * (1 + 1e-6), a * 0.9, a * 3, a * 1e-6, a * 1e3, 1e9}) {
+      double warm = start;
+      INFO("F " << f << " N, start " << start / a << " a");
+      CHECK(dynamics::line_contact_force(d, 8, e_star, 12, warm) == Approx(f).epsilon(1e-12));
+      CHECK(warm == Approx(a).epsilon(1e-12));
+    }
   }
+  double none = 1e-3;
+  CHECK(dynamics::line_contact_force(-1e-3, 8, e_star, 12, none) == 0.0);
+  CHECK(none == 0.0);
 }
 
 // one impact of a mass [kg] at speed v [mm/s] on a Hunt-Crossley line contact, integrated by RK4
