@@ -13,7 +13,10 @@
 //    a CVODE restart at each contact event.
 //    The time per cycle is the whole run (tabulation plus `revolutions` revolutions) divided
 //    by the revolutions integrated.
-// usage: bench_dynamics [--repeat N] [--csv FILE]
+// usage: bench_dynamics [--repeat N] [--csv FILE] [--flexible-only] [--single RTOL ATOL]
+//  --flexible-only: only the flexible table (its reference run included);
+//  --single RTOL ATOL: one flexible run at these tolerances and its counters, no reference,
+//    no timing repeat (for a profiler: valgrind --tool=callgrind ... --single 1e-6 1e-7).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -69,11 +72,19 @@ Peaks peaks_of(const dynamics::RigidSweep& s, const dynamics::Model& model) {
 int main(int argc, char** argv) {
   int repeat = 5;
   std::string csv_path;
+  bool flexible_only = false, single = false;
+  double single_rtol = 0, single_atol = 0;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--repeat") && i + 1 < argc) repeat = std::atoi(argv[++i]);
     else if (!std::strcmp(argv[i], "--csv") && i + 1 < argc) csv_path = argv[++i];
-    else {
-      std::fprintf(stderr, "usage: bench_dynamics [--repeat N] [--csv FILE]\n");
+    else if (!std::strcmp(argv[i], "--flexible-only")) flexible_only = true;
+    else if (!std::strcmp(argv[i], "--single") && i + 2 < argc) {
+      single = true;
+      single_rtol = std::atof(argv[++i]);
+      single_atol = std::atof(argv[++i]);
+    } else {
+      std::fprintf(stderr,
+                   "usage: bench_dynamics [--repeat N] [--csv FILE] [--flexible-only] [--single RTOL ATOL]\n");
       return 2;
     }
   }
@@ -83,69 +94,71 @@ int main(int argc, char** argv) {
   const std::vector<double> controls{0.0};
   std::vector<std::string> rows{"mode,setting,ms_per_cycle,error_metric,error,steps,rhs_evaluations"};
 
-  // ---- mode (a) ----
-  dynamics::RigidSweep fine;
-  check(dynamics::rigid_sweep(mech, model, controls, 0, 360, 0.05, fine));
-  const Peaks ref = peaks_of(fine, model);
-  std::printf("mode (a) rigid inverse dynamics, CVVL control 0, %g rpm, one cycle (360 cam deg)\n", kRpm);
-  std::printf("%-10s %-12s %-22s %-16s %-22s\n", "step_deg", "ms/cycle", "peak force rel err", "torque rel err",
-              "separation rpm err");
-  for (const double step : {1.0, 0.5, 0.25}) {
-    dynamics::RigidSweep s;
-    const double t = seconds_of([&] { check(dynamics::rigid_sweep(mech, model, controls, 0, 360, step, s)); }, repeat);
-    const Peaks p = peaks_of(s, model);
-    double force_err = 0, sep_err = 0;
-    for (std::size_t c = 0; c < p.force.size(); ++c) {
-      force_err = std::max(force_err, std::abs(p.force[c] - ref.force[c]) / ref.force[c]);
-      if (std::isfinite(ref.separation[c])) sep_err = std::max(sep_err, std::abs(p.separation[c] - ref.separation[c]));
-    }
-    const double torque_err = std::abs(p.torque - ref.torque) / ref.torque;
-    std::printf("%-10g %-12.3f %-22.3g %-16.3g %-22.3g\n", step, t * 1e3, force_err, torque_err, sep_err);
-    rows.push_back("a,step " + num(step) + " deg," + num(t * 1e3) + ",peak contact force rel," + num(force_err) + ",,");
-    rows.push_back("a,step " + num(step) + " deg," + num(t * 1e3) + ",peak cam torque rel," + num(torque_err) + ",,");
-    rows.push_back("a,step " + num(step) + " deg," + num(t * 1e3) + ",separation rpm abs," + num(sep_err) + ",,");
-  }
-
-  // ---- mode (b) ----
-  auto run_b = [&](double rtol, double atol, dynamics::CompliantResult& r, double table_step = 0.25) {
-    dynamics::CompliantOptions opt;
-    opt.relative_tolerance = rtol;
-    opt.absolute_tolerance = atol;
-    opt.table_step_deg = table_step;
-    check(dynamics::run_compliant(mech, model, controls, kRpm, 0, 360, 1, opt, r));
-  };
-  dynamics::CompliantResult tight;
-  run_b(1e-10, 1e-12, tight, 0.05);
-  double peak = 0;
-  for (double f : tight.force) peak = std::max(peak, std::abs(f));
-  std::printf("\nmode (b) stiff contacts (CVODE BDF), same cycle, output every 1 cam deg; %zu events in the tight run\n",
-              tight.events.size());
-  std::printf("%-28s %-12s %-24s %-22s %-8s %-8s %-8s\n", "rtol / atol_mm / table_deg", "ms/cycle", "max force err / peak",
-              "peak force err / peak", "steps", "rhs", "events");
-  struct Setting {
-    double rtol, atol, table;
-  };
-  for (const auto& [rtol, atol, table] :
-       std::vector<Setting>{{1e-6, 1e-8, 0.25}, {1e-7, 1e-9, 0.25}, {1e-8, 1e-10, 0.25}, {1e-8, 1e-10, 0.1}, {1e-8, 1e-10, 0.05}}) {
-    dynamics::CompliantResult r;
-    const double t = seconds_of([&] { run_b(rtol, atol, r, table); }, repeat);
-    double err = 0, peak_err = 0;
-    for (std::size_t i = 0; i < r.force.size(); ++i) err = std::max(err, std::abs(r.force[i] - tight.force[i]));
-    for (int c = 0; c < r.connections; ++c) {
-      double pr = 0, pt = 0;
-      for (std::size_t i = 0; i < r.cam_deg.size(); ++i) {
-        pr = std::max(pr, r.force[i * r.connections + c]);
-        pt = std::max(pt, tight.force[i * r.connections + c]);
+  if (!flexible_only && !single) {  // modes (a) and (b)
+    // ---- mode (a) ----
+    dynamics::RigidSweep fine;
+    check(dynamics::rigid_sweep(mech, model, controls, 0, 360, 0.05, fine));
+    const Peaks ref = peaks_of(fine, model);
+    std::printf("mode (a) rigid inverse dynamics, CVVL control 0, %g rpm, one cycle (360 cam deg)\n", kRpm);
+    std::printf("%-10s %-12s %-22s %-16s %-22s\n", "step_deg", "ms/cycle", "peak force rel err", "torque rel err",
+                "separation rpm err");
+    for (const double step : {1.0, 0.5, 0.25}) {
+      dynamics::RigidSweep s;
+      const double t = seconds_of([&] { check(dynamics::rigid_sweep(mech, model, controls, 0, 360, step, s)); }, repeat);
+      const Peaks p = peaks_of(s, model);
+      double force_err = 0, sep_err = 0;
+      for (std::size_t c = 0; c < p.force.size(); ++c) {
+        force_err = std::max(force_err, std::abs(p.force[c] - ref.force[c]) / ref.force[c]);
+        if (std::isfinite(ref.separation[c])) sep_err = std::max(sep_err, std::abs(p.separation[c] - ref.separation[c]));
       }
-      peak_err = std::max(peak_err, std::abs(pr - pt) / peak);
+      const double torque_err = std::abs(p.torque - ref.torque) / ref.torque;
+      std::printf("%-10g %-12.3f %-22.3g %-16.3g %-22.3g\n", step, t * 1e3, force_err, torque_err, sep_err);
+      rows.push_back("a,step " + num(step) + " deg," + num(t * 1e3) + ",peak contact force rel," + num(force_err) + ",,");
+      rows.push_back("a,step " + num(step) + " deg," + num(t * 1e3) + ",peak cam torque rel," + num(torque_err) + ",,");
+      rows.push_back("a,step " + num(step) + " deg," + num(t * 1e3) + ",separation rpm abs," + num(sep_err) + ",,");
     }
-    std::printf("%-28s %-12.3f %-24.3g %-22.3g %-8ld %-8ld %-8zu\n",
-                (num(rtol) + " / " + num(atol) + " / " + num(table)).c_str(), t * 1e3,
-                err / peak, peak_err, r.steps, r.rhs_evaluations, r.events.size());
-    rows.push_back("b,rtol " + num(rtol) + " atol " + num(atol) + " table " + num(table) + " deg," + num(t * 1e3) + ",max contact force err / peak," +
-                   num(err / peak) + "," + std::to_string(r.steps) + "," + std::to_string(r.rhs_evaluations));
-    rows.push_back("b,rtol " + num(rtol) + " atol " + num(atol) + " table " + num(table) + " deg," + num(t * 1e3) + ",peak contact force err / peak," +
-                   num(peak_err) + "," + std::to_string(r.steps) + "," + std::to_string(r.rhs_evaluations));
+
+    // ---- mode (b) ----
+    auto run_b = [&](double rtol, double atol, dynamics::CompliantResult& r, double table_step = 0.25) {
+      dynamics::CompliantOptions opt;
+      opt.relative_tolerance = rtol;
+      opt.absolute_tolerance = atol;
+      opt.table_step_deg = table_step;
+      check(dynamics::run_compliant(mech, model, controls, kRpm, 0, 360, 1, opt, r));
+    };
+    dynamics::CompliantResult tight;
+    run_b(1e-10, 1e-12, tight, 0.05);
+    double peak = 0;
+    for (double f : tight.force) peak = std::max(peak, std::abs(f));
+    std::printf("\nmode (b) stiff contacts (CVODE BDF), same cycle, output every 1 cam deg; %zu events in the tight run\n",
+                tight.events.size());
+    std::printf("%-28s %-12s %-24s %-22s %-8s %-8s %-8s\n", "rtol / atol_mm / table_deg", "ms/cycle", "max force err / peak",
+                "peak force err / peak", "steps", "rhs", "events");
+    struct Setting {
+      double rtol, atol, table;
+    };
+    for (const auto& [rtol, atol, table] :
+         std::vector<Setting>{{1e-6, 1e-8, 0.25}, {1e-7, 1e-9, 0.25}, {1e-8, 1e-10, 0.25}, {1e-8, 1e-10, 0.1}, {1e-8, 1e-10, 0.05}}) {
+      dynamics::CompliantResult r;
+      const double t = seconds_of([&] { run_b(rtol, atol, r, table); }, repeat);
+      double err = 0, peak_err = 0;
+      for (std::size_t i = 0; i < r.force.size(); ++i) err = std::max(err, std::abs(r.force[i] - tight.force[i]));
+      for (int c = 0; c < r.connections; ++c) {
+        double pr = 0, pt = 0;
+        for (std::size_t i = 0; i < r.cam_deg.size(); ++i) {
+          pr = std::max(pr, r.force[i * r.connections + c]);
+          pt = std::max(pt, tight.force[i * r.connections + c]);
+        }
+        peak_err = std::max(peak_err, std::abs(pr - pt) / peak);
+      }
+      std::printf("%-28s %-12.3f %-24.3g %-22.3g %-8ld %-8ld %-8zu\n",
+                  (num(rtol) + " / " + num(atol) + " / " + num(table)).c_str(), t * 1e3,
+                  err / peak, peak_err, r.steps, r.rhs_evaluations, r.events.size());
+      rows.push_back("b,rtol " + num(rtol) + " atol " + num(atol) + " table " + num(table) + " deg," + num(t * 1e3) + ",max contact force err / peak," +
+                     num(err / peak) + "," + std::to_string(r.steps) + "," + std::to_string(r.rhs_evaluations));
+      rows.push_back("b,rtol " + num(rtol) + " atol " + num(atol) + " table " + num(table) + " deg," + num(t * 1e3) + ",peak contact force err / peak," +
+                     num(peak_err) + "," + std::to_string(r.steps) + "," + std::to_string(r.rhs_evaluations));
+    }
   }
   // ---- flexible ----
   constexpr int kRevolutions = 3;
@@ -158,6 +171,15 @@ int main(int argc, char** argv) {
     opt.periodic_tolerance = 0;  // always the same 3 revolutions (the reference too)
     check(dynamics::run_flexible(mech, model, controls, kRpm, 0, 360, 1, opt, r));
   };
+  if (single) {
+    dynamics::FlexibleResult r;
+    const std::clock_t c0 = std::clock();
+    run_flex(single_rtol, single_atol, true, r);
+    const double cpu = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC / kRevolutions;
+    std::printf("flexible rtol %g atol %g: %.2f CPU ms/cycle, steps %ld, rhs %ld, jac %ld, events %zu\n", single_rtol,
+                single_atol, cpu * 1e3, r.steps, r.rhs_evaluations, r.jacobian_evaluations, r.events.size());
+    return 0;
+  }
   dynamics::FlexibleResult ref_flex;
   run_flex(1e-10, 1e-12, true, ref_flex);
   const auto peak_force = [](const dynamics::FlexibleResult& r) {

@@ -16,6 +16,14 @@
 
 namespace camopt::dynamics::detail {
 
+// compiled kernels for the serial N_Vector's and the dense SUNMatrix's operations (replacing
+// the ops table entries; clones inherit them). The distribution's SUNDIALS libraries are built
+// without optimisation (-O0: ~15 instructions per element in N_VLinearSum), so on the small
+// systems here CVODE's vector and matrix work cost more than the model (CVVL flexible: 45 % of
+// all instructions). Same results to rounding: tests/dynamics/cvode_fast_ops_test.cpp.
+void use_fast_ops(N_Vector v);
+void use_fast_ops(SUNMatrix a);
+
 // CVODE's error messages go into the returned Status, not to stderr
 inline void silent_error_handler(int, const char*, const char*, char*, void*) {}
 
@@ -35,8 +43,11 @@ struct Sundials {
   bool create_bdf(CVRhsFn rhs, CVRootFn roots, int root_count, void* user_data, double relative_tolerance,
                   long max_steps, double max_step_s) {
     const sunindextype n = N_VGetLength(y);
+    use_fast_ops(y);
+    use_fast_ops(atol);
     cvode = CVodeCreate(CV_BDF, ctx);
     a = SUNDenseMatrix(n, n, ctx);
+    if (a) use_fast_ops(a);
     ls = SUNLinSol_Dense(y, a, ctx);
     return cvode && a && ls && CVodeInit(cvode, rhs, 0.0, y) == CV_SUCCESS &&
            CVodeSVtolerances(cvode, relative_tolerance, atol) == CV_SUCCESS &&

@@ -112,8 +112,11 @@ struct System {
 
   double omega = 0.0, theta0 = 0.0;
   Eigen::MatrixXd m;
-  Eigen::LDLT<Eigen::MatrixXd> ldlt;
-  double factored_theta = std::nan("");  // angle of m and ldlt
+  // m is block diagonal: the free rows' R x R block (coupled through the kinematic path),
+  // then a diagonal (far ends, spring masses); factored block by block
+  Eigen::LDLT<Eigen::MatrixXd> ldlt;  // R x R block
+  Eigen::VectorXd inv_diagonal;       // rows R .. N - 1
+  double factored_theta = std::nan("");  // angle of m and its factors
   Forces fr;
   Eigen::VectorXd x, v, acc;
   Eigen::MatrixXd jk, jd;  // Jacobian work: stiffness and damping
@@ -167,13 +170,17 @@ struct System {
     // the kinematic held displacement is constant while the seat can close
     return -seat_sign[c] * qd(seat_row[c]);
   }
+  // Hertz forces, Newton started from each contact's last load length (per connection; the
+  // seats their own): consecutive right-hand sides differ little
+  mutable std::vector<double> hertz_start, seat_hertz_start;
   double hertz(int c, double pen) const {
     const ContactData& cd = flex.contacts[c];
-    return opt.contact_stiffness_scale * line_contact_force(pen, cd.width, cd.e_star, reduced_radius(c));
+    return opt.contact_stiffness_scale *
+           line_contact_force(pen, cd.width, cd.e_star, reduced_radius(c), hertz_start[c]);
   }
   double seat_hertz(int c, double pen) const {
-    return opt.contact_stiffness_scale *
-           line_contact_force(pen, opt.seat_length_mm, flex.contacts[c].e_star, opt.seat_radius_mm);
+    return opt.contact_stiffness_scale * line_contact_force(pen, opt.seat_length_mm, flex.contacts[c].e_star,
+                                                            opt.seat_radius_mm, seat_hertz_start[c]);
   }
   // chain node travel and rate
   double chain_x(const Chain& ch, const Eigen::VectorXd& q) const { return path[L.xs + ch.table_index] + q(ch.row); }
@@ -388,6 +395,60 @@ struct System {
     }
   }
 
+  // the Newton matrices at (q, qd): K = -df/dq and D = -df/d(dq/dt) in full. Adds to K and D
+  // above what they leave out: the Hunt-Crossley force F_e (1 + 1.5 alpha rate) has
+  // dF/d delta = k_t (1 + 1.5 alpha rate) (K has k_t alone) and none where it is clamped at 0;
+  // friction mu(v) F g_t with v = v_kin - g_t . dq': K += dF/d delta mu g_t g_n^T,
+  // D += dF/d rate mu g_t g_n^T + F dmu/dv g_t g_t^T, dmu/dv = mu_c v0^2 / (v^2 + v0^2)^1.5
+  void newton_matrices(const Eigen::VectorXd& q, const Eigen::VectorXd& qd, Eigen::MatrixXd& k, Eigen::MatrixXd& d) const {
+    stiffness_matrix(q, k);
+    damping_matrix(q, d);
+    auto add_outer = [&](Eigen::MatrixXd& a, int c, double w, int left, int right) {  // 0: g_n, 1: g_t
+      for (int i = 0; i < R; ++i)
+        for (int j = 0; j < R; ++j)
+          a(row_map[c][i], row_map[c][j]) += w * (left ? gt(i, c) : gn(i, c)) * (right ? gt(j, c) : gn(j, c));
+    };
+    for (int c = 0; c < C; ++c) {
+      const ContactData& cd = flex.contacts[c];
+      if (frozen[c] || !cd.is_contact) continue;
+      const double pen = penetration(c, q);
+      if (pen > 0.0) {
+        const double elastic = hertz(c, pen), rate = penetration_rate(c, qd);
+        const double kt = opt.contact_stiffness_scale *
+                          line_contact_tangent_stiffness(elastic / opt.contact_stiffness_scale, cd.width, cd.e_star,
+                                                         reduced_radius(c));
+        const double fc = hunt_crossley_force(elastic, rate, alpha[c]);
+        // K and D hold k_t and 1.5 alpha F_e: the clamped force has no derivative
+        const double k_full = fc > 0.0 ? kt * (1.0 + 1.5 * alpha[c] * rate) : 0.0;
+        const double d_full = fc > 0.0 ? 1.5 * alpha[c] * elastic : 0.0;
+        add_outer(k, c, k_full - kt, 0, 0);
+        add_outer(d, c, d_full - 1.5 * alpha[c] * elastic, 0, 0);
+        if (fc > 0.0 && cd.friction > 0.0 && !cd.rolling) {
+          double sliding = path[L.slide + c] * omega;
+          for (int r = 0; r < R; ++r) sliding -= gt(r, c) * qd(row_map[c][r]);
+          const double v0 = opt.friction_velocity_m_per_s * 1e3, root = std::sqrt(sliding * sliding + v0 * v0);
+          const double mu = cd.friction * sliding / root, dmu = cd.friction * v0 * v0 / (root * root * root);
+          add_outer(k, c, k_full * mu, 1, 0);
+          add_outer(d, c, d_full * mu, 1, 0);
+          add_outer(d, c, fc * dmu, 1, 1);
+        }
+      }
+      if (seat_row[c] >= 0) {
+        const double sp = seat_penetration(c, q);
+        if (sp > 0.0) {
+          const double elastic = seat_hertz(c, sp), rate = seat_rate(c, qd);
+          const double kt = opt.contact_stiffness_scale *
+                            line_contact_tangent_stiffness(elastic / opt.contact_stiffness_scale, opt.seat_length_mm,
+                                                           cd.e_star, opt.seat_radius_mm);
+          const bool pressed = hunt_crossley_force(elastic, rate, seat_alpha[c]) > 0.0;
+          const int e = seat_row[c];
+          k(e, e) += (pressed ? kt * (1.0 + 1.5 * seat_alpha[c] * rate) : 0.0) - kt;
+          if (!pressed) d(e, e) -= 1.5 * seat_alpha[c] * elastic;
+        }
+      }
+    }
+  }
+
   // extended generalized mass
   void mass_matrix() {
     m.setZero(N, N);
@@ -407,13 +468,22 @@ struct System {
   void factor_mass() {
     if (factored_theta == evaluated_theta) return;
     mass_matrix();
-    ldlt.compute(m);
+    ldlt.compute(m.topLeftCorner(R, R));
+    inv_diagonal = m.diagonal().tail(N - R).cwiseInverse();
     factored_theta = evaluated_theta;
+  }
+  // b <- M^-1 b (a vector or the columns of a matrix), after factor_mass
+  template <class Rows>
+  void solve_mass(Rows& b) const {
+    auto coupled = b.topRows(R);
+    ldlt.solveInPlace(coupled);
+    b.bottomRows(N - R) = inv_diagonal.asDiagonal() * b.bottomRows(N - R);
   }
   void accelerations(const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
     forces(q, qd);
     factor_mass();
-    acc = ldlt.solve(fr.f);
+    acc = fr.f;
+    solve_mass(acc);
   }
 
   // root function i: contacts' penetration, seats' penetration, coil gaps
@@ -478,9 +548,9 @@ int quadrature_callback(sunrealtype t, N_Vector y, N_Vector q_dot, void* data) {
 }
 
 // Newton matrix for CVODE: y = [q, qd, work integrals], d(qd)/dt = M^-1 f(q, qd):
-// J = [[0, I, 0], [-M^-1 K, -M^-1 D, 0], [0, 0, 0]] with the analytic tangent stiffness K and
-// damping D (friction and the damping's dependence on q left out: CVODE only needs an
-// approximate Jacobian for its modified Newton iteration; the error test uses f itself).
+// J = [[0, I, 0], [-M^-1 K, -M^-1 D, 0], [0, 0, 0]] with the analytic K = -df/dq and
+// D = -df/dqd of newton_matrices (Hunt-Crossley rate factor and friction included; until
+// then they were left out, CVODE only needing an approximate Jacobian).
 // The power rows are zero: the integrals feed back into nothing.
 int jacobian_callback(sunrealtype t, N_Vector y, N_Vector, SUNMatrix jac, void* data, N_Vector, N_Vector, N_Vector) {
   auto* s = static_cast<System*>(data);
@@ -488,12 +558,11 @@ int jacobian_callback(sunrealtype t, N_Vector y, N_Vector, SUNMatrix jac, void* 
     s->evaluate(t);
     const double* yv = N_VGetArrayPointer(y);
     const int n = s->N;
-    for (int i = 0; i < n; ++i) s->x(i) = yv[i];
-    s->stiffness_matrix(s->x, s->jk);
-    s->damping_matrix(s->x, s->jd);
+    for (int i = 0; i < n; ++i) s->x(i) = yv[i], s->v(i) = yv[n + i];
+    s->newton_matrices(s->x, s->v, s->jk, s->jd);
     s->factor_mass();
-    s->jk = s->ldlt.solve(s->jk);
-    s->jd = s->ldlt.solve(s->jd);
+    s->solve_mass(s->jk);
+    s->solve_mass(s->jd);
     SUNMatZero(jac);
     for (int i = 0; i < n; ++i) {
       SM_ELEMENT_D(jac, i, n + i) = 1.0;
@@ -513,6 +582,8 @@ int jacobian_callback(sunrealtype t, N_Vector y, N_Vector, SUNMatrix jac, void* 
 // (A21 = -gamma (-M^-1 K), A22 = I - gamma (-M^-1 D)). Its solve reduces exactly to the N x N
 // Schur complement: x_q = b_q + gamma x_v, (A22 + gamma A21) x_v = b_v - A21 b_q. LU of N x N
 // instead of 2N x 2N (the dense GETRF / GETRS were 26 % of the CVVL's instructions).
+// The triangular solves are plain loops: Eigen's general (blocked) triangular solvers cost
+// ~3x as much on a 10 x 10 system.
 struct SchurSolver {
   int n = 0;
   double gamma = 0.0;
@@ -520,6 +591,10 @@ struct SchurSolver {
   Eigen::PartialPivLU<Eigen::MatrixXd> lu;
   Eigen::VectorXd rhs, xv;
 };
+// the lower-left N x N block A21 of CVODE's 2N x 2N dense Newton matrix (column-major)
+Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>> lower_left(SUNMatrix a, int n) {
+  return {SM_DATA_D(a) + n, n, n, Eigen::OuterStride<>(2 * n)};
+}
 SUNLinearSolver_Type schur_type(SUNLinearSolver) { return SUNLINEARSOLVER_DIRECT; }
 SUNLinearSolver_ID schur_id(SUNLinearSolver) { return SUNLINEARSOLVER_CUSTOM; }
 int schur_setup(SUNLinearSolver ls, SUNMatrix a) {
@@ -536,12 +611,18 @@ int schur_solve(SUNLinearSolver ls, SUNMatrix a, N_Vector x, N_Vector b, sunreal
   const int n = c->n;
   const double* bv = N_VGetArrayPointer(b);
   double* xv = N_VGetArrayPointer(x);
-  for (int i = 0; i < n; ++i) {
-    double r = bv[n + i];
-    for (int j = 0; j < n; ++j) r -= SM_ELEMENT_D(a, n + i, j) * bv[j];
-    c->rhs(i) = r;
+  const Eigen::Map<const Eigen::VectorXd> b_q(bv, n), b_v(bv + n, n);
+  c->rhs.noalias() = b_v - lower_left(a, n) * b_q;
+  // P S = L U: x_v = U^-1 L^-1 P rhs (L unit lower, both stored in matrixLU)
+  c->xv.noalias() = c->lu.permutationP() * c->rhs;
+  const Eigen::MatrixXd& lu = c->lu.matrixLU();
+  double* z = c->xv.data();
+  for (int i = 1; i < n; ++i)
+    for (int j = 0; j < i; ++j) z[i] -= lu(i, j) * z[j];
+  for (int i = n - 1; i >= 0; --i) {
+    for (int j = i + 1; j < n; ++j) z[i] -= lu(i, j) * z[j];
+    z[i] /= lu(i, i);
   }
-  c->xv = c->lu.solve(c->rhs);
   for (int i = 0; i < n; ++i) {
     xv[i] = bv[i] + c->gamma * c->xv(i);
     xv[n + i] = c->xv(i);
@@ -563,6 +644,7 @@ SUNLinearSolver make_schur_solver(SUNContext ctx, int n) {
   c->n = n;
   c->s.resize(n, n);
   c->rhs.resize(n);
+  c->xv.resize(n);
   ls->content = c;
   ls->ops->gettype = schur_type;
   ls->ops->getid = schur_id;
@@ -797,6 +879,8 @@ Status build_system(System& s, const Model& model, const std::vector<double>& co
   s.theta0 = theta_first;
   s.evaluate(0.0);
   s.mass_matrix();
+  CAMOPT_ASSERT(s.m.bottomLeftCorner(s.N - s.R, s.R).isZero(0.0) &&
+                s.m.bottomRightCorner(s.N - s.R, s.N - s.R).isDiagonal(0.0));  // factor_mass relies on it
   const Eigen::MatrixXd m_inv = s.m.inverse();
   s.damping.assign(s.C, 0.0);
   s.seat_row.assign(s.C, -1);
@@ -807,6 +891,8 @@ Status build_system(System& s, const Model& model, const std::vector<double>& co
       hunt_crossley_alpha(opt.contact_restitution, opt.restitution_speed_m_per_s * 1e3);
   s.frozen.assign(s.C, 0);
   s.frozen_force.assign(s.C, 0.0);
+  s.hertz_start.assign(s.C, 0.0);
+  s.seat_hertz_start.assign(s.C, 0.0);
   s.fr.connection.assign(s.C, 0.0);
   s.fr.mu_eff.assign(s.C, 0.0);
   s.fr.friction_power.assign(s.C, 0.0);
@@ -943,6 +1029,26 @@ void polish_static(System& s, Eigen::VectorXd& x, const Eigen::VectorXd& v, Eige
   s.stiffness_matrix(x, k);
 }
 
+// the state run_flexible starts from: the static deviation, Newton-polished when that lowers
+// the force residual, and the chain masses moving with the kinematic spring compression
+void static_start(System& s, const Eigen::VectorXd& lambda0, const Eigen::VectorXd& seat0,
+                  const std::vector<char>& open0, Eigen::VectorXd& x0, Eigen::VectorXd& v0) {
+  x0 = initial_deviation(s, lambda0, seat0, open0);
+  v0 = Eigen::VectorXd::Zero(s.N);
+  for (const Chain& ch : s.chains)
+    for (int j = 1; j <= ch.masses; ++j) v0(ch.first + j - 1) = j / (ch.masses + 1.0) * s.path[s.L.xs1 + ch.table_index] * s.omega;
+  {
+    Eigen::MatrixXd k;
+    Eigen::VectorXd xp = x0;
+    polish_static(s, xp, v0, k, 3);
+    s.forces(xp, v0);
+    s.forces(x0, v0);
+    const double before = s.fr.f.norm();
+    s.forces(xp, v0);
+    if (xp.allFinite() && s.fr.f.norm() < before) x0 = xp;
+  }
+}
+
 }  // namespace
 
 Status run_flexible(const kin::Mechanism& mech, const Model& model, const std::vector<double>& controls,
@@ -959,20 +1065,8 @@ Status run_flexible(const kin::Mechanism& mech, const Model& model, const std::v
     if (!st.ok()) return st;
   }
   const int N = s.N;
-  Eigen::VectorXd x0 = initial_deviation(s, lambda0, seat0, open0);
-  Eigen::VectorXd v0 = Eigen::VectorXd::Zero(N);
-  for (const Chain& ch : s.chains)
-    for (int j = 1; j <= ch.masses; ++j) v0(ch.first + j - 1) = j / (ch.masses + 1.0) * s.path[s.L.xs1 + ch.table_index] * s.omega;
-  {
-    Eigen::MatrixXd k;
-    Eigen::VectorXd xp = x0;
-    polish_static(s, xp, v0, k, 3);
-    s.forces(xp, v0);
-    s.forces(x0, v0);
-    const double before = s.fr.f.norm();
-    s.forces(xp, v0);
-    if (xp.allFinite() && s.fr.f.norm() < before) x0 = xp;
-  }
+  Eigen::VectorXd x0, v0;
+  static_start(s, lambda0, seat0, open0, x0, v0);
 
   // declared before su: CVODE (freed with su) may still refer to it
   std::unique_ptr<_generic_SUNLinearSolver, int (*)(SUNLinearSolver)> schur(nullptr, SUNLinSolFree);
@@ -988,6 +1082,7 @@ Status run_flexible(const kin::Mechanism& mech, const Model& model, const std::v
     NV_Ith_S(su.atol, N + i) = options.absolute_tolerance * 1e4;
   }
   su.quad = N_VNew_Serial(4, su.ctx);
+  detail::use_fast_ops(su.quad);
   N_VConst(0.0, su.quad);
   out = FlexibleResult{};
   out.initial_state.resize(2 * N);
@@ -1240,6 +1335,44 @@ Status flexible_modes(const kin::Mechanism& mech, const Model& model, const std:
   frequencies_hz.clear();
   for (int i = 0; i < s.N; ++i) frequencies_hz.push_back(std::sqrt(std::max(eig.eigenvalues()(i), 0.0)) / (2 * kPi));
   std::sort(frequencies_hz.begin(), frequencies_hz.end());
+  return Status::success();
+}
+
+Status flexible_linearise(const kin::Mechanism& mech, const Model& model, const std::vector<double>& controls,
+                          double engine_rpm_value, double cam_deg, const FlexibleOptions& options,
+                          const std::vector<double>& q, const std::vector<double>& qd, FlexibleLinearisation& out) {
+  CAMOPT_ASSERT(engine_rpm_value > 0);
+  System s(mech, options);
+  s.omega = cam_speed_rad_per_s(engine_rpm_value, model.crank_per_cam);
+  Eigen::VectorXd lambda0, seat0;
+  std::vector<char> open0;
+  {
+    const Status st = build_system(s, model, controls, cam_deg * kDeg, lambda0, seat0, open0);
+    if (!st.ok()) return st;
+  }
+  const int n = s.N;
+  Eigen::VectorXd x, v;
+  static_start(s, lambda0, seat0, open0, x, v);
+  if (!q.empty()) {
+    CAMOPT_ASSERT(static_cast<int>(q.size()) == n);
+    x = Eigen::Map<const Eigen::VectorXd>(q.data(), n);
+  }
+  if (!qd.empty()) {
+    CAMOPT_ASSERT(static_cast<int>(qd.size()) == n);
+    v = Eigen::Map<const Eigen::VectorXd>(qd.data(), n);
+  }
+  s.evaluate(0.0);
+  s.forces(x, v);
+  Eigen::MatrixXd k, d;
+  s.newton_matrices(x, v, k, d);
+  out.layout = {s.R, static_cast<int>(s.elements.size()), n - s.R - static_cast<int>(s.elements.size())};
+  out.q.assign(x.data(), x.data() + n);
+  out.qd.assign(v.data(), v.data() + n);
+  out.force.assign(s.fr.f.data(), s.fr.f.data() + n);
+  out.stiffness.resize(static_cast<std::size_t>(n) * n);
+  out.damping.resize(static_cast<std::size_t>(n) * n);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) out.stiffness[i * n + j] = k(i, j), out.damping[i * n + j] = d(i, j);
   return Status::success();
 }
 

@@ -29,19 +29,37 @@ double line_contact_approach(double force, double length, double e_star, double 
 }
 
 double line_contact_force(double approach, double length, double e_star, double reduced_radius) {
-  if (!(approach > 0.0)) return 0.0;
+  double cold = 0.0;
+  return line_contact_force(approach, length, e_star, reduced_radius, cold);
+}
+
+double line_contact_force(double approach, double length, double e_star, double reduced_radius, double& load_length_mm) {
+  if (!(approach > 0.0)) {
+    load_length_mm = 0.0;
+    return 0.0;
+  }
   const double c = 4.0 * reduced_radius;
-  // a = approach / (ln(c/a) - 1): one fixed-point pass from a = approach / 10 (the log
-  // varies slowly), then Newton on f(a) = a (ln(c/a) - 1) - approach, f' = ln(c/a) - 2
-  double a = approach / std::max(std::log(c / (0.1 * approach)) - 1.0, 1.0);
-  a = approach / std::max(std::log(c / a) - 1.0, 1.0);
-  for (int it = 0; it < 8; ++it) {
+  const bool warm = load_length_mm > 0.0 && load_length_mm < c;
+  // a = approach / (ln(c/a) - 1): without a start, one fixed-point pass from a = approach / 10
+  // (the log varies slowly); then Newton on f(a) = a (ln(c/a) - 1) - approach, f' = ln(c/a) - 2
+  double a = load_length_mm;
+  if (!warm) {
+    a = approach / std::max(std::log(c / (0.1 * approach)) - 1.0, 1.0);
+    a = approach / std::max(std::log(c / a) - 1.0, 1.0);
+  }
+  bool converged = false;
+  for (int it = 0; it < 8 && !converged; ++it) {
     const double l = std::log(c / a);
     const double slope = std::max(l - 2.0, 1e-3);
     const double da = (a * (l - 1.0) - approach) / slope;
     a = std::max(a - da, 0.5 * a);
-    if (std::abs(da) <= 1e-15 * a) break;
+    converged = std::abs(da) <= 1e-15 * a;
   }
+  if (warm && !converged) {  // a start too far off: the cold start's iterations
+    load_length_mm = 0.0;
+    return line_contact_force(approach, length, e_star, reduced_radius, load_length_mm);
+  }
+  load_length_mm = a;
   return std::numbers::pi * length * e_star * a;
 }
 

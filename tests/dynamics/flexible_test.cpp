@@ -63,7 +63,19 @@ TEST_CASE("Hertz line law: force and approach are inverse, stiffness and energy 
     const double du = (dynamics::line_contact_energy(f + h, 8, e_star, 12) -
                        dynamics::line_contact_energy(f - h, 8, e_star, 12)) / (2 * h);
     CHECK(du == Approx(f / kd).epsilon(1e-7));
+    // a warm start (the load length a = F / (pi L E*) of a nearby or far-off solution) gives
+    // the cold start's force; a returns the solution
+    const double a = f / (pi * 8 * e_star);
+    for (double start : {a, a * (1 + 1e-6), a * 0.9, a * 3, a * 1e-6, a * 1e3, 1e9}) {
+      double warm = start;
+      INFO("F " << f << " N, start " << start / a << " a");
+      CHECK(dynamics::line_contact_force(d, 8, e_star, 12, warm) == Approx(f).epsilon(1e-12));
+      CHECK(warm == Approx(a).epsilon(1e-12));
+    }
   }
+  double none = 1e-3;
+  CHECK(dynamics::line_contact_force(-1e-3, 8, e_star, 12, none) == 0.0);
+  CHECK(none == 0.0);
 }
 
 // one impact of a mass [kg] at speed v [mm/s] on a Hunt-Crossley line contact, integrated by RK4
@@ -475,4 +487,79 @@ TEST_CASE("flexible: the train frequency (the component damping's reference) aga
   const double b = (k1 + k_a) / m, c = (k1 * k_a - k_a * k_a) / (m * m);
   const double w2 = 0.5 * (b - std::sqrt(b * b - 4 * c));
   CHECK(res.train_frequency_hz == Approx(std::sqrt(w2) / (2 * pi)).epsilon(1e-9));
+}
+
+TEST_CASE("flexible: the Newton matrices K = -df/dq, D = -df/dq' equal central differences of the forces") {
+  // the CVVL at 6000 rpm: in the lift (150 deg: every contact closed, the pad sliding with
+  // friction) and on the seat (30 deg), at the static start with rates added so that the
+  // Hunt-Crossley rate factor (1 + 1.5 alpha rate) and the friction's dmu/dv matter
+  const DesignSpec d = io::load_design(std::string(CAMOPT_SOURCE_DIR) + "/designs/cvvl_swing_cam.toml");
+  const kin::Mechanism mech = kin::compile(d);
+  const dynamics::Model model = dynamics::compile_dynamics(mech);
+  dynamics::FlexibleOptions opt;
+  opt.table_step_deg = 4.0;  // the check holds on any path table; 16x less tabulation per call
+  constexpr double kRpm = 6000;
+  constexpr double kTolerance = 1e-6;  // of the largest entry (central differences: ~1e-8)
+  for (const double cam_deg : {150.0, 30.0}) {
+    dynamics::FlexibleLinearisation base;
+    REQUIRE(dynamics::flexible_linearise(mech, model, {0.0}, kRpm, cam_deg, opt, {}, {}, base).ok());
+    const int n = base.layout.size();
+    std::vector<double> q = base.q, qd = base.qd;
+    for (int i = 0; i < n; ++i) qd[i] += 20.0 * std::sin(1.7 * i + 0.3);  // [mm/s or rad/s]
+    dynamics::FlexibleLinearisation lin;
+    REQUIRE(dynamics::flexible_linearise(mech, model, {0.0}, kRpm, cam_deg, opt, q, qd, lin).ok());
+    auto force_at = [&](const std::vector<double>& x, const std::vector<double>& xd) {
+      dynamics::FlexibleLinearisation l;
+      REQUIRE(dynamics::flexible_linearise(mech, model, {0.0}, kRpm, cam_deg, opt, x, xd, l).ok());
+      return l.force;
+    };
+    double k_max = 0, d_max = 0, k_err = 0, d_err = 0, asymmetry = 0;
+    for (int j = 0; j < n; ++j) {
+      // [mm or rad], [per s]: the light dwell contacts (~16 N) have approaches of ~1e-4 mm
+      const double hq = 1e-9, hv = 1e-4;
+      std::vector<double> qp = q, qm = q, vp = qd, vm = qd;
+      qp[j] += hq, qm[j] -= hq, vp[j] += hv, vm[j] -= hv;
+      const std::vector<double> fqp = force_at(qp, qd), fqm = force_at(qm, qd), fvp = force_at(q, vp),
+                                fvm = force_at(q, vm);
+      for (int i = 0; i < n; ++i) {
+        const double k_fd = -(fqp[i] - fqm[i]) / (2 * hq), d_fd = -(fvp[i] - fvm[i]) / (2 * hv);
+        k_max = std::max(k_max, std::abs(lin.stiffness[i * n + j]));
+        d_max = std::max(d_max, std::abs(lin.damping[i * n + j]));
+        k_err = std::max(k_err, std::abs(lin.stiffness[i * n + j] - k_fd));
+        d_err = std::max(d_err, std::abs(lin.damping[i * n + j] - d_fd));
+        asymmetry = std::max(asymmetry, std::abs(lin.stiffness[i * n + j] - lin.stiffness[j * n + i]));
+      }
+    }
+    INFO("cam " << cam_deg << " deg: |K - K_fd| " << k_err << " of " << k_max << ", |D - D_fd| " << d_err << " of "
+                << d_max << ", K asymmetry " << asymmetry);
+    CHECK(k_err <= kTolerance * k_max);
+    CHECK(d_err <= kTolerance * d_max);
+    // friction makes K unsymmetric in the lift (mu g_t g_n^T); on the seat the pad is open
+    if (cam_deg == 150.0) CHECK(asymmetry > 100 * kTolerance * k_max);
+  }
+}
+
+TEST_CASE("flexible: CVODE's finite-difference Jacobian (analytic_jacobian = false) gives the analytic run's motion") {
+  // the stock dense linear solver on the compiled vector / matrix kernels against the Schur
+  // solver with the analytic Newton matrices: the same ODE at the same tolerances
+  DesignSpec d = compliant_valve(4);
+  d.connections[0].friction_coefficient = 0.08;
+  const kin::Mechanism mech = kin::compile(d);
+  const dynamics::Model model = dynamics::compile_dynamics(mech);
+  dynamics::FlexibleOptions opt;
+  opt.revolutions = 1;
+  opt.relative_tolerance = 1e-9;
+  opt.absolute_tolerance = 1e-11;
+  dynamics::FlexibleResult analytic, differenced;
+  REQUIRE(dynamics::run_flexible(mech, model, {}, 6000, 0, 360, 2, opt, analytic).ok());
+  opt.analytic_jacobian = false;
+  REQUIRE(dynamics::run_flexible(mech, model, {}, 6000, 0, 360, 2, opt, differenced).ok());
+  double peak = 0, worst = 0;
+  for (std::size_t i = 0; i < analytic.lift.size(); ++i) {
+    peak = std::max(peak, std::abs(analytic.lift[i]));
+    worst = std::max(worst, std::abs(analytic.lift[i] - differenced.lift[i]));
+  }
+  INFO("lift difference " << worst << " mm of " << peak << " mm; steps " << analytic.steps << " / " << differenced.steps);
+  CHECK(worst < 1e-8 * peak);  // rtol 1e-9 (measured 9e-11 mm of 8 mm)
+  CHECK(differenced.rhs_evaluations > analytic.rhs_evaluations);  // the differences cost RHS calls
 }

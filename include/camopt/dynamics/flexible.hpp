@@ -121,4 +121,20 @@ Status flexible_modes(const kin::Mechanism& mech, const Model& model, const std:
                       double cam_deg, const FlexibleOptions& options, bool release_driver_contacts,
                       std::vector<double>& frequencies_hz);
 
+// the model at one cam angle, engine speed and state: generalized forces f(q, dq/dt) on the
+// extended rows and the Newton matrices K = -df/dq, D = -df/d(dq/dt) that CVODE's Newton
+// iteration uses (row-major size x size). q, qd: deviations and their rates [mm or rad, per s]
+// in the extended coordinates; empty: run_flexible's static start. For the finite-difference
+// check of the Jacobian (tests) and local studies.
+struct FlexibleLinearisation {
+  FlexibleLayout layout;
+  std::vector<double> q, qd;       // the state used
+  std::vector<double> force;       // [N or N mm]
+  std::vector<double> stiffness;   // [i * size + j]
+  std::vector<double> damping;
+};
+Status flexible_linearise(const kin::Mechanism& mech, const Model& model, const std::vector<double>& controls,
+                          double engine_rpm_value, double cam_deg, const FlexibleOptions& options,
+                          const std::vector<double>& q, const std::vector<double>& qd, FlexibleLinearisation& out);
+
 }  // namespace camopt::dynamics

@@ -28,6 +28,12 @@ double line_contact_approach(double force, double length, double e_star, double 
 // the inverse: the force [N] at an approach [mm] (Newton on a; 0 for approach <= 0).
 // The law stiffens with load: dF/dDelta = pi L E* / (ln(4 R*/a) - 2).
 double line_contact_force(double approach, double length, double e_star, double reduced_radius);
+// the same, Newton started from load_length_mm a = F / (pi L E*) when 0 < a < 4 R* (the last
+// solution of a contact whose approach changes little between calls: ~half the logarithms;
+// a start too far off falls back to the cold start); a returns the solution (0 for
+// approach <= 0). Equal to the cold start to rounding.
+double line_contact_force(double approach, double length, double e_star, double reduced_radius,
+                          double& load_length_mm);
 // tangent stiffness dF/dDelta at a force [N/mm]
 double line_contact_tangent_stiffness(double force, double length, double e_star, double reduced_radius);
 // secant stiffness F / delta at a force [N/mm] (mode (b) linearisation)
