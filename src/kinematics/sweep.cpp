@@ -32,6 +32,7 @@ void run_position(const Mechanism& m, const SweepSpec& spec, const std::vector<d
     for (int k = 0; k <= 3; ++k, f *= unit) scale[v * 4 + k] = f;
   }
   constexpr double factorial[4] = {1.0, 1.0, 2.0, 6.0};
+  std::vector<double> row(nv * 4);
   for (std::size_t i = 0; i < driver.size(); ++i) {
     Status st = solve(m, ws, driver[i] * unit, spec.request, drawing);
     if (!st.ok()) {
@@ -39,7 +40,8 @@ void run_position(const Mechanism& m, const SweepSpec& spec, const std::vector<d
       break;
     }
     for (std::size_t v = 0; v < nv; ++v)
-      for (int k = 0; k <= 3; ++k) out.data.push_back(factorial[k] * ws.vars[v].c[k] * scale[v * 4 + k]);
+      for (int k = 0; k <= 3; ++k) row[v * 4 + k] = factorial[k] * ws.vars[v].c[k] * scale[v * 4 + k];
+    out.data.insert(out.data.end(), row.begin(), row.end());
     out.condition.push_back(ws.max_condition);
     if (spec.request.contacts) out.contacts.insert(out.contacts.end(), ws.contacts.begin(), ws.contacts.end());
   }
