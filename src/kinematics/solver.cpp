@@ -192,6 +192,17 @@ class Kernel {
     ws_.vars[var] = Jet3(v);
   }
   void contact_outputs(int step_index);
+  // the pose of a node solved before this step: on jets through the point's jet-3 pose
+  // cache (the contact outputs then truncate it instead of computing it again)
+  template <class T>
+  detail::Pose<T> known_pose(int n, const T* vars) const {
+    if constexpr (std::is_same_v<T, Jet3>) {
+      if (vars == ws_.vars.data())
+        return detail::CachedPoses<Jet3>{m_, vars, ws_.pivots.data(), ws_.poses3, ws_.point_id, ws_.no_node_solving}
+            .get(n);
+    }
+    return node_pose(m_, n, vars, ws_.pivots.data());
+  }
   double tolerance() const { return relative_tolerance * m_.length_scale; }
 
   const Mechanism& m_;
@@ -707,7 +718,7 @@ template <int M>
   Jet3 qn;
   if (rotational) {
     qn = order > 0 ? atan2(cy - pivot.y(), cx - pivot.x()) - oc.arm_angle
-                   : Jet3(std::atan2(cy.value() - pivot.y(), cx.value() - pivot.x()) - oc.arm_angle);
+                   : Jet3(atan2_by_atan(cy.value() - pivot.y(), cx.value() - pivot.x()) - oc.arm_angle);
     // the branch nearest the prediction (the general solver tracks it continuously)
     const double turns = std::round((ws_.values[oc.node_variable] - qn.value()) / (2 * pi));
     qn.c[0] += turns * 2 * pi;
@@ -743,7 +754,7 @@ Status Kernel::distance_closed_form(const SolveStep& step, const T* vars, T& q, 
   using std::sqrt;
   const int u = step.output_node;
   const Node& node = m_.nodes[u];
-  const auto pk = node_pose(m_, k, vars, ws_.pivots.data()).apply(pin_k.x(), pin_k.y());
+  const auto pk = known_pose(k, vars).apply(pin_k.x(), pin_k.y());
   if (node.kind == NodeKind::rotational) {
     const Eigen::Vector2d o = ws_.pivots[u];
     const Eigen::Vector2d a0 = pin_u - node.pivot;
@@ -764,7 +775,7 @@ Status Kernel::distance_closed_form(const SolveStep& step, const T* vars, T& q, 
       return {StatusCode::singular, what() + " is exactly at toggle (transmission angle 0 or 180 deg)",
               driver_text(m_, driver)};
     const T beta = acos(cos_beta);
-    q = atan2(d.y, d.x) + double(step.branch) * beta - std::atan2(a0.y(), a0.x());
+    q = atan2(d.y, d.x) + double(step.branch) * beta - atan2_by_atan(a0.y(), a0.x());
   } else {
     // slider: |pin_u + s dir - pk| = L  ->  s^2 + 2 w s + (|e|^2 - L^2) = 0
     const V2<T> e{pin_u.x() - pk.x, pin_u.y() - pk.y};
@@ -802,14 +813,14 @@ Status Kernel::line_closed_form(const SolveStep& step, const T* vars, T& s_out, 
   V2<T> centre, point, n, t;
   T k;  // d(closure)/ds
   if (line_node == un) {
-    const auto pose = node_pose(m_, circle_node, vars, ws_.pivots.data());
+    const auto pose = known_pose(circle_node, vars);
     centre = pose.apply(circle.origin.x(), circle.origin.y());
     point = {T(line.origin.x()), T(line.origin.y())};  // the face at s = 0
     n = {T(line.normal.x()), T(line.normal.y())};
     t = {T(tx0), T(ty0)};
     k = T(-(dir.x() * line.normal.x() + dir.y() * line.normal.y()));
   } else {
-    const auto pose = node_pose(m_, line_node, vars, ws_.pivots.data());
+    const auto pose = known_pose(line_node, vars);
     point = pose.apply(line.origin.x(), line.origin.y());
     n = pose.rotate(line.normal.x(), line.normal.y());
     t = pose.rotate(tx0, ty0);
@@ -1264,7 +1275,7 @@ void Kernel::contact_outputs(int step_index) {
     // atan2 keeps full precision near 0 and 90 deg (acos of a dot product does not)
     const double along = std::abs(dir.x * out.normal_x + dir.y * out.normal_y);
     const double across = std::abs(dir.x * out.normal_y - dir.y * out.normal_x);
-    out.pressure_angle = dn > 0 ? std::atan2(across, along) : 0.0;
+    out.pressure_angle = dn > 0 ? atan2_by_atan(across, along) : 0.0;
   }
 }
 

@@ -15,6 +15,8 @@
 #include <cmath>
 #include <cstddef>
 
+#include "camopt/core/angle.hpp"
+
 namespace camopt {
 
 template <int N>
@@ -367,15 +369,16 @@ inline Jet<N> acos(const Jet<N>& u) noexcept {
 }
 
 // atan2(y, x)' = (x y' - y x') / (x^2 + y^2); the value keeps the quadrant of std::atan2
+// (atan2_by_atan: within 2 ulp of it)
 template <int N>
 inline Jet<N> atan2(const Jet<N>& y, const Jet<N>& x) noexcept {
   if constexpr (N == 0) {
-    return Jet<0>(std::atan2(y.c[0], x.c[0]));
+    return Jet<0>(atan2_by_atan(y.c[0], x.c[0]));
   } else {
     const Jet<N - 1> xt = truncate<N - 1>(x);
     const Jet<N - 1> yt = truncate<N - 1>(y);
     const Jet<N - 1> g = (xt * detail::dt(y) - yt * detail::dt(x)) / (square(xt) + square(yt));
-    return detail::integrate<N>(g, std::atan2(y.c[0], x.c[0]));
+    return detail::integrate<N>(g, atan2_by_atan(y.c[0], x.c[0]));
   }
 }
 
