@@ -70,6 +70,7 @@ Peaks peaks_of(const dynamics::RigidSweep& s, const dynamics::Model& model) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  camopt::keep_freed_memory();  // as the camopt program does
   int repeat = 5;
   std::string csv_path;
   bool flexible_only = false, single = false;

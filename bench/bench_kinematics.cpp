@@ -97,6 +97,7 @@ std::pair<double, double> derivative_self_check(const kin::Mechanism& m, const s
 }  // namespace
 
 int main(int argc, char** argv) {
+  camopt::keep_freed_memory();  // as the camopt program does
   int repeat = 5, threads = 2;
   std::string csv_path, only;  // only: run just this bundled design (no accuracy case)
   std::string sweep_mode;      // --sweep: one sweep only

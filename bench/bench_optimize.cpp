@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "camopt/core/process_memory.hpp"
 #include "camopt/io/constraint_file.hpp"
 #include "camopt/io/design_file.hpp"
 #include "camopt/opt/solve.hpp"
@@ -19,6 +20,7 @@
 using namespace camopt;
 
 int main(int argc, char** argv) {
+  camopt::keep_freed_memory();  // as the camopt program does
   std::string csv_path, only;
   std::vector<std::string> solvers = {"ipopt", "slsqp", "mma", "cobyla", "global"};
   for (int i = 1; i < argc; ++i) {

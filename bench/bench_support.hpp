@@ -6,6 +6,8 @@
 #include <functional>
 #include <string>
 
+#include "camopt/core/process_memory.hpp"
+
 namespace camopt::bench {
 
 // compact number (std::to_string prints 6 fixed decimals: 1e-14 -> 0.000000)

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "camopt/core/process_memory.hpp"
 #include "camopt/io/design_file.hpp"
 #include "camopt/kinematics/sweep.hpp"
 #include "camopt/synthesis/envelope.hpp"
@@ -33,6 +34,7 @@ PeriodicSpline forward_lift(const DesignSpec& d) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  camopt::keep_freed_memory();  // as the camopt program does
   int repeat = 5;
   std::string csv_path, only;  // only: the cases whose "design:cam" contains this text
   std::vector<int> resolutions{360, 720, 1440};  // points per revolution (--points: one of them)

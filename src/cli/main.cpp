@@ -4,10 +4,12 @@
 #include <exception>
 
 #include "camopt/core/error.hpp"
+#include "camopt/core/process_memory.hpp"
 #include "cli_common.hpp"
 
 int main(int argc, char** argv) {
   using namespace camopt::cli;
+  camopt::keep_freed_memory();
   CLI::App app{"camopt " CAMOPT_VERSION
                " - valvetrain cam design: planar kinematics, envelope synthesis, optimisation, dynamics.\n"
                "Units: lengths mm, angles deg, forces N, masses kg, speeds rpm (engine crankshaft)."};
