@@ -5,7 +5,9 @@
 #include <catch2/catch.hpp>
 
 #include "dynamics/dynamics_test_support.hpp"
+#include <algorithm>
 #include <cmath>
+#include <tuple>
 #include <string>
 
 #include "camopt/dynamics/flexible.hpp"
@@ -135,6 +137,42 @@ TEST_CASE("flexible: multi-mass spring surge frequencies (lumped chain and f1 = 
       CHECK(f[j - 1] == Approx(w / (2 * pi)).epsilon(2e-5));
     }
     if (masses == 40) CHECK(f[0] == Approx(0.5 * std::sqrt(k / m)).epsilon(3e-4));  // continuous coil
+  }
+}
+
+TEST_CASE("flexible: nested valve springs surge independently (union of the two lumped chains)") {
+  // inner and outer spring on the same valve, each its own chain of surge masses; with the
+  // valve end held the two fixed-fixed chains share only their end, so the modes are the
+  // union of w_j = 2 sqrt(K/m) sin(j pi / (2 (N + 1))) of each chain
+  DesignSpec d = direct_valve(40, 250);
+  d.springs[0].mass_kg = 0.045;
+  d.springs[0].surge_masses = 4;
+  SpringSpec inner = d.springs[0];
+  inner.name = "inner_spring";
+  inner.rate_N_per_mm = 15;
+  inner.preload_N = 90;
+  inner.mass_kg = 0.012;
+  inner.surge_masses = 3;
+  d.springs.push_back(inner);
+  const kin::Mechanism mech = kin::compile(d);
+  const dynamics::Model model = dynamics::compile_dynamics(mech);
+  dynamics::FlexibleOptions opt;
+  opt.contact_stiffness_scale = 1e3;  // the valve end held
+  std::vector<double> f;
+  const Status st = dynamics::flexible_modes(mech, model, {}, 0.0, opt, false, f);
+  INFO(st.str());
+  REQUIRE(st.ok());
+  REQUIRE(f.size() == 4u + 3u + 1u);  // both chains and the valve
+  std::vector<double> expected;
+  for (const auto& [masses, rate, mass] : {std::tuple{4, 40e3, 0.045}, std::tuple{3, 15e3, 0.012}}) {
+    const double n1 = masses + 1.0;  // [N/m], [kg]
+    for (int j = 1; j <= masses; ++j)
+      expected.push_back(2 * std::sqrt(n1 * rate / (mass / n1)) * std::sin(j * pi / (2 * n1)) / (2 * pi));
+  }
+  std::sort(expected.begin(), expected.end());
+  for (std::size_t j = 0; j < expected.size(); ++j) {
+    INFO("mode " << j << ": " << f[j] << " Hz, chain " << expected[j] << " Hz");
+    CHECK(f[j] == Approx(expected[j]).epsilon(2e-5));
   }
 }
 
