@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "camopt/core/bspline_basis.hpp"
 #include "camopt/core/error.hpp"
 
 namespace camopt {
@@ -33,71 +34,6 @@ constexpr std::array<std::array<double, 6>, 6> kFalling = [] {
 
 constexpr std::array<double, 6> kInvFactorial = {1.0,       1.0,        1.0 / 2.0,
                                                  1.0 / 6.0, 1.0 / 24.0, 1.0 / 120.0};
-
-// b-spline basis functions of degree 5 and their derivatives at u in knot span `span`
-// (U[span] <= u <= U[span+1], nonzero length): ders[k][r] = d^k/du^k N_{span-5+r}(u).
-// Piegl & Tiller, "The NURBS Book", 2nd ed., algorithm A2.3.
-// the triangle of basis functions of every degree at u (the first half of algorithm A2.3):
-// ndu[r][j] (r <= j) = N_{span-j+r, j}(u); below the diagonal, knot differences
-void basis_triangle(const double* U, int span, double u, double ndu[6][6]) {
-  constexpr int p = kDegree;
-  double left[p + 1];
-  double right[p + 1];
-  ndu[0][0] = 1.0;
-  for (int j = 1; j <= p; ++j) {
-    left[j] = u - U[span + 1 - j];
-    right[j] = U[span + j] - u;
-    double saved = 0.0;
-    for (int r = 0; r < j; ++r) {
-      // lower triangle: knot differences; upper triangle: basis functions
-      ndu[j][r] = right[r + 1] + left[j - r];
-      const double temp = ndu[r][j - 1] / ndu[j][r];
-      ndu[r][j] = saved + right[r + 1] * temp;
-      saved = left[j - r] * temp;
-    }
-    ndu[j][j] = saved;
-  }
-}
-
-void basis_derivatives(const double* U, int span, double u, int nd, double ders[6][6]) {
-  constexpr int p = kDegree;
-  double ndu[p + 1][p + 1];
-  basis_triangle(U, span, u, ndu);
-  for (int j = 0; j <= p; ++j) ders[0][j] = ndu[j][p];
-
-  double a[2][p + 1];
-  for (int r = 0; r <= p; ++r) {
-    int s1 = 0;
-    int s2 = 1;
-    a[0][0] = 1.0;
-    for (int k = 1; k <= nd; ++k) {
-      double d = 0.0;
-      const int rk = r - k;
-      const int pk = p - k;
-      if (r >= k) {
-        a[s2][0] = a[s1][0] / ndu[pk + 1][rk];
-        d = a[s2][0] * ndu[rk][pk];
-      }
-      const int j1 = rk >= -1 ? 1 : -rk;
-      const int j2 = (r - 1 <= pk) ? k - 1 : p - r;
-      for (int j = j1; j <= j2; ++j) {
-        a[s2][j] = (a[s1][j] - a[s1][j - 1]) / ndu[pk + 1][rk + j];
-        d += a[s2][j] * ndu[rk + j][pk];
-      }
-      if (r <= pk) {
-        a[s2][k] = -a[s1][k - 1] / ndu[pk + 1][r];
-        d += a[s2][k] * ndu[r][pk];
-      }
-      ders[k][r] = d;
-      std::swap(s1, s2);
-    }
-  }
-  double factor = p;
-  for (int k = 1; k <= nd; ++k) {
-    for (int j = 0; j <= p; ++j) ders[k][j] *= factor;
-    factor *= p - k;
-  }
-}
 
 std::string fmt(double v) { return format_value(v, 17); }
 
@@ -398,7 +334,7 @@ PeriodicSpline PeriodicSpline::interpolate_periodic(std::span<const double> x, s
   Eigen::VectorXd b(n);
   for (int i = 0; i < n; ++i) {
     double ndu[p + 1][p + 1];
-    basis_triangle(T.data(), i + p, T[static_cast<std::size_t>(i + p)], ndu);
+    bspline_basis_triangle(T.data(), i + p, p, T[static_cast<std::size_t>(i + p)], ndu);
     CAMOPT_ASSERT(ndu[p][p] == 0.0);
     auto& tri = triangle[static_cast<std::size_t>(i)];
     for (int q = 0; q <= p; ++q)
@@ -504,7 +440,7 @@ Spline Spline::interpolate(std::span<const double> x, std::span<const double> y)
   auto end_rows = [&](int span, int row) {
     const bool first = span == p;
     const double h = first ? h_first : h_last;
-    basis_derivatives(U.data(), span, first ? x.front() : x.back(), 4, ders);
+    bspline_basis_derivatives(U.data(), span, p, first ? x.front() : x.back(), 4, ders);
     for (int k = 3; k <= 4; ++k, ++row) {
       const double scale = std::pow(h, k);
       for (int r = 0; r <= p; ++r) put(row, span - p + r, ders[k][r] * scale);
@@ -513,7 +449,7 @@ Spline Spline::interpolate(std::span<const double> x, std::span<const double> y)
   end_rows(p, 0);
   for (int i = 0; i < n; ++i) {
     const int span = std::min(i + p, last_span);
-    basis_derivatives(U.data(), span, x[static_cast<std::size_t>(i)], 0, ders);
+    bspline_basis_derivatives(U.data(), span, p, x[static_cast<std::size_t>(i)], 0, ders);
     for (int r = 0; r <= p; ++r)
       if (ders[0][r] != 0.0) put(i + 2, span - p + r, ders[0][r]);
     b[i + 2] = y[static_cast<std::size_t>(i)];
@@ -527,7 +463,7 @@ Spline Spline::interpolate(std::span<const double> x, std::span<const double> y)
   s.x_.assign(x.begin(), x.end());
   s.coef_.resize(static_cast<std::size_t>(n - 1));
   for (int i = 0; i < n - 1; ++i) {
-    basis_derivatives(U.data(), i + p, x[static_cast<std::size_t>(i)], p, ders);
+    bspline_basis_derivatives(U.data(), i + p, p, x[static_cast<std::size_t>(i)], p, ders);
     for (int k = 0; k <= p; ++k) {
       double v = 0.0;
       for (int r = 0; r <= p; ++r) v += ders[k][r] * c[i + r];

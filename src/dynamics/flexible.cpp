@@ -1029,10 +1029,15 @@ void polish_static(System& s, Eigen::VectorXd& x, const Eigen::VectorXd& v, Eige
   s.stiffness_matrix(x, k);
 }
 
-// the state run_flexible starts from: the static deviation, Newton-polished when that lowers
-// the force residual, and the chain masses moving with the kinematic spring compression
-void static_start(System& s, const Eigen::VectorXd& lambda0, const Eigen::VectorXd& seat0,
-                  const std::vector<char>& open0, Eigen::VectorXd& x0, Eigen::VectorXd& v0) {
+// the system built at cam angle theta [rad] (s.omega set) and the state run_flexible starts
+// from: the static deviation, Newton-polished when that lowers the force residual, and the
+// chain masses moving with the kinematic spring compression
+Status static_start(System& s, const Model& model, const std::vector<double>& controls, double theta,
+                    Eigen::VectorXd& x0, Eigen::VectorXd& v0) {
+  Eigen::VectorXd lambda0, seat0;
+  std::vector<char> open0;
+  const Status st = build_system(s, model, controls, theta, lambda0, seat0, open0);
+  if (!st.ok()) return st;
   x0 = initial_deviation(s, lambda0, seat0, open0);
   v0 = Eigen::VectorXd::Zero(s.N);
   for (const Chain& ch : s.chains)
@@ -1041,12 +1046,12 @@ void static_start(System& s, const Eigen::VectorXd& lambda0, const Eigen::Vector
     Eigen::MatrixXd k;
     Eigen::VectorXd xp = x0;
     polish_static(s, xp, v0, k, 3);
-    s.forces(xp, v0);
     s.forces(x0, v0);
     const double before = s.fr.f.norm();
     s.forces(xp, v0);
     if (xp.allFinite() && s.fr.f.norm() < before) x0 = xp;
   }
+  return Status::success();
 }
 
 }  // namespace
@@ -1058,15 +1063,12 @@ Status run_flexible(const kin::Mechanism& mech, const Model& model, const std::v
   System s(mech, options);
   s.omega = cam_speed_rad_per_s(engine_rpm_value, model.crank_per_cam);
   const double first_deg = start_deg - 360.0 * (options.revolutions - 1);
-  Eigen::VectorXd lambda0, seat0;
-  std::vector<char> open0;
+  Eigen::VectorXd x0, v0;
   {
-    const Status st = build_system(s, model, controls, first_deg * kDeg, lambda0, seat0, open0);
+    const Status st = static_start(s, model, controls, first_deg * kDeg, x0, v0);
     if (!st.ok()) return st;
   }
   const int N = s.N;
-  Eigen::VectorXd x0, v0;
-  static_start(s, lambda0, seat0, open0, x0, v0);
 
   // declared before su: CVODE (freed with su) may still refer to it
   std::unique_ptr<_generic_SUNLinearSolver, int (*)(SUNLinearSolver)> schur(nullptr, SUNLinSolFree);
@@ -1344,15 +1346,12 @@ Status flexible_linearise(const kin::Mechanism& mech, const Model& model, const 
   CAMOPT_ASSERT(engine_rpm_value > 0);
   System s(mech, options);
   s.omega = cam_speed_rad_per_s(engine_rpm_value, model.crank_per_cam);
-  Eigen::VectorXd lambda0, seat0;
-  std::vector<char> open0;
+  Eigen::VectorXd x, v;
   {
-    const Status st = build_system(s, model, controls, cam_deg * kDeg, lambda0, seat0, open0);
+    const Status st = static_start(s, model, controls, cam_deg * kDeg, x, v);
     if (!st.ok()) return st;
   }
   const int n = s.N;
-  Eigen::VectorXd x, v;
-  static_start(s, lambda0, seat0, open0, x, v);
   if (!q.empty()) {
     CAMOPT_ASSERT(static_cast<int>(q.size()) == n);
     x = Eigen::Map<const Eigen::VectorXd>(q.data(), n);

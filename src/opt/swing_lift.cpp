@@ -5,6 +5,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "camopt/core/bspline_basis.hpp"
 #include "camopt/core/jet.hpp"
 #include "camopt/kinematics/mechanism.hpp"
 #include "camopt/kinematics/solver.hpp"
@@ -105,53 +106,11 @@ struct SwingCamLift::Impl {
   // synthesis::bspline_value: s outside [t_p, t_n] takes the end span) and their derivatives
   // up to min(p, 4): ders[m][r] = N_{k-p+r}^(m)(s). returns k. (Piegl & Tiller, The NURBS
   // Book, 2nd ed., algorithm A2.3)
-  int basis_derivatives(double s, double ders[5][8]) const {
+  int basis_derivatives(double s, double (&ders)[5][8]) const {
     const auto& t = knots;
     const int orders = std::min(p, 4);
     const int k = static_cast<int>(std::upper_bound(t.begin() + p + 1, t.begin() + ncoef, s) - t.begin()) - 1;
-    double ndu[8][8], left[8], right[8], a[2][8];
-    ndu[0][0] = 1.0;
-    for (int j = 1; j <= p; ++j) {
-      left[j] = s - t[static_cast<std::size_t>(k + 1 - j)];
-      right[j] = t[static_cast<std::size_t>(k + j)] - s;
-      double saved = 0.0;
-      for (int r = 0; r < j; ++r) {
-        ndu[j][r] = right[r + 1] + left[j - r];  // knot difference
-        const double temp = ndu[r][j - 1] / ndu[j][r];
-        ndu[r][j] = saved + right[r + 1] * temp;
-        saved = left[j - r] * temp;
-      }
-      ndu[j][j] = saved;
-    }
-    for (int r = 0; r <= p; ++r) ders[0][r] = ndu[r][p];
-    for (int r = 0; r <= p; ++r) {
-      int s1 = 0, s2 = 1;
-      a[0][0] = 1.0;
-      for (int m = 1; m <= orders; ++m) {
-        double dm = 0.0;
-        const int rk = r - m, pk = p - m;
-        if (r >= m) {
-          a[s2][0] = a[s1][0] / ndu[pk + 1][rk];
-          dm = a[s2][0] * ndu[rk][pk];
-        }
-        const int j1 = rk >= -1 ? 1 : -rk, j2 = r - 1 <= pk ? m - 1 : p - r;
-        for (int j = j1; j <= j2; ++j) {
-          a[s2][j] = (a[s1][j] - a[s1][j - 1]) / ndu[pk + 1][rk + j];
-          dm += a[s2][j] * ndu[rk + j][pk];
-        }
-        if (r <= pk) {
-          a[s2][m] = -a[s1][m - 1] / ndu[pk + 1][r];
-          dm += a[s2][m] * ndu[r][pk];
-        }
-        ders[m][r] = dm;
-        std::swap(s1, s2);
-      }
-    }
-    double f = p;
-    for (int m = 1; m <= orders; ++m) {
-      for (int r = 0; r <= p; ++r) ders[m][r] *= f;
-      f *= p - m;
-    }
+    bspline_basis_derivatives(t.data(), k, p, s, orders, ders);
     for (int m = orders + 1; m <= 4; ++m)
       for (int r = 0; r <= p; ++r) ders[m][r] = 0.0;
     return k;

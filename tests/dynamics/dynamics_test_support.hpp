@@ -38,4 +38,13 @@ inline DesignSpec direct_valve(double rate_N_per_mm, double preload_N) {
   return d;
 }
 
+// the direct-acting valve (spring 40 N/mm, 250 N preload) with a 45 g valve spring of
+// `surge_masses` internal masses (0: massless chain, m/3 on the valve)
+inline DesignSpec valve_with_spring_mass(int surge_masses) {
+  DesignSpec d = direct_valve(40, 250);
+  d.springs[0].mass_kg = 0.045;
+  d.springs[0].surge_masses = surge_masses;
+  return d;
+}
+
 }  // namespace camopt::dyn_test

@@ -19,6 +19,7 @@
 using namespace camopt;
 using namespace camopt::kin_test;
 using camopt::dyn_test::direct_valve;
+using camopt::dyn_test::valve_with_spring_mass;
 using camopt::dyn_test::steel;
 
 namespace {
@@ -26,10 +27,8 @@ namespace {
 // the direct-acting valve with a compliant valve (60 kN/mm) and a 45 g spring of
 // `surge_masses` internal masses: the flexible model's standard test train
 DesignSpec compliant_valve(int surge_masses) {
-  DesignSpec d = direct_valve(40, 250);
+  DesignSpec d = valve_with_spring_mass(surge_masses);
   d.nodes[1].axial_stiffness_N_per_mm = 60000;
-  d.springs[0].mass_kg = 0.045;
-  d.springs[0].surge_masses = surge_masses;
   return d;
 }
 
@@ -118,9 +117,7 @@ TEST_CASE("Hunt-Crossley contact damping: no force jump at touch-down, restituti
 
 TEST_CASE("flexible: multi-mass spring surge frequencies (lumped chain and f1 = 1/2 sqrt(k/m))") {
   for (int masses : {4, 40}) {
-    DesignSpec d = direct_valve(40, 250);
-    d.springs[0].mass_kg = 0.045;
-    d.springs[0].surge_masses = masses;
+    DesignSpec d = valve_with_spring_mass(masses);
     const kin::Mechanism mech = kin::compile(d);
     const dynamics::Model model = dynamics::compile_dynamics(mech);
     dynamics::FlexibleOptions opt;
@@ -144,9 +141,7 @@ TEST_CASE("flexible: nested valve springs surge independently (union of the two 
   // inner and outer spring on the same valve, each its own chain of surge masses; with the
   // valve end held the two fixed-fixed chains share only their end, so the modes are the
   // union of w_j = 2 sqrt(K/m) sin(j pi / (2 (N + 1))) of each chain
-  DesignSpec d = direct_valve(40, 250);
-  d.springs[0].mass_kg = 0.045;
-  d.springs[0].surge_masses = 4;
+  DesignSpec d = valve_with_spring_mass(4);
   SpringSpec inner = d.springs[0];
   inner.name = "inner_spring";
   inner.rate_N_per_mm = 15;

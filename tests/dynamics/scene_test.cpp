@@ -15,19 +15,8 @@
 #include "dynamics/dynamics_test_support.hpp"
 
 using namespace camopt;
-using camopt::dyn_test::direct_valve;
+using camopt::dyn_test::valve_with_spring_mass;
 using camopt::kin_test::pi;
-
-namespace {
-
-DesignSpec valve_with_spring_mass(int surge_masses) {
-  DesignSpec d = direct_valve(40, 250);
-  d.springs[0].mass_kg = 0.045;
-  d.springs[0].surge_masses = surge_masses;
-  return d;
-}
-
-}  // namespace
 
 TEST_CASE("scene: rigid mode carries no spring masses, whatever the spring's surge setting", "[dynamics][scene]") {
   const kin::Mechanism massless_mech = kin::compile(valve_with_spring_mass(0));
