@@ -234,6 +234,15 @@ TargetLift fit_target_lift(std::span<const double> cam_deg, std::span<const doub
     CAMOPT_ASSERT(std::isfinite(cam_deg[i]) && std::isfinite(lift_mm[i]));
     if (i > 0) CAMOPT_ASSERT_MSG(cam_deg[i] > cam_deg[i - 1], "angles must be strictly increasing (caller checks)");
   }
+  // rows closer than this make the interpolating spline's collocation system singular (no
+  // lift table is measured that finely) [cam deg]
+  constexpr double min_spacing_deg = 1e-6;
+  for (std::size_t i = 1; i < n_in; ++i)
+    if (cam_deg[i] - cam_deg[i - 1] < min_spacing_deg)
+      throw InputError(at_row(i) + ": angle " + fmt(cam_deg[i]) + " cam deg is only " +
+                       fmt(cam_deg[i] - cam_deg[i - 1]) + " deg after the previous row's " + fmt(cam_deg[i - 1]) +
+                       ": the angles are too close together for a lift table (rows must be at least " +
+                       fmt(min_spacing_deg) + " deg apart: merge them)");
 
   // lift >= 0; rounding negatives are clamped when interpolating, noise kept when smoothing
   const double tol = options.closure_tolerance_mm;

@@ -396,3 +396,18 @@ TEST_CASE("target lift: absurd values and crowded angles are input errors naming
   CHECK_THAT(crowded, Catch::Contains("t.csv"));
   CHECK_THAT(crowded, Catch::Contains("too close together"));
 }
+
+TEST_CASE("target lift: rows closer than 1e-6 deg are an input error naming the line (fuzz crash 024fd5e8)",
+          "[synthesis][target_lift]") {
+  // the fuzzer's table: 0, 1e-14, 39.2 deg reached the spline's singular collocation system
+  for (const bool smooth : {false, true}) {
+    TargetLiftOptions opt;
+    opt.smooth = smooth;
+    opt.source = "fuzz.csv";
+    const std::string e = error_of({0.0, 1e-14, 39.19999999999}, {0.0, 1.0, 0.0}, {2, 3, 4}, opt);
+    INFO(e);
+    CHECK_THAT(e, Contains("fuzz.csv:3"));
+    CHECK_THAT(e, Contains("rows must be at least 1e-06 deg apart"));
+    CHECK_THAT(e, Contains("too close together"));
+  }
+}
