@@ -295,12 +295,12 @@ double detail::PiecewiseQuintic::integrate_piece(std::size_t i, double s) const 
 
 PeriodicSpline PeriodicSpline::interpolate(std::span<const double> x, std::span<const double> y,
                                            double period) {
-  return interpolate_periodic(x, y, period, false);
+  return interpolate_periodic(x, y, period, true);
 }
 
-PeriodicSpline PeriodicSpline::interpolate_banded(std::span<const double> x, std::span<const double> y,
-                                                  double period) {
-  return interpolate_periodic(x, y, period, true);
+PeriodicSpline PeriodicSpline::interpolate_by_sparse_lu(std::span<const double> x, std::span<const double> y,
+                                                        double period) {
+  return interpolate_periodic(x, y, period, false);
 }
 
 PeriodicSpline PeriodicSpline::interpolate_periodic(std::span<const double> x, std::span<const double> y,

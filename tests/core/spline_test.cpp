@@ -196,8 +196,8 @@ TEST_CASE("periodic spline: the banded solve gives the sparse LU's spline") {
       x[static_cast<std::size_t>(i)] = (i + jitter(rng)) * h;
       y[static_cast<std::size_t>(i)] = std::exp(std::sin(x[static_cast<std::size_t>(i)])) + 0.1 * (i % 3);
     }
-    const PeriodicSpline lu = PeriodicSpline::interpolate(x, y, 2 * std::numbers::pi);
-    const PeriodicSpline banded = PeriodicSpline::interpolate_banded(x, y, 2 * std::numbers::pi);
+    const PeriodicSpline lu = PeriodicSpline::interpolate_by_sparse_lu(x, y, 2 * std::numbers::pi);
+    const PeriodicSpline banded = PeriodicSpline::interpolate(x, y, 2 * std::numbers::pi);
     double worst[6] = {}, size[6] = {};
     for (int k = 0; k < 997; ++k) {
       const double at = 2 * std::numbers::pi * (k + 0.37) / 997;

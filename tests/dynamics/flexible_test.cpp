@@ -470,6 +470,12 @@ TEST_CASE("flexible: the CVVL at 10 rpm is quasi-static (mode (a) forces) and it
   REQUIRE(dynamics::rigid_sweep(mech, model, {0.0}, 0, 360, 1, a).ok());
   dynamics::FlexibleOptions opt;
   opt.revolutions = 1;
+  // the step budget: a chattering seat took 1.27M steps (2M before that). The count itself is
+  // not reproducible in its last digits: after the valve opens (113 deg) and closes (247 deg)
+  // a ~1 kHz train mode rings at about the integration tolerance, and CVODE resolves it (about
+  // 500 steps per deg) for 7 to 70 deg depending on round-off; over 25 profiles that differ
+  // from the design's in one ulp of one polar radius it took 11.6k to 45.5k steps, always with
+  // the same 12 events. So the budget, not a step count, is the bound: st.ok() fails above it.
   opt.max_steps = 100000;
   dynamics::FlexibleResult res;
   const Status st = dynamics::run_flexible(mech, model, {0.0}, 10, 0, 360, 1, opt, res);
@@ -495,8 +501,8 @@ TEST_CASE("flexible: the CVVL at 10 rpm is quasi-static (mode (a) forces) and it
   CHECK(worst < 0.01 * peak);
   CHECK(loss > 0);  // the train's static deflection
   CHECK(loss < 0.1);
-  CHECK(res.steps < 50000);
   CHECK(seat_events <= 10);
+  CHECK(res.events.size() <= 12);  // seat and contact events together (measured 12 in every run above)
 }
 
 TEST_CASE("flexible: the train frequency (the component damping's reference) against the two-mass closed form") {

@@ -77,15 +77,15 @@ class PeriodicSpline : public detail::PiecewiseQuintic, public detail::SplineCal
 
   // knots at x (strictly increasing, at least 6 points, x.back() - x.front() < period);
   // the point x.front() + period closes the curve with value y.front().
-  // throws std::invalid_argument on misuse (callers validate user data first).
+  // Solved in O(n) by a cyclic banded elimination with partial pivoting (the sparse LU below
+  // when that is not at round-off). Throws std::invalid_argument on misuse (callers validate
+  // user data first).
   static PeriodicSpline interpolate(std::span<const double> x, std::span<const double> y,
                                     double period);
-  // the same spline by an O(n) cyclic banded solve (falls back to interpolate's sparse LU
-  // when the banded elimination is not at round-off). Its coefficients differ from
-  // interpolate's in the last bits, so results that must match interpolate's bit for bit
-  // (a kinematic profile, a target the optimiser reads) use interpolate.
-  static PeriodicSpline interpolate_banded(std::span<const double> x, std::span<const double> y,
-                                           double period);
+  // the same spline by a sparse LU of the whole collocation system: the reference solve
+  // that interpolate falls back to; its coefficients differ from interpolate's in the last bits
+  static PeriodicSpline interpolate_by_sparse_lu(std::span<const double> x, std::span<const double> y,
+                                                 double period);
 
   double period() const noexcept { return period_; }
 
