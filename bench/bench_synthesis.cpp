@@ -79,7 +79,11 @@ int main(int argc, char** argv) {
       double best = 1e300;
       for (int r = 0; r < repeat; ++r) {
         const auto t0 = std::chrono::steady_clock::now();
-        if (!synthesis::synthesize(d, target, o, res).ok()) return 1;
+        const Status st = synthesis::synthesize(d, target, o, res);
+        if (!st.ok()) {
+          std::fprintf(stderr, "%s: synthesize failed: %s\n", c.name, st.str().c_str());
+          return 1;
+        }
         best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
       }
       // profile error against the design's own cam (exact for the eccentric disc; the swing
@@ -92,7 +96,11 @@ int main(int argc, char** argv) {
         perr = std::max(perr, std::abs(res.radius_mm[k] - m.profiles[profile].radius_at(res.angle_deg[k] * deg)));
       synthesis::RoundTrip rt;
       const auto t0 = std::chrono::steady_clock::now();
-      if (!synthesis::round_trip(synthesis::with_profile(d, res.profile), target, {}, res.connection, rt).ok()) return 1;
+      const Status rst = synthesis::round_trip(synthesis::with_profile(d, res.profile), target, {}, res.connection, rt);
+      if (!rst.ok()) {
+        std::fprintf(stderr, "%s: round trip failed: %s\n", c.name, rst.str().c_str());
+        return 1;
+      }
       const double trt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       const double resolution = 360.0 / points;
       const int table = static_cast<int>(res.angle_deg.size());

@@ -72,18 +72,15 @@ CamProfile CamProfile::build(const ProfileSpec& spec) {
       break;
     }
   }
-  // base and maximum radius on a fine scan, refined by golden-section-free local search
+  // base and maximum radius on a fine scan (a polar profile's radius is its spline's value:
+  // no point, no hypot)
   constexpr int scan = 4096;
   double rmin = 1e300, rmax = 0.0;
   for (int i = 0; i < scan; ++i) {
     const double u = two_pi * i / scan;
-    // polar: the point's x, y as point() forms them (the same bits) without its derivatives
     double rad = 0.0;
     if (p.polar_) {
-      double sn, cs;
-      sin_cos(u, sn, cs);
-      const double r = p.r_(u);
-      rad = std::hypot(r * cs, r * sn);
+      rad = std::abs(p.r_(u));
     } else {
       const auto c = p.point(u);
       rad = std::hypot(c.x, c.y);

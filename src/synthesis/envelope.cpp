@@ -33,6 +33,13 @@ constexpr int kInversionLevels = 64;
 // [rad] spacing of the upstream solves for a cam that is not the driver (a swing cam, a
 // floating lever); septic hermite in the driver angle between them
 constexpr double kUpstreamSpacing = 1.0 * pi / 180;
+// where the cam rests (its rate, second and third derivative in the driver angle below
+// kRestJet at a solve), the next solve is tried this many spacings on; a stretch that rests
+// at both ends at the same pose (within kRestJet rad) is taken as a dwell, else it is solved
+// at every spacing. A motion shorter than this and at rest to third order at both of its ends
+// would be missed: no cam lobe or lever stroke is that short.
+constexpr int kRestStride = 6;
+constexpr double kRestJet = 1e-12;
 using Jet3 = Jet<3>;
 using Jet2 = Jet<2>;
 
@@ -686,24 +693,82 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
     if (!st.ok()) return {st.code, st.message, "cam 0 deg"};
   }
   // the cam's motion depends on the driver alone (not on the target): solved upstream every
-  // `stride` samples (and at 2 pi) with its jets, septic hermite in theta in between
+  // `stride` samples (and at 2 pi) with its jets, septic hermite in theta in between; across
+  // a dwell (the cam at rest) every kRestStride strides
   const kin::Node& cn = up.nodes[cam];
   const int stride = cam_is_lone_driver ? 1 : std::max(1, static_cast<int>(std::lround(kUpstreamSpacing * n / (2 * pi))));
-  const int upstream_nodes = cam_is_lone_driver ? 0 : (n + stride - 1) / stride + 1;  // the last at theta = 2 pi
-  auto node_sample = [&](int j) { return std::min(j * stride, n); };
-  std::vector<double> cam_motion(static_cast<std::size_t>(upstream_nodes * cn.dof * 4));  // [node][dof][derivative]
-  for (int j = 0; j < upstream_nodes; ++j) {
-    const double at = 2 * pi * node_sample(j) / n;
+  std::vector<int> node_at;           // sample index of each upstream solve, ascending, the last n
+  std::vector<double> cam_motion;     // [node][dof][derivative]
+  auto solve_upstream = [&](int sample) -> Status {
+    const double at = 2 * pi * sample / n;
     const Status st = kin::solve(up, up_ws, at, {3, false});
     if (!st.ok()) return {st.code, st.message, "cam " + fmt(at * 180 / pi) + " deg"};
+    node_at.push_back(sample);
     for (int k = 0; k < cn.dof; ++k)
-      for (int d = 0; d < 4; ++d) cam_motion[(j * cn.dof + k) * 4 + d] = up_ws.vars[cn.first_variable + k].derivative(d);
+      for (int d = 0; d < 4; ++d) cam_motion.push_back(up_ws.vars[cn.first_variable + k].derivative(d));
+    return Status::success();
+  };
+  auto at_rest = [&](std::size_t j) {
+    for (int k = 0; k < cn.dof; ++k)
+      for (int d = 1; d < 4; ++d)
+        if (!(std::abs(cam_motion[(j * cn.dof + k) * 4 + d]) <= kRestJet)) return false;
+    return true;
+  };
+  if (!cam_is_lone_driver) {
+    if (Status st = solve_upstream(0); !st.ok()) return st;
+    while (node_at.back() < n) {
+      const std::size_t j = node_at.size() - 1;
+      const int next = std::min(n, node_at.back() + stride);
+      if (at_rest(j) && next < n) {
+        // try the dwell: one solve kRestStride strides on, kept when the cam rests there at
+        // the same pose; else dropped and the stretch solved stride by stride from here
+        const kin::Workspace before = up_ws;
+        const int far = std::min(n, node_at.back() + kRestStride * stride);
+        if (Status st = solve_upstream(far); !st.ok()) return st;
+        bool dwell = at_rest(j + 1);
+        for (int k = 0; k < cn.dof && dwell; ++k)
+          dwell = std::abs(cam_motion[((j + 1) * cn.dof + k) * 4] - cam_motion[(j * cn.dof + k) * 4]) <= kRestJet;
+        if (dwell) continue;
+        node_at.pop_back();
+        cam_motion.resize(cam_motion.size() - static_cast<std::size_t>(cn.dof) * 4);
+        up_ws = before;
+      }
+      if (Status st = solve_upstream(next); !st.ok()) return st;
+    }
+  }
+  // which samples are needed: for a swing cam only those where it moves (swing_profile
+  // traces the envelope where its rate exceeds 1e-3 of the peak; the rest are its dwell)
+  std::vector<char> needed(static_cast<std::size_t>(n), 1);
+  std::size_t interval = 0;  // upstream interval of the current sample
+  auto upstream_at = [&](int i, Jet3* up_vars) {
+    while (node_at[interval + 1] <= i) ++interval;
+    const int a = node_at[interval], b = node_at[interval + 1];
+    for (int k = 0; k < cn.dof; ++k) {
+      double d[4];
+      detail::septic_between(&cam_motion[(interval * cn.dof + k) * 4], &cam_motion[((interval + 1) * cn.dof + k) * 4],
+                             (b - a) * 2 * pi / n, static_cast<double>(i - a) / (b - a), d);
+      Jet3& v = up_vars[cn.first_variable + k];
+      v = Jet3(d[0]);
+      v.c[1] = d[1], v.c[2] = d[2] / 2, v.c[3] = d[3] / 6;  // taylor coefficients
+    }
+  };
+  std::vector<Jet3> up_vars_at(up.variables.size(), Jet3(0.0));
+  if (options.cam == "swing" && !cam_is_lone_driver) {
+    double max_rate = 0.0;
+    for (int i = 0; i < n; ++i) {
+      upstream_at(i, up_vars_at.data());
+      cam_rate[i] = up_vars_at[cam_angle_variable].derivative(1);
+      max_rate = std::max(max_rate, std::abs(cam_rate[i]));
+    }
+    for (int i = 0; i < n; ++i) needed[i] = std::abs(cam_rate[i]) > 1e-4 * max_rate;
+    interval = 0;
   }
   const double step_power[4] = {1.0, level_step, level_step * level_step, level_step * level_step * level_step};
-  std::vector<Jet3> up_vars_at(up.variables.size(), Jet3(0.0));
   std::vector<Jet3> vars(down.variables.size(), Jet3(0.0));
   for (int i = 0; i < n; ++i) {
     const Jet3& L = motion[i];
+    valve_rate[i] = L.derivative(1);
+    if (!needed[i]) continue;  // a swing cam's dwell (cam_rate is set)
     const double u = std::clamp((L.value() - motion_lo) / level_step, 0.0, static_cast<double>(levels));
     const int q = std::min(levels - 1, static_cast<int>(u));
     for (int k = 0; k < dof && !floating_follower; ++k) {
@@ -721,20 +786,11 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
     const Jet3* up_vars = &driver_alone;
     driver_alone = Jet3::variable(theta[i]);
     if (!cam_is_lone_driver) {
-      const int j = i / stride, a = node_sample(j), b = node_sample(j + 1);
-      for (int k = 0; k < cn.dof; ++k) {
-        double d[4];
-        detail::septic_between(&cam_motion[(j * cn.dof + k) * 4], &cam_motion[((j + 1) * cn.dof + k) * 4],
-                               (b - a) * 2 * pi / n, static_cast<double>(i - a) / (b - a), d);
-        Jet3& v = up_vars_at[cn.first_variable + k];
-        v = Jet3(d[0]);
-        v.c[1] = d[1], v.c[2] = d[2] / 2, v.c[3] = d[3] / 6;  // taylor coefficients
-      }
+      upstream_at(i, up_vars_at.data());
       up_vars = up_vars_at.data();
     }
     const auto cpose = kin::detail::node_pose(up, cam, up_vars, up_ws.pivots.data());
     cam_rate[i] = up_vars[cam_angle_variable].derivative(1);  // [rad per rad of driver]
-    valve_rate[i] = L.derivative(1);
     auto to_profile = [&](const kin::detail::V2<Jet3>& g) { return global_to_profile(cpose, g); };
     auto rotate_to_profile = [&](const kin::detail::V2<Jet3>& v) {
       const Jet3 lx = cpose.c * v.x + cpose.s * v.y, ly = -cpose.s * v.x + cpose.c * v.y;
