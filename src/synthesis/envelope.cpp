@@ -33,13 +33,14 @@ constexpr int kInversionLevels = 64;
 // [rad] spacing of the upstream solves for a cam that is not the driver (a swing cam, a
 // floating lever); septic hermite in the driver angle between them
 constexpr double kUpstreamSpacing = 1.0 * pi / 180;
-// where the cam rests (its rate, second and third derivative in the driver angle below
-// kRestJet at a solve), the next solve is tried this many spacings on; a stretch that rests
-// at both ends at the same pose (within kRestJet rad) is taken as a dwell, else it is solved
-// at every spacing. A motion shorter than this and at rest to third order at both of its ends
-// would be missed: no cam lobe or lever stroke is that short.
+// where the cam rests at a solve (its taylor terms of order 1 to 3 over the stretch move it
+// by less than kRestMotion rad or mm: the implicit derivatives on a dwell are round-off,
+// ~1e-13, 1e-11 and 1e-9 for a floating lever), the next solve is tried kRestStride spacings
+// on; a stretch that rests at both ends at the same pose (within kRestMotion) is taken as a
+// dwell, else it is solved at every spacing. A motion shorter than the stretch and at rest
+// to third order at both of its ends would be missed: no cam lobe or lever stroke is that short.
 constexpr int kRestStride = 6;
-constexpr double kRestJet = 1e-12;
+constexpr double kRestMotion = 1e-12;
 using Jet3 = Jet<3>;
 using Jet2 = Jet<2>;
 
@@ -708,10 +709,14 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
       for (int d = 0; d < 4; ++d) cam_motion.push_back(up_ws.vars[cn.first_variable + k].derivative(d));
     return Status::success();
   };
+  const double rest_span = kRestStride * stride * 2 * pi / n;  // [rad] of driver
   auto at_rest = [&](std::size_t j) {
-    for (int k = 0; k < cn.dof; ++k)
-      for (int d = 1; d < 4; ++d)
-        if (!(std::abs(cam_motion[(j * cn.dof + k) * 4 + d]) <= kRestJet)) return false;
+    for (int k = 0; k < cn.dof; ++k) {
+      const double* d = &cam_motion[(j * cn.dof + k) * 4];
+      const double h = rest_span;
+      if (!(std::abs(d[1]) * h + std::abs(d[2]) * h * h / 2 + std::abs(d[3]) * h * h * h / 6 <= kRestMotion))
+        return false;
+    }
     return true;
   };
   if (!cam_is_lone_driver) {
@@ -727,7 +732,7 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
         if (Status st = solve_upstream(far); !st.ok()) return st;
         bool dwell = at_rest(j + 1);
         for (int k = 0; k < cn.dof && dwell; ++k)
-          dwell = std::abs(cam_motion[((j + 1) * cn.dof + k) * 4] - cam_motion[(j * cn.dof + k) * 4]) <= kRestJet;
+          dwell = std::abs(cam_motion[((j + 1) * cn.dof + k) * 4] - cam_motion[(j * cn.dof + k) * 4]) <= kRestMotion;
         if (dwell) continue;
         node_at.pop_back();
         cam_motion.resize(cam_motion.size() - static_cast<std::size_t>(cn.dof) * 4);
@@ -736,6 +741,7 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
       if (Status st = solve_upstream(next); !st.ok()) return st;
     }
   }
+  result.upstream_solves = static_cast<int>(node_at.size());
   // which samples are needed: for a swing cam only those where it moves (swing_profile
   // traces the envelope where its rate exceeds 1e-3 of the peak; the rest are its dwell)
   std::vector<char> needed(static_cast<std::size_t>(n), 1);
