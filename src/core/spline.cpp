@@ -282,6 +282,17 @@ void detail::PiecewiseQuintic::evaluate_piece(std::size_t i, double s, int max_o
   }
 }
 
+void detail::PiecewiseQuintic::values_ascending(std::span<const double> xs, double* out) const noexcept {
+  if (xs.empty()) return;
+  std::size_t i = locate(xs.front());
+  const std::size_t last = coef_.size() - 1;
+  for (std::size_t j = 0; j < xs.size(); ++j) {
+    CAMOPT_ASSERT(j == 0 || xs[j] >= xs[j - 1]);
+    while (i < last && xs[j] >= x_[i + 1]) ++i;
+    evaluate_piece(i, xs[j] - x_[i], 0, &out[j]);
+  }
+}
+
 double detail::PiecewiseQuintic::integrate_piece(std::size_t i, double s) const noexcept {
   const std::array<double, 6>& a = coef_[i];
   // int_0^s sum a_m u^m du = sum a_m s^(m+1) / (m+1)

@@ -73,20 +73,35 @@ CamProfile CamProfile::build(const ProfileSpec& spec) {
     }
   }
   // base and maximum radius on a fine scan (a polar profile's radius is its spline's value:
-  // no point, no hypot)
+  // no point, no hypot; the scan's angles from the table's first angle on, then the wrapped
+  // ones, each run walking the pieces)
   constexpr int scan = 4096;
   double rmin = 1e300, rmax = 0.0;
-  for (int i = 0; i < scan; ++i) {
-    const double u = two_pi * i / scan;
-    double rad = 0.0;
-    if (p.polar_) {
-      rad = std::abs(p.r_(u));
-    } else {
-      const auto c = p.point(u);
-      rad = std::hypot(c.x, c.y);
+  if (p.polar_) {
+    // the scan angles wrapped into the spline's period as evaluate wraps them: one rotation
+    // of an ascending run, so two ascending runs
+    const double u0 = p.r_.knots().front();
+    std::vector<double> at(scan), radius(scan);
+    for (int i = 0; i < scan; ++i) {
+      double u = two_pi * i / scan;
+      if (!(u >= u0 && u < u0 + two_pi)) u -= std::floor((u - u0) / two_pi) * two_pi;
+      at[i] = u;
     }
-    rmin = std::min(rmin, rad);
-    rmax = std::max(rmax, rad);
+    const auto turn = std::is_sorted_until(at.begin(), at.end()) - at.begin();
+    std::rotate(at.begin(), at.begin() + turn, at.end());
+    CAMOPT_ASSERT(std::is_sorted(at.begin(), at.end()));
+    p.r_.values_ascending(at, radius.data());
+    for (double r : radius) {
+      rmin = std::min(rmin, std::abs(r));
+      rmax = std::max(rmax, std::abs(r));
+    }
+  } else {
+    for (int i = 0; i < scan; ++i) {
+      const auto c = p.point(two_pi * i / scan);
+      const double rad = std::hypot(c.x, c.y);
+      rmin = std::min(rmin, rad);
+      rmax = std::max(rmax, rad);
+    }
   }
   p.base_radius_ = rmin;
   p.max_radius_ = rmax;

@@ -421,3 +421,22 @@ TEST_CASE("spline: rejects misuse") {
   CHECK_THROWS_AS(Spline::interpolate(xd, y), std::invalid_argument);
   CHECK_THROWS_AS(Spline::interpolate(x, std::span(y).first(2)), std::invalid_argument);
 }
+
+TEST_CASE("values_ascending: the same bits as evaluate, one walk along the pieces") {
+  // jittered knots, ascending points with repeats, points on knots and in the last piece
+  const auto x = grid(40, 0.3, 0.5);
+  const auto s = PeriodicSpline::interpolate(x, sample(x), kTwoPi);
+  std::mt19937 rng(kSeed);
+  std::uniform_real_distribution<double> u(x.front(), x.front() + kTwoPi);
+  std::vector<double> at(3000);
+  for (double& a : at) a = u(rng);
+  at.insert(at.end(), x.begin(), x.end());
+  at.push_back(at.back());
+  std::sort(at.begin(), at.end());
+  at.erase(std::remove_if(at.begin(), at.end(), [&](double a) { return a >= x.front() + kTwoPi; }), at.end());
+  std::vector<double> walked(at.size());
+  s.values_ascending(at, walked.data());
+  int same = 0;
+  for (std::size_t j = 0; j < at.size(); ++j) same += walked[j] == s(at[j]);
+  CHECK(same == static_cast<int>(at.size()));
+}
