@@ -721,13 +721,14 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
   };
   if (!cam_is_lone_driver) {
     if (Status st = solve_upstream(0); !st.ok()) return st;
+    kin::Workspace before = up_ws;  // the state a refused dwell try returns to (assigned, not reallocated)
     while (node_at.back() < n) {
       const std::size_t j = node_at.size() - 1;
       const int next = std::min(n, node_at.back() + stride);
       if (at_rest(j) && next < n) {
         // try the dwell: one solve kRestStride strides on, kept when the cam rests there at
         // the same pose; else dropped and the stretch solved stride by stride from here
-        const kin::Workspace before = up_ws;
+        before = up_ws;
         const int far = std::min(n, node_at.back() + kRestStride * stride);
         if (Status st = solve_upstream(far); !st.ok()) return st;
         bool dwell = at_rest(j + 1);

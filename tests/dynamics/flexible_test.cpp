@@ -32,6 +32,15 @@ DesignSpec compliant_valve(int surge_masses) {
   return d;
 }
 
+// one revolution at tolerances 1e-9 / 1e-11: where a test compares runs or balances energy
+dynamics::FlexibleOptions one_tight_revolution() {
+  dynamics::FlexibleOptions opt;
+  opt.revolutions = 1;
+  opt.relative_tolerance = 1e-9;
+  opt.absolute_tolerance = 1e-11;
+  return opt;
+}
+
 // independent Hertz line law: solve delta = a (ln(4R/a) - 1) for a by the fixed point
 // a = delta / (ln(4R/a) - 1) (contraction ~ 1/ln(4R/a) < 0.1), F = pi L E* a
 double hertz_force_fixed_point(double delta, double length, double e_star, double radius) {
@@ -309,10 +318,7 @@ TEST_CASE("flexible: power balance over a revolution (drive work = energy change
   d.connections[0].friction_coefficient = 0.08;
   const kin::Mechanism mech = kin::compile(d);
   const dynamics::Model model = dynamics::compile_dynamics(mech);
-  dynamics::FlexibleOptions opt;
-  opt.revolutions = 1;
-  opt.relative_tolerance = 1e-9;
-  opt.absolute_tolerance = 1e-11;
+  dynamics::FlexibleOptions opt = one_tight_revolution();
   dynamics::FlexibleResult res;
   const Status st = dynamics::run_flexible(mech, model, {}, 6000, 0, 360, 2, opt, res);
   INFO(st.str());
@@ -585,10 +591,7 @@ TEST_CASE("flexible: CVODE's finite-difference Jacobian (analytic_jacobian = fal
   d.connections[0].friction_coefficient = 0.08;
   const kin::Mechanism mech = kin::compile(d);
   const dynamics::Model model = dynamics::compile_dynamics(mech);
-  dynamics::FlexibleOptions opt;
-  opt.revolutions = 1;
-  opt.relative_tolerance = 1e-9;
-  opt.absolute_tolerance = 1e-11;
+  dynamics::FlexibleOptions opt = one_tight_revolution();
   dynamics::FlexibleResult analytic, differenced;
   REQUIRE(dynamics::run_flexible(mech, model, {}, 6000, 0, 360, 2, opt, analytic).ok());
   opt.analytic_jacobian = false;
