@@ -26,6 +26,8 @@ namespace camopt::cli {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
+// [mm] convex radius of a swing cam's untouched nose when the set has no radius limit
+constexpr double kNoseConvexRadius = 1.0;
 
 struct OptimizeOptions {
   std::string design, constraints, solver = "ipopt", out_dir, cam = "rotational";
@@ -98,7 +100,8 @@ nlohmann::json constraint_report(const opt::CamProblem& p, const opt::Evaluation
 // swing cam: the valve lift at every control position on the grid, the pitch curve, the
 // new swing profile with its exports, and (--verify) the kinematic solver on the new design
 void stage_swing_outputs(io::OutputTransaction& out, const OptimizeOptions& o, const DesignSpec& spec,
-                         opt::CamProblem& problem, const opt::SolveResult& result, nlohmann::json& report) {
+                         const opt::OptimizationSpec& set, opt::CamProblem& problem, const opt::SolveResult& result,
+                         nlohmann::json& report) {
   opt::SwingCamLift& model = *problem.swing();
   const std::vector<double> c = problem.coefficients(result.u);
   std::vector<double> control, cam_deg, l0, l1, l2, l3;
@@ -143,7 +146,13 @@ void stage_swing_outputs(io::OutputTransaction& out, const OptimizeOptions& o, c
     if (p.name == model.profile_name()) res.profile = p;
   res.profile.source_file.clear();
   res.profile.form = ProfileForm::polar;
-  model.profile_table(c, std::max(o.points, 3600), res.profile.angle_deg, res.profile.radius_mm);
+  // the free nose keeps the set's convex radius limit (else kNoseConvexRadius), so the
+  // surface never folds where no contact constrains it
+  const double nose_radius = set.limits.min_radius_of_curvature_mm.value_or(kNoseConvexRadius);
+  if (Status st = model.profile_table(c, std::max(o.points, 3600), nose_radius, res.profile.angle_deg,
+                                      res.profile.radius_mm);
+      !st.ok())
+    throw NumericalError(st);
   res.connection = model.connection();
   for (const auto& k : spec.connections)
     if (k.name == res.connection) res.follower_node = k.surface_a.shape == SurfaceShape::profile ? k.surface_b.node : k.surface_a.node;
@@ -263,7 +272,7 @@ void run_optimize(const OptimizeOptions& o) {
   }
 
   if (problem.is_swing()) {
-    stage_swing_outputs(out, o, spec, problem, result, report);
+    stage_swing_outputs(out, o, spec, set, problem, result, report);
     out.stage("report.json", report.dump(2) + "\n");
     out.commit();
     info("optimize: " + std::string(result.status.ok() ? "converged" : result.status.str()) + " in " +

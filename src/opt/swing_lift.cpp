@@ -564,27 +564,87 @@ void SwingCamLift::pitch_lift(std::span<const double> c, double s_rad, double ou
   impl_->h_derivatives(c, s_rad, out);
 }
 
-void SwingCamLift::profile_table(std::span<const double> c, int points, std::vector<double>& angle_deg,
-                                 std::vector<double>& radius_mm) const {
+namespace {
+
+// the nose of the pitch curve past the farthest contact, on [0, 1] over `length` [rad]: a
+// quintic hermite from the working curve's rho, rho', rho'' (hb, per rad) to the top, where
+// rho' = 0 and rho'' = -rho'_e / length (decelerating as a parabola would), so the mirror
+// image beyond the top joins it c2. rho_out[0..2]: rho and its derivatives per rad at t.
+void nose_at(const double hb[3], double length, double t, double rho_out[3]) {
+  const double top = hb[0] + 0.5 * hb[1] * length, top_acc = -hb[1] / length, d2 = length * length;
+  const double t2 = t * t, t3 = t2 * t, t4 = t3 * t, t5 = t4 * t;
+  rho_out[0] = hb[0] * (1 - 10 * t3 + 15 * t4 - 6 * t5) + hb[1] * length * (t - 6 * t3 + 8 * t4 - 3 * t5) +
+               hb[2] * d2 * 0.5 * (t2 - 3 * t3 + 3 * t4 - t5) + top * (10 * t3 - 15 * t4 + 6 * t5) +
+               top_acc * d2 * 0.5 * (t3 - 2 * t4 + t5);
+  rho_out[1] = (hb[0] * (-30 * t2 + 60 * t3 - 30 * t4) + hb[1] * length * (1 - 18 * t2 + 32 * t3 - 15 * t4) +
+                hb[2] * d2 * 0.5 * (2 * t - 9 * t2 + 12 * t3 - 5 * t4) + top * (30 * t2 - 60 * t3 + 30 * t4) +
+                top_acc * d2 * 0.5 * (3 * t2 - 8 * t3 + 5 * t4)) /
+               length;
+  rho_out[2] = (hb[0] * (-60 * t + 180 * t2 - 120 * t3) + hb[1] * length * (-36 * t + 96 * t2 - 60 * t3) +
+                hb[2] * d2 * 0.5 * (2 - 18 * t + 36 * t2 - 20 * t3) + top * (60 * t - 180 * t2 + 120 * t3) +
+                top_acc * d2 * 0.5 * (6 * t - 24 * t2 + 20 * t3)) /
+               d2;
+}
+
+// polar curvature of a curve rho(phi) (+ convex) [1/mm]
+double polar_curvature(double rho, double d1, double d2) {
+  const double q = rho * rho + d1 * d1;
+  return (rho * rho + 2 * d1 * d1 - rho * d2) / (q * std::sqrt(q));
+}
+
+}  // namespace
+
+Status SwingCamLift::profile_table(std::span<const double> c, int points, double min_convex_radius_mm,
+                                   std::vector<double>& angle_deg, std::vector<double>& radius_mm) const {
   const Impl& m = *impl_;
-  std::vector<std::pair<double, double>> polar;
-  // pitch curve over one turn: dwell, working curve to 1 deg past the farthest contact at
-  // any position (s_e <= s_b; the coefficients past it are free of every constraint), a nose
-  // over 12 deg (quintic hermite to zero slope, decelerating as a parabola would), and the
-  // mirror image of all of it back to the dwell (c2 at the nose)
-  double s_e = m.sa;
+  // pitch curve over one turn: dwell, working curve to kNoseMargin past the farthest contact
+  // at any position (the coefficients beyond it are free of every constraint, so it stops
+  // there), a nose to zero slope (nose_at) and the mirror image of all of it back to the
+  // dwell (c2 at the top). The nose is the shortest of kNoseLengths whose pitch curve keeps a
+  // convex radius >= roller radius + min_convex_radius_mm (the surface then does not fold
+  // and its convex radius is >= min_convex_radius_mm).
+  constexpr double kNoseMargin = 0.25 * kRadPerDeg;  // covers the grid's miss of the farthest contact
+  constexpr double kNoseLengths[] = {4, 6, 8, 10, 12, 16, 20, 24, 32, 40, 48};  // [swing deg]
+  double s_c = m.sa;
   for (const auto& pt : m.pts) {
     double q = pt.q, px, py, s;
     if (!m.solve_q(c, pt.psi.value(), pt.pivot, q, false)) continue;
     m.frame(q, pt.psi.value(), pt.pivot, px, py, s);
-    s_e = std::max(s_e, s);
+    s_c = std::max(s_c, s);
   }
-  s_e = std::min(m.sb, s_e + kRadPerDeg);
-  const double base = std::atan2(m.e0.y(), m.e0.x());
-  const double nose = 12.0 * kRadPerDeg, s_n = s_e + nose, s_hi = 2 * s_n - m.sa;
+  const double s_e = std::min(m.sb, s_c + kNoseMargin);
   double hb[5];
   m.h_derivatives(c, s_e, hb);
-  const double top = hb[0] + 0.5 * hb[1] * nose, top_acc = -hb[1] / nose;
+  hb[0] += m.rho0;
+  const double kappa_max = 1.0 / (m.r_roller + min_convex_radius_mm);
+  double nose = 0.0, tightest = 0.0;
+  for (double length_deg : kNoseLengths) {
+    const double length = length_deg * kRadPerDeg;
+    double worst = 0.0;
+    for (int k = 0; k <= 200; ++k) {
+      double r[3];
+      nose_at(hb, length, k / 200.0, r);
+      worst = std::max(worst, polar_curvature(r[0], r[1], r[2]));
+    }
+    if (worst <= kappa_max) {
+      nose = length;
+      break;
+    }
+    tightest = tightest == 0.0 ? worst : std::min(tightest, worst);
+  }
+  if (nose == 0.0)
+    return {StatusCode::undercut,
+            "the swing cam's nose past the farthest contact cannot turn back within " +
+                num(kNoseLengths[std::size(kNoseLengths) - 1]) + " swing deg with a convex surface radius >= " +
+                num(min_convex_radius_mm) + " mm (pitch slope there " + num(hb[1] * kRadPerDeg) +
+                " mm per swing deg; tightest pitch radius " + num(1.0 / tightest) + " mm against roller " +
+                num(m.r_roller) + " mm)",
+            "swing " + num(s_e / kRadPerDeg) + " deg"};
+  const double base = std::atan2(m.e0.y(), m.e0.x());
+  const double s_n = s_e + nose, s_hi = 2 * s_n - m.sa;
+  const double co = std::cos(m.profile_orientation), so = std::sin(m.profile_orientation);
+  std::vector<std::pair<double, double>> polar;
+  double previous = 0.0, turned = 0.0;  // the surface's polar angle, unwrapped along the table [rad]
   for (int i = 0; i < points; ++i) {
     const double sv = s_hi - 2 * kPi + 2 * kPi * (i + 0.5) / points;
     const double se = sv > s_n ? 2 * s_n - sv : sv, sign = sv > s_n ? -1.0 : 1.0;
@@ -595,15 +655,10 @@ void SwingCamLift::profile_table(std::span<const double> c, int points, std::vec
       rho += hd[0];
       drho = sign * hd[1];
     } else {
-      const double t = (se - s_e) / nose, t2 = t * t, t3 = t2 * t, t4 = t3 * t, t5 = t4 * t, d2 = nose * nose;
-      rho += hb[0] * (1 - 10 * t3 + 15 * t4 - 6 * t5) + hb[1] * nose * (t - 6 * t3 + 8 * t4 - 3 * t5) +
-             hb[2] * d2 * 0.5 * (t2 - 3 * t3 + 3 * t4 - t5) + top * (10 * t3 - 15 * t4 + 6 * t5) +
-             top_acc * d2 * 0.5 * (t3 - 2 * t4 + t5);
-      drho = sign *
-             (hb[0] * (-30 * t2 + 60 * t3 - 30 * t4) + hb[1] * nose * (1 - 18 * t2 + 32 * t3 - 15 * t4) +
-              hb[2] * d2 * 0.5 * (2 * t - 9 * t2 + 12 * t3 - 5 * t4) + top * (30 * t2 - 60 * t3 + 30 * t4) +
-              top_acc * d2 * 0.5 * (3 * t2 - 8 * t3 + 5 * t4)) /
-             nose;
+      double r[3];
+      nose_at(hb, nose, (se - s_e) / nose, r);
+      rho = r[0];
+      drho = sign * r[1];
     }
     const double phi = base + m.sigma * sv;
     const Eigen::Vector2d er{std::cos(phi), std::sin(phi)}, et{-std::sin(phi), std::cos(phi)};
@@ -613,11 +668,21 @@ void SwingCamLift::profile_table(std::span<const double> c, int points, std::vec
     normal.normalize();
     if (normal.dot(er) < 0) normal = -normal;
     const Eigen::Vector2d y = x - m.r_roller * normal - m.profile_origin;
-    const double co = std::cos(m.profile_orientation), so = std::sin(m.profile_orientation);
     const Eigen::Vector2d local{co * y.x() + so * y.y(), -so * y.x() + co * y.y()};
-    double a = std::atan2(local.y(), local.x()) * 180.0 / kPi;
-    if (a < 0) a += 360.0;
-    polar.emplace_back(a, local.norm());
+    const double a = std::atan2(local.y(), local.x());
+    // the surface must run round its origin in one sense: a step back is a fold
+    if (i > 0) {
+      double step = a - previous;
+      step -= 2 * kPi * std::round(step / (2 * kPi));
+      if (i > 1 && step * turned <= 0)
+        return {StatusCode::undercut,
+                "the swing cam's surface folds back (undercut: the pitch curve's convex radius is below the roller "
+                "radius " + num(m.r_roller) + " mm)",
+                "swing " + num(se / kRadPerDeg) + " deg, profile " + num(a / kRadPerDeg) + " deg"};
+      turned += step;
+    }
+    previous = a;
+    polar.emplace_back(a < 0 ? a / kRadPerDeg + 360.0 : a / kRadPerDeg, local.norm());
   }
   std::sort(polar.begin(), polar.end());
   angle_deg.clear();
@@ -627,6 +692,7 @@ void SwingCamLift::profile_table(std::span<const double> c, int points, std::vec
     angle_deg.push_back(a);
     radius_mm.push_back(r);
   }
+  return Status::success();
 }
 
 }  // namespace camopt::opt

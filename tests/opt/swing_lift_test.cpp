@@ -46,7 +46,7 @@ SolverComparison compare_with_kinematic_solver(const DesignSpec& d, opt::SwingCa
   for (const auto& p : d.profiles)
     if (p.name == model.profile_name()) prof = p;
   prof.source_file.clear();
-  model.profile_table(c, 7200, prof.angle_deg, prof.radius_mm);
+  REQUIRE(model.profile_table(c, 7200, 3.0, prof.angle_deg, prof.radius_mm).ok());
   const DesignSpec made = synthesis::with_profile(d, prof);
   const kin::Mechanism mech = kin::compile(made);
   const int valve = mech.nodes[static_cast<std::size_t>(mech.node_index("valve"))].first_variable;
@@ -186,4 +186,21 @@ TEST_CASE("swing lift: contact quantities agree with the envelope model away fro
     }
   }
   CHECK(compared > 100);
+}
+
+TEST_CASE("swing lift: a nose that cannot keep the asked convex radius is reported with its swing angle",
+          "[opt][swing]") {
+  // the CVVL's pitch radius is ~36 mm: no nose keeps a 1000 mm convex surface radius, while a
+  // 3 mm one is met (the CLI test checks that radius on the written surface)
+  const DesignSpec d = cvvl();
+  opt::SwingCamLift model(d, three_positions(), 1.0);
+  const std::vector<double> c = perturbed(model);
+  std::vector<double> angle, radius;
+  REQUIRE(model.profile_table(c, 3600, 3.0, angle, radius).ok());
+  CHECK(angle.size() == 3600);
+  const Status st = model.profile_table(c, 3600, 1000.0, angle, radius);
+  REQUIRE_FALSE(st.ok());
+  CHECK(st.code == StatusCode::undercut);
+  CHECK_THAT(st.message, Catch::Contains("nose") && Catch::Contains("1000 mm"));
+  CHECK_THAT(st.where, Catch::StartsWith("swing "));
 }

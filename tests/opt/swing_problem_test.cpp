@@ -171,7 +171,7 @@ TEST_CASE("swing problem: the VVLD working curve optimised at 4 control position
   for (const auto& pr : d.profiles)
     if (pr.name == model.profile_name()) prof = pr;
   prof.source_file.clear();
-  model.profile_table(c, 7200, prof.angle_deg, prof.radius_mm);
+  REQUIRE(model.profile_table(c, 7200, 3.0, prof.angle_deg, prof.radius_mm).ok());
   const kin::Mechanism mech = kin::compile(synthesis::with_profile(d, prof));
   const std::size_t nv = mech.variables.size();
   const int valve = mech.nodes[static_cast<std::size_t>(mech.output_node)].first_variable;

@@ -110,9 +110,11 @@ class SwingCamLift {
   void pitch_lift(std::span<const double> c, double s_rad, double out[5]) const;
   // the swing cam's working surface: the pitch curve offset inward by the roller radius,
   // as a polar table about the profile's origin in its own frame (orientation), over the
-  // whole revolution (dwell arc elsewhere) [deg, mm]
-  void profile_table(std::span<const double> c, int points, std::vector<double>& angle_deg,
-                     std::vector<double>& radius_mm) const;
+  // whole revolution (dwell arc elsewhere) [deg, mm]. Past the farthest contact a nose
+  // turns the pitch curve back with a convex surface radius >= min_convex_radius_mm [mm].
+  // A Status (undercut) when no nose up to 48 swing deg can, or the surface folds.
+  Status profile_table(std::span<const double> c, int points, double min_convex_radius_mm,
+                       std::vector<double>& angle_deg, std::vector<double>& radius_mm) const;
   const std::string& profile_name() const noexcept;
   const std::string& connection() const noexcept;
 
