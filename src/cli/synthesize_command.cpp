@@ -117,6 +117,7 @@ void run_synthesize(const SynthesizeOptions& o) {
   opt.points = o.points;
   opt.samples = o.points;
   opt.wheel_radius_mm = o.wheel_radius_mm;
+  opt.min_radius_mm = o.min_radius_mm;
   if (!valve_target) opt.target_node = o.target_node;
   for (const auto& c : mech.controls) opt.controls.push_back(c.default_value);
   if (!mech.controls.empty()) {

@@ -9,6 +9,7 @@
 #include "camopt/core/jet.hpp"
 #include "camopt/kinematics/mechanism.hpp"
 #include "camopt/kinematics/solver.hpp"
+#include "camopt/synthesis/detail/hermite.hpp"
 #include "camopt/synthesis/lift_law.hpp"
 #include "camopt/synthesis/mechanism_cut.hpp"
 
@@ -564,43 +565,13 @@ void SwingCamLift::pitch_lift(std::span<const double> c, double s_rad, double ou
   impl_->h_derivatives(c, s_rad, out);
 }
 
-namespace {
-
-// the nose of the pitch curve past the farthest contact, on [0, 1] over `length` [rad]: a
-// quintic hermite from the working curve's rho, rho', rho'' (hb, per rad) to the top, where
-// rho' = 0 and rho'' = -rho'_e / length (decelerating as a parabola would), so the mirror
-// image beyond the top joins it c2. rho_out[0..2]: rho and its derivatives per rad at t.
-void nose_at(const double hb[3], double length, double t, double rho_out[3]) {
-  const double top = hb[0] + 0.5 * hb[1] * length, top_acc = -hb[1] / length, d2 = length * length;
-  const double t2 = t * t, t3 = t2 * t, t4 = t3 * t, t5 = t4 * t;
-  rho_out[0] = hb[0] * (1 - 10 * t3 + 15 * t4 - 6 * t5) + hb[1] * length * (t - 6 * t3 + 8 * t4 - 3 * t5) +
-               hb[2] * d2 * 0.5 * (t2 - 3 * t3 + 3 * t4 - t5) + top * (10 * t3 - 15 * t4 + 6 * t5) +
-               top_acc * d2 * 0.5 * (t3 - 2 * t4 + t5);
-  rho_out[1] = (hb[0] * (-30 * t2 + 60 * t3 - 30 * t4) + hb[1] * length * (1 - 18 * t2 + 32 * t3 - 15 * t4) +
-                hb[2] * d2 * 0.5 * (2 * t - 9 * t2 + 12 * t3 - 5 * t4) + top * (30 * t2 - 60 * t3 + 30 * t4) +
-                top_acc * d2 * 0.5 * (3 * t2 - 8 * t3 + 5 * t4)) /
-               length;
-  rho_out[2] = (hb[0] * (-60 * t + 180 * t2 - 120 * t3) + hb[1] * length * (-36 * t + 96 * t2 - 60 * t3) +
-                hb[2] * d2 * 0.5 * (2 - 18 * t + 36 * t2 - 20 * t3) + top * (60 * t - 180 * t2 + 120 * t3) +
-                top_acc * d2 * 0.5 * (6 * t - 24 * t2 + 20 * t3)) /
-               d2;
-}
-
-// polar curvature of a curve rho(phi) (+ convex) [1/mm]
-double polar_curvature(double rho, double d1, double d2) {
-  const double q = rho * rho + d1 * d1;
-  return (rho * rho + 2 * d1 * d1 - rho * d2) / (q * std::sqrt(q));
-}
-
-}  // namespace
-
 Status SwingCamLift::profile_table(std::span<const double> c, int points, double min_convex_radius_mm,
                                    std::vector<double>& angle_deg, std::vector<double>& radius_mm) const {
   const Impl& m = *impl_;
   // pitch curve over one turn: dwell, working curve to kNoseMargin past the farthest contact
   // at any position (the coefficients beyond it are free of every constraint, so it stops
   // there), a nose to zero slope (nose_at) and the mirror image of all of it back to the
-  // dwell (c2 at the top). The nose is the shortest of kNoseLengths whose pitch curve keeps a
+  // dwell (c3 at the top). The nose is the shortest of kNoseLengths whose pitch curve keeps a
   // convex radius >= roller radius + min_convex_radius_mm (the surface then does not fold
   // and its convex radius is >= min_convex_radius_mm).
   constexpr double kNoseMargin = 0.25 * kRadPerDeg;  // covers the grid's miss of the farthest contact
@@ -617,14 +588,20 @@ Status SwingCamLift::profile_table(std::span<const double> c, int points, double
   m.h_derivatives(c, s_e, hb);
   hb[0] += m.rho0;
   const double kappa_max = 1.0 / (m.r_roller + min_convex_radius_mm);
+  // rho and its derivatives per rad at `along` [rad] past s_e on a nose of `length`
+  auto nose_at = [&](double length, double along, double r[3]) {
+    double d[4];
+    synthesis::detail::nose_septic(hb[0], hb[1], hb[2], length).eval(along / length, d);
+    r[0] = d[0], r[1] = d[1] / length, r[2] = d[2] / (length * length);
+  };
   double nose = 0.0, tightest = 0.0;
   for (double length_deg : kNoseLengths) {
     const double length = length_deg * kRadPerDeg;
     double worst = 0.0;
     for (int k = 0; k <= 200; ++k) {
       double r[3];
-      nose_at(hb, length, k / 200.0, r);
-      worst = std::max(worst, polar_curvature(r[0], r[1], r[2]));
+      nose_at(length, length * k / 200.0, r);
+      worst = std::max(worst, synthesis::detail::polar_curvature(r[0], r[1], r[2]));
     }
     if (worst <= kappa_max) {
       nose = length;
@@ -656,7 +633,7 @@ Status SwingCamLift::profile_table(std::span<const double> c, int points, double
       drho = sign * hd[1];
     } else {
       double r[3];
-      nose_at(hb, nose, (se - s_e) / nose, r);
+      nose_at(nose, se - s_e, r);
       rho = r[0];
       drho = sign * r[1];
     }

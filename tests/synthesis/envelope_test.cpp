@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 #include "camopt/io/csv.hpp"
 #include "camopt/io/design_file.hpp"
@@ -573,4 +574,43 @@ TEST_CASE("synthesis: a plain lift with a zero base circle through the Valvetron
   REQUIRE(synthesis::round_trip(synthesis::with_profile(v.design, res.profile), bump, {0.0}, res.connection, rt).ok());
   INFO("round trip " << rt.max_error_mm << " mm at " << rt.max_error_at_deg << " deg");
   CHECK(rt.max_error_mm < 1e-6);
+}
+
+TEST_CASE("synthesis: a swing cam's untouched far side is a nose and the mirror image of its traced stretch",
+          "[synthesis][envelope][swing]") {
+  // past the traced stretch the profile turns over in a nose whose convex radius is at least
+  // the roller's (8 mm on both designs) and the asked minimum, then comes back to the rest
+  // radius without dipping under it (base circle: the CVVL's dwell 28 mm, the Valvetronic
+  // idle arc 36 mm); a larger minimum needs a longer nose (measured: 12 deg for 8 mm, 20 deg
+  // for 12 mm on both)
+  struct Case {
+    const char* name;
+    double rest_radius;
+  };
+  for (const Case& c : {Case{"cvvl_swing_cam", 28.0}, Case{"valvetronic", 36.0}}) {
+    DesignSpec d = io::load_design(std::string(CAMOPT_SOURCE_DIR) + "/designs/" + c.name + ".toml");
+    for (auto& k : d.connections) k.lash_mm = 0.0;
+    const PeriodicSpline target = forward_lift(d);
+    for (const auto& [min_radius, nose] : {std::pair{0.0, "a 12 deg nose"}, std::pair{12.0, "a 20 deg nose"}}) {
+      INFO(c.name << ", min radius " << min_radius << " mm");
+      synthesis::SynthesisOptions o;
+      o.cam = "swing";
+      o.min_radius_mm = min_radius;
+      synthesis::SynthesisResult res;
+      REQUIRE(synthesis::synthesize(d, target, o, res).ok());
+      bool noted = false;
+      for (const auto& n : res.notes) noted = noted || n.find(nose) != std::string::npos;
+      CHECK(noted);
+      CHECK(res.min_radius_of_curvature_mm >= std::max(8.0, min_radius));
+      CHECK(res.base_radius_mm == Approx(c.rest_radius).margin(1e-4));
+      // the far flank is the traced stretch's mirror image: its rows are exact copies of
+      // traced rows, so radii above the rest come twice
+      std::map<double, int> seen;
+      for (double r : res.radius_mm)
+        if (r > c.rest_radius + 1.0) ++seen[r];
+      int twice = 0;
+      for (const auto& [r, count] : seen) twice += count == 2;
+      CHECK(twice >= 20);
+    }
+  }
 }

@@ -38,6 +38,9 @@ struct SynthesisOptions {
   // a knot of the target
   int samples = 1440;
   double wheel_radius_mm = 0.0;    // grinding wheel radius; concave radii must be >= it (0: no check)
+  // smallest allowed radius of curvature [mm]: reported against; a swing cam's untouched nose
+  // beyond its traced stretch keeps its convex radius >= this and >= the roller's
+  double min_radius_mm = 0.0;
   std::string target_node;         // node whose motion is the target (empty: the valve, design.output_node)
 };
 

@@ -2,6 +2,8 @@
 // hermite polynomials on [0, 1] from end values and derivatives (per unit of the local
 // parameter), used to resample envelopes and to interpolate inverse motions.
 
+#include <cmath>
+
 namespace camopt::synthesis::detail {
 
 // quintic hermite on [0, 1] from value, first and second derivative (per unit t) at both ends
@@ -25,6 +27,12 @@ struct Quintic {
     s = ((20 * a[5] * t + 12 * a[4]) * t + 6 * a[3]) * t + 2 * a[2];
   }
 };
+
+// curvature of a polar curve r(phi) from r, dr/dphi, d2r/dphi2 (+ convex) [1/mm]
+inline double polar_curvature(double r, double d1, double d2) {
+  const double q = r * r + d1 * d1;
+  return (r * r + 2 * d1 * d1 - r * d2) / (q * std::sqrt(q));
+}
 
 // septic hermite on [0, 1] from value and three derivatives (per unit t) at both ends:
 // p0[k], p1[k] = d^k p / dt^k at t = 0 and t = 1
@@ -60,6 +68,17 @@ struct Septic {
     d[3] *= 6.0;
   }
 };
+
+// a nose over `length` of the variable: from value p, slope d and second derivative s (per
+// unit of the variable) to a maximum with value p + d length / 2, slope 0, second
+// derivative -d / length (decelerating as a parabola would) and third derivative 0, so its
+// mirror image beyond the maximum joins it c3 (the start's third derivative is 0: a join
+// there is c2). Septic::eval at t = distance / length gives derivatives per unit t.
+inline Septic nose_septic(double p, double d, double s, double length) {
+  const double start[4] = {p, d * length, s * length * length, 0.0};
+  const double top[4] = {p + 0.5 * d * length, 0.0, -d * length, 0.0};
+  return Septic(start, top);
+}
 
 // septic hermite between two points a span apart, from the value and three derivatives at
 // both ends per unit of the variable (d0, d1); out[k] = k-th derivative at the fraction t
