@@ -282,14 +282,32 @@ void detail::PiecewiseQuintic::evaluate_piece(std::size_t i, double s, int max_o
   }
 }
 
-void detail::PiecewiseQuintic::values_ascending(std::span<const double> xs, double* out) const noexcept {
-  if (xs.empty()) return;
-  std::size_t i = locate(xs.front());
-  const std::size_t last = coef_.size() - 1;
-  for (std::size_t j = 0; j < xs.size(); ++j) {
-    CAMOPT_ASSERT(j == 0 || xs[j] >= xs[j - 1]);
-    while (i < last && xs[j] >= x_[i + 1]) ++i;
-    evaluate_piece(i, xs[j] - x_[i], 0, &out[j]);
+void detail::PiecewiseQuintic::value_range(double x_end, double& lo, double& hi) const noexcept {
+  lo = hi = coef_.front()[0];
+  for (std::size_t i = 0; i < coef_.size(); ++i) {
+    const double h = (i + 1 < x_.size() ? x_[i + 1] : x_end) - x_[i];
+    double right[2];
+    evaluate_piece(i, h, 1, right);
+    lo = std::min({lo, coef_[i][0], right[0]});
+    hi = std::max({hi, coef_[i][0], right[0]});
+    const double d0 = coef_[i][1], d1 = right[1];
+    // a slope that changes sign by more than round-off: an extremum inside
+    if (!(d0 * d1 < 0) || std::max(std::abs(d0), std::abs(d1)) * h <= 1e-14 * (std::abs(coef_[i][0]) + 1.0)) continue;
+    double a = 0.0, b = h, s = h * d0 / (d0 - d1);  // bracket [a, b] of the slope's root
+    for (int it = 0; it < 60; ++it) {
+      double f[3];
+      evaluate_piece(i, s, 2, f);
+      ((f[1] > 0) == (d0 > 0) ? a : b) = s;
+      double next = f[2] != 0.0 ? s - f[1] / f[2] : 0.5 * (a + b);
+      if (!(next > a && next < b)) next = 0.5 * (a + b);
+      const bool done = std::abs(next - s) <= 1e-15 * h;
+      s = next;
+      if (done) break;
+    }
+    double v;
+    evaluate_piece(i, s, 0, &v);
+    lo = std::min(lo, v);
+    hi = std::max(hi, v);
   }
 }
 

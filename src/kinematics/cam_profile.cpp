@@ -72,30 +72,13 @@ CamProfile CamProfile::build(const ProfileSpec& spec) {
       break;
     }
   }
-  // base and maximum radius on a fine scan (a polar profile's radius is its spline's value:
-  // no point, no hypot; the scan's angles from the table's first angle on, then the wrapped
-  // ones, each run walking the pieces)
-  constexpr int scan = 4096;
+  // base and maximum radius: a polar profile's from its spline's extremes (exact), an xy
+  // profile's on a fine scan
   double rmin = 1e300, rmax = 0.0;
   if (p.polar_) {
-    // the scan angles wrapped into the spline's period as evaluate wraps them: one rotation
-    // of an ascending run, so two ascending runs
-    const double u0 = p.r_.knots().front();
-    std::vector<double> at(scan), radius(scan);
-    for (int i = 0; i < scan; ++i) {
-      double u = two_pi * i / scan;
-      if (!(u >= u0 && u < u0 + two_pi)) u -= std::floor((u - u0) / two_pi) * two_pi;
-      at[i] = u;
-    }
-    const auto turn = std::is_sorted_until(at.begin(), at.end()) - at.begin();
-    std::rotate(at.begin(), at.begin() + turn, at.end());
-    CAMOPT_ASSERT(std::is_sorted(at.begin(), at.end()));
-    p.r_.values_ascending(at, radius.data());
-    for (double r : radius) {
-      rmin = std::min(rmin, std::abs(r));
-      rmax = std::max(rmax, std::abs(r));
-    }
+    p.r_.value_range(p.r_.knots().front() + two_pi, rmin, rmax);
   } else {
+    constexpr int scan = 4096;
     for (int i = 0; i < scan; ++i) {
       const auto c = p.point(two_pi * i / scan);
       const double rad = std::hypot(c.x, c.y);

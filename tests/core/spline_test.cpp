@@ -422,21 +422,44 @@ TEST_CASE("spline: rejects misuse") {
   CHECK_THROWS_AS(Spline::interpolate(x, std::span(y).first(2)), std::invalid_argument);
 }
 
-TEST_CASE("values_ascending: the same bits as evaluate, one walk along the pieces") {
-  // jittered knots, ascending points with repeats, points on knots and in the last piece
+TEST_CASE("value_range: the extremes of a spline, inside its pieces too") {
+  // the extreme on a dense scan of the spline refined by golden-section search on it
+  auto extreme = [](const auto& f, double from, double to, double sign) {
+    constexpr int scan = 20000;
+    double best = from;
+    for (int k = 0; k <= scan; ++k) {
+      const double u = from + (to - from) * k / scan;
+      if (sign * f(u) > sign * f(best)) best = u;
+    }
+    double a = std::max(from, best - (to - from) / scan), b = std::min(to, best + (to - from) / scan);
+    const double g = 0.5 * (std::sqrt(5.0) - 1.0);
+    for (int it = 0; it < 200; ++it) {
+      const double c = b - g * (b - a), d = a + g * (b - a);
+      if (sign * f(c) > sign * f(d)) b = d;
+      else a = c;
+    }
+    return f(0.5 * (a + b));
+  };
+  // a periodic spline through 2 + cos(u - 0.37) at 40 jittered knots: extremes between knots
   const auto x = grid(40, 0.3, 0.5);
-  const auto s = PeriodicSpline::interpolate(x, sample(x), kTwoPi);
-  std::mt19937 rng(kSeed);
-  std::uniform_real_distribution<double> u(x.front(), x.front() + kTwoPi);
-  std::vector<double> at(3000);
-  for (double& a : at) a = u(rng);
-  at.insert(at.end(), x.begin(), x.end());
-  at.push_back(at.back());
-  std::sort(at.begin(), at.end());
-  at.erase(std::remove_if(at.begin(), at.end(), [&](double a) { return a >= x.front() + kTwoPi; }), at.end());
-  std::vector<double> walked(at.size());
-  s.values_ascending(at, walked.data());
-  int same = 0;
-  for (std::size_t j = 0; j < at.size(); ++j) same += walked[j] == s(at[j]);
-  CHECK(same == static_cast<int>(at.size()));
+  std::vector<double> y(x.size());
+  for (std::size_t i = 0; i < x.size(); ++i) y[i] = 2.0 + std::cos(x[i] - 0.37);
+  const auto s = PeriodicSpline::interpolate(x, y, kTwoPi);
+  double lo = 0.0, hi = 0.0;
+  s.value_range(x.front() + kTwoPi, lo, hi);
+  CHECK(hi == Approx(extreme(s, x.front(), x.front() + kTwoPi, 1.0)).epsilon(1e-15));
+  CHECK(lo == Approx(extreme(s, x.front(), x.front() + kTwoPi, -1.0)).epsilon(1e-15));
+  // those of the function to the interpolation error, and not at a knot
+  CHECK(hi == Approx(3.0).margin(1e-6));
+  CHECK(lo == Approx(1.0).margin(1e-6));
+  CHECK(hi > *std::max_element(y.begin(), y.end()));
+  CHECK(lo < *std::min_element(y.begin(), y.end()));
+  // a natural spline through sin: its last piece ends at x.back(); the minimum at an end
+  const std::vector<double> xn = {0.0, 0.7, 1.3, 2.2, 3.0, 3.9, 4.4};
+  std::vector<double> yn(xn.size());
+  for (std::size_t i = 0; i < xn.size(); ++i) yn[i] = std::sin(xn[i]);
+  const auto n = Spline::interpolate(xn, yn);
+  n.value_range(xn.back(), lo, hi);
+  CHECK(hi == Approx(extreme(n, xn.front(), xn.back(), 1.0)).epsilon(1e-15));
+  CHECK(lo == Approx(extreme(n, xn.front(), xn.back(), -1.0)).epsilon(1e-15));
 }

@@ -29,9 +29,13 @@ class PiecewiseQuintic {
   // the breakpoints, i.e. the data sites x (x.front() + period closes a periodic spline)
   std::span<const double> knots() const noexcept { return x_; }
   bool empty() const noexcept { return x_.empty(); }
-  // out[j] = f(xs[j]) for ascending xs inside the pieces (no wrap, no extrapolation): one
-  // walk along the pieces instead of a lookup per point; the same bits as evaluate
-  void values_ascending(std::span<const double> xs, double* out) const noexcept;
+  // smallest and largest value over the pieces: the knot values and every interior
+  // extremum where a piece's slope changes sign between its ends (safeguarded newton on f'
+  // to round-off). A piece whose slope has the same sign at both ends but turns twice
+  // inside is not searched (a quintic interpolant of table data does not wiggle so).
+  // x_end: the right end of the last piece (x.back() for a natural spline, x.front() +
+  // period for a periodic one).
+  void value_range(double x_end, double& lo, double& hi) const noexcept;
 
  protected:
   // interval index i with x_[i] <= x < x_[i+1], clamped to [0, pieces - 1]
