@@ -476,9 +476,21 @@ Spline Spline::interpolate(std::span<const double> x, std::span<const double> y)
     }
   };
   end_rows(p, 0);
+  // the basis triangle at every knot but the last (kept for the taylor coefficients below:
+  // triangle[i][q (q + 1) / 2 + r] = N_{i+p-q+r, q}(x_i), span i + p)
+  std::vector<std::array<double, (p + 1) * (p + 2) / 2>> triangle(static_cast<std::size_t>(n - 1));
   for (int i = 0; i < n; ++i) {
     const int span = std::min(i + p, last_span);
-    bspline_basis_derivatives(U.data(), span, p, x[static_cast<std::size_t>(i)], 0, ders);
+    if (i + 1 < n) {
+      double ndu[p + 1][p + 1];
+      bspline_basis_triangle(U.data(), span, p, x[static_cast<std::size_t>(i)], ndu);
+      auto& tri = triangle[static_cast<std::size_t>(i)];
+      for (int q = 0; q <= p; ++q)
+        for (int r = 0; r <= q; ++r) tri[static_cast<std::size_t>(q * (q + 1) / 2 + r)] = ndu[r][q];
+      for (int r = 0; r <= p; ++r) ders[0][r] = ndu[r][p];
+    } else {
+      bspline_basis_derivatives(U.data(), span, p, x[static_cast<std::size_t>(i)], 0, ders);
+    }
     for (int r = 0; r <= p; ++r)
       if (ders[0][r] != 0.0) put(i + 2, span - p + r, ders[0][r]);
     b[i + 2] = y[static_cast<std::size_t>(i)];
@@ -488,14 +500,33 @@ Spline Spline::interpolate(std::span<const double> x, std::span<const double> y)
   if (!solve_banded(nb, kl, ku, band, c))
     throw std::invalid_argument(std::string(who) + ": singular collocation system (nearly coincident x?)");
 
+  // taylor coefficients at the left end of each piece from the differenced coefficients
+  // (as PeriodicSpline::interpolate_periodic) c^(k)_j = (q + 1) (c^(k-1)_j - c^(k-1)_{j-1}) /
+  // (U_{j+q+1} - U_j), q = p - k: f^(k)(x_i) = sum_r N_{i+p-q+r, q}(x_i) c^(k)_{i+p-q+r}. The
+  // knot differences it needs (j >= i + k) are >= x_{i+1} - x_i > 0; the clamped ends' zero
+  // ones belong to basis functions that vanish on the domain.
+  std::vector<std::array<double, p + 1>> diff(static_cast<std::size_t>(nb));  // [j][k] = c^(k)_j
+  for (int j = 0; j < nb; ++j) diff[static_cast<std::size_t>(j)][0] = c[j];
+  for (int k = 1; k <= p; ++k) {
+    const int q = p - k;
+    for (int j = k; j < nb; ++j) {
+      const double den = U[static_cast<std::size_t>(j + q + 1)] - U[static_cast<std::size_t>(j)];
+      diff[static_cast<std::size_t>(j)][static_cast<std::size_t>(k)] =
+          den > 0 ? (q + 1) * (diff[static_cast<std::size_t>(j)][static_cast<std::size_t>(k - 1)] -
+                               diff[static_cast<std::size_t>(j - 1)][static_cast<std::size_t>(k - 1)]) / den
+                  : 0.0;
+    }
+  }
   Spline s;
   s.x_.assign(x.begin(), x.end());
   s.coef_.resize(static_cast<std::size_t>(n - 1));
   for (int i = 0; i < n - 1; ++i) {
-    bspline_basis_derivatives(U.data(), i + p, p, x[static_cast<std::size_t>(i)], p, ders);
+    const auto& tri = triangle[static_cast<std::size_t>(i)];
     for (int k = 0; k <= p; ++k) {
+      const int q = p - k;
       double v = 0.0;
-      for (int r = 0; r <= p; ++r) v += ders[k][r] * c[i + r];
+      for (int r = 0; r <= q; ++r)
+        v += tri[static_cast<std::size_t>(q * (q + 1) / 2 + r)] * diff[static_cast<std::size_t>(i + p - q + r)][static_cast<std::size_t>(k)];
       s.coef_[static_cast<std::size_t>(i)][static_cast<std::size_t>(k)] = v * kInvFactorial[k];
     }
   }
