@@ -511,6 +511,7 @@ Status swing_profile(const DesignSpec& spec, const kin::Mechanism& up, const Mec
   for (double a : resolution_angles(env, phi, h, step, false)) along.push_back((a - phi_start) * dir);
   // (polar angle in [0, 2 pi), radius, dr/da, d2r/da2)
   std::vector<std::array<double, 4>> table;
+  table.reserve(along.size() + 2 * static_cast<std::size_t>(options.points));
   auto put = [&](double a, const double r[3]) {
     double a0 = std::fmod(a, 2 * pi);
     if (a0 < 0) a0 += 2 * pi;
@@ -518,6 +519,7 @@ Status swing_profile(const DesignSpec& spec, const kin::Mechanism& up, const Mec
     table.push_back({a0, r[0], r[1], r[2]});
   };
   std::vector<std::array<double, 3>> traced_rows;  // r, dr/da, d2r/da2 at each of `along`
+  traced_rows.reserve(along.size());
   for (double d : along) {
     double r[3];
     traced_polar(phi_start + dir * d, r);
@@ -609,11 +611,15 @@ Status swing_profile(const DesignSpec& spec, const kin::Mechanism& up, const Mec
   // stretch copies the traced rows; the rest side (smooth, no target detail) uniform in
   // polar angle. Distances d from the rest point along the traced direction [rad].
   const double bridge_end = 2 * pi - rest_reach;
+  // the largest step from a point with r, dr/da, d2r/da2 under the rule
+  auto local_step = [&](const double r[3]) {
+    return step / std::max(1.0, std::abs(detail::polar_curvature(r[0], r[1], r[2])) * std::sqrt(r[0] * r[0] + r[1] * r[1]));
+  };
   auto walk = [&](double from, double to) {  // points strictly between from and to
+    double r[3];
+    bridge_polar(phi_start + dir * from, r);
     for (double d = from;;) {
-      double r[3];
-      bridge_polar(phi_start + dir * d, r);
-      const double local = step / std::max(1.0, std::abs(detail::polar_curvature(r[0], r[1], r[2])) * std::hypot(r[0], r[1]));
+      const double local = local_step(r);
       if (d + 1.5 * local > to) break;
       d += local;
       bridge_polar(phi_start + dir * d, r);
@@ -628,8 +634,7 @@ Status swing_profile(const DesignSpec& spec, const kin::Mechanism& up, const Mec
     for (std::size_t k = along.size(); k-- > 0;) {
       const double r[3] = {traced_rows[k][0], -traced_rows[k][1], traced_rows[k][2]};
       const double d = 2 * (traced + nose) - along[k];
-      const double local = step / std::max(1.0, std::abs(detail::polar_curvature(r[0], r[1], r[2])) * std::hypot(r[0], r[1]));
-      if (k > 0 && k + 1 < along.size() && d - last < 0.999 * local) continue;
+      if (k > 0 && k + 1 < along.size() && d - last < 0.999 * local_step(r)) continue;
       put(phi_start + dir * d, r);
       last = d;
     }
@@ -652,14 +657,15 @@ Status swing_profile(const DesignSpec& spec, const kin::Mechanism& up, const Mec
   if (!std::is_sorted(table.begin(), table.end())) std::sort(table.begin(), table.end());
   table.erase(std::unique(table.begin(), table.end(), [](const auto& a, const auto& b) { return a[0] == b[0]; }),
               table.end());
-  result.angle_deg.clear();
-  result.radius_mm.clear();
-  std::vector<double> dr, ddr;
-  for (const auto& [a0, r, r1, r2] : table) {
-    result.angle_deg.push_back(a0 * 180 / pi);
-    result.radius_mm.push_back(r);
-    dr.push_back(r1);
-    ddr.push_back(r2);
+  const std::size_t rows = table.size();
+  result.angle_deg.resize(rows);
+  result.radius_mm.resize(rows);
+  std::vector<double> dr(rows), ddr(rows);
+  for (std::size_t k = 0; k < rows; ++k) {
+    result.angle_deg[k] = table[k][0] * 180 / pi;
+    result.radius_mm[k] = table[k][1];
+    dr[k] = table[k][2];
+    ddr[k] = table[k][3];
   }
   finish_from_polar(result, options.wheel_radius_mm, dr, ddr);
   result.profile.name = cut.profile;
