@@ -626,6 +626,24 @@ TEST_CASE("synthesize rejects a partial target that ends off the base circle, wr
   CHECK((!fs::exists(out) || fs::is_empty(out)));
 }
 
+TEST_CASE("synthesize rejects a target with a repeated angle, naming the file, the line and the rule",
+          "[cli][synthesize]") {
+  TempDir tmp;
+  const fs::path target = tmp / "target.csv", out = tmp / "out";
+  // rows at 0, 1, 2, 2, 3 ... deg: line 5 repeats line 4's angle
+  std::string text = "cam_deg,lift_mm\n0,0\n1,0\n2,0\n2,0\n";
+  for (int i = 3; i < 360; ++i) text += std::to_string(i) + ",0\n";
+  write_text(target, text);
+  const std::string design = (fs::path(CAMOPT_SOURCE_DIR) / "designs" / "roller_finger_follower.toml").string();
+  const auto r = run_camopt({"synthesize", target.string(), "--design", design, "--out", out.string()});
+  INFO(r.all());
+  CHECK(r.exit_code == cli_input_error);
+  CHECK(contains(r.err, "target.csv:5"));
+  CHECK(contains(r.err, "value 2 is not greater than the previous value 2 (line 4)"));
+  CHECK(contains(r.err, "angles must be strictly increasing"));
+  CHECK((!fs::exists(out) || fs::is_empty(out)));
+}
+
 TEST_CASE("synthesize rejects a noisy target for interpolation, naming the row and --smooth; --smooth takes it",
           "[cli][synthesize]") {
   TempDir tmp;

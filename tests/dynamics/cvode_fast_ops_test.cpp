@@ -7,7 +7,7 @@
 #include <random>
 #include <vector>
 
-#include "../../src/dynamics/cvode_support.hpp"
+#include "dynamics/cvode_support.hpp"  // private to src/dynamics (tests/CMakeLists.txt adds src/)
 
 using namespace camopt::dynamics;
 
