@@ -527,15 +527,16 @@ Status swing_profile(const DesignSpec& spec, const kin::Mechanism& up, const Mec
     traced_rows.push_back({r[0], r[1], r[2]});
   }
   const double sense = span > 0 ? 1.0 : -1.0, reach = std::abs(span);
-  // the bridge in the distance b = (a - phi_end) * sense from the nose end, as a cam lobe's
-  // far flank: where the traced end still rises, a nose turns it over to a maximum
-  // (nose_septic, c2 with the traced end, c3 with its mirror) at b = L, the mirror image of the nose and of the traced stretch
-  // comes back down to the rest radius at b = 2 L + traced, and a quintic settles from there
-  // onto the rest side. L is the shortest of kBridgeNoseDeg whose nose keeps a convex radius
-  // >= the roller's and >= options.min_radius_mm, the settling piece too. Otherwise (the end does not rise, or no nose
-  // fits) a single quintic spans the whole bridge, which can bulge well past the traced end
-  // (57.9 mm against 44.8 mm for the bundled Valvetronic lever).
-  // the traced end (its slopes as for the single quintic) and the rest point, per unit b
+  // the bridge, in the distance b = (a - phi_end) * sense from the nose end, is a cam lobe's
+  // far flank: where the traced end still rises, a nose (nose_septic: c2 with the traced end,
+  // c3 with its mirror image) turns it over to a maximum at b = L; the mirror image of the
+  // nose and of the traced stretch comes back down to the rest radius at b = 2 L + traced;
+  // a quintic settles from there onto the rest side. L: the shortest of kBridgeNoseDeg whose
+  // nose and settling piece keep a convex radius >= the roller's and options.min_radius_mm.
+  // Otherwise (the end does not rise, or no nose fits) one quintic spans the bridge: it can
+  // bulge well past the traced end (57.9 mm on the bundled Valvetronic lever, whose nose
+  // tops at 45.4 mm). Below: the traced end (slopes as for the join), the rest point and
+  // the join, per unit b.
   const double end_b[3] = {end_d[0], end_d[1] * sense, end_d[2]};
   const double rest_b[3] = {traced_rows.front()[0], traced_rows.front()[1] * sense, traced_rows.front()[2]};
   const double join_b[3] = {join_d[0], join_d[1] * sense, join_d[2]};
@@ -556,11 +557,13 @@ Status swing_profile(const DesignSpec& spec, const kin::Mechanism& up, const Mec
     out[2] /= length * length;
   };
   const double bound = 1.0 / std::max(radius, options.min_radius_mm);  // [1/mm]
-  auto convex_ok = [&](const double r[3]) { return r[0] > 0 && detail::polar_curvature(r[0], r[1], r[2]) <= bound; };
+  auto convex_ok = [&](const double r[3]) {
+    return r[0] > 0 && detail::polar_curvature(r[0], r[1], r[2]) <= bound;
+  };
   constexpr double kBridgeNoseDeg[] = {2, 3, 4, 6, 8, 10, 12, 16, 20, 24, 32, 40};
   double nose = 0.0, settle_from = 0.0;
-  Quintic settle_piece = hermite_over(end_b, join_b, reach);
-  detail::Septic nose_piece = detail::nose_septic(end_b[0], end_b[1], end_b[2], 1.0);
+  Quintic settle_piece = hermite_over(end_b, join_b, reach);  // the single quintic until a nose fits
+  detail::Septic nose_piece = detail::nose_septic(end_b[0], end_b[1], end_b[2], 1.0);  // (unused while nose = 0)
   if (end_b[1] > 0) {
     for (double length_deg : kBridgeNoseDeg) {
       const double length = length_deg * pi / 180;
@@ -613,7 +616,8 @@ Status swing_profile(const DesignSpec& spec, const kin::Mechanism& up, const Mec
   const double bridge_end = 2 * pi - rest_reach;
   // the largest step from a point with r, dr/da, d2r/da2 under the rule
   auto local_step = [&](const double r[3]) {
-    return step / std::max(1.0, std::abs(detail::polar_curvature(r[0], r[1], r[2])) * std::sqrt(r[0] * r[0] + r[1] * r[1]));
+    const double turn = std::abs(detail::polar_curvature(r[0], r[1], r[2])) * std::sqrt(r[0] * r[0] + r[1] * r[1]);
+    return step / std::max(1.0, turn);
   };
   auto walk = [&](double from, double to) {  // points strictly between from and to
     double r[3];
