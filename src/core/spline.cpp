@@ -291,8 +291,9 @@ void detail::PiecewiseQuintic::value_range(double x_end, double& lo, double& hi)
     lo = std::min({lo, coef_[i][0], right[0]});
     hi = std::max({hi, coef_[i][0], right[0]});
     const double d0 = coef_[i][1], d1 = right[1];
-    // a slope that changes sign by more than round-off: an extremum inside
-    if (!(d0 * d1 < 0) || std::max(std::abs(d0), std::abs(d1)) * h <= 1e-14 * (std::abs(coef_[i][0]) + 1.0)) continue;
+    // a slope that changes sign: an extremum inside, beyond the ends by about max |f'| h / 4
+    // at most (skipped below 1e-12 of the value: a spline's ringing on a base circle)
+    if (!(d0 * d1 < 0) || std::max(std::abs(d0), std::abs(d1)) * h <= 1e-12 * (std::abs(coef_[i][0]) + 1.0)) continue;
     double a = 0.0, b = h, s = h * d0 / (d0 - d1);  // bracket [a, b] of the slope's root
     for (int it = 0; it < 60; ++it) {
       double f[3];
@@ -300,7 +301,8 @@ void detail::PiecewiseQuintic::value_range(double x_end, double& lo, double& hi)
       ((f[1] > 0) == (d0 > 0) ? a : b) = s;
       double next = f[2] != 0.0 ? s - f[1] / f[2] : 0.5 * (a + b);
       if (!(next > a && next < b)) next = 0.5 * (a + b);
-      const bool done = std::abs(next - s) <= 1e-15 * h;
+      // the value at the extremum is quadratic in the place: 1e-9 h of it is round-off
+      const bool done = std::abs(next - s) <= 1e-9 * h;
       s = next;
       if (done) break;
     }

@@ -30,8 +30,8 @@ class PiecewiseQuintic {
   std::span<const double> knots() const noexcept { return x_; }
   bool empty() const noexcept { return x_.empty(); }
   // smallest and largest value over the pieces: the knot values and every interior
-  // extremum where a piece's slope changes sign between its ends (safeguarded newton on f'
-  // to round-off). A piece whose slope has the same sign at both ends but turns twice
+  // extremum where a piece's slope changes sign between its ends (safeguarded newton on f';
+  // the value to round-off), except excursions below ~1e-12 of the value (ringing). A piece whose slope has the same sign at both ends but turns twice
   // inside is not searched (a quintic interpolant of table data does not wiggle so).
   // x_end: the right end of the last piece (x.back() for a natural spline, x.front() +
   // period for a periodic one).
