@@ -871,24 +871,32 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
   // traces the envelope where its rate exceeds 1e-3 of the peak; the rest are its dwell)
   std::vector<char> needed(static_cast<std::size_t>(n), 1);
   std::size_t interval = 0;  // upstream interval of the current sample
-  auto upstream_at = [&](int i, Jet3* up_vars) {
+  // the cam's variable first_variable + k at sample i (septic hermite between solves)
+  auto upstream_dof = [&](int i, int k) {
     while (node_at[interval + 1] <= i) ++interval;
     const int a = node_at[interval], b = node_at[interval + 1];
-    for (int k = 0; k < cn.dof; ++k) {
-      double d[4];
-      detail::septic_between(&cam_motion[(interval * cn.dof + k) * 4], &cam_motion[((interval + 1) * cn.dof + k) * 4],
-                             (b - a) * 2 * pi / n, static_cast<double>(i - a) / (b - a), d);
-      Jet3& v = up_vars[cn.first_variable + k];
-      v = Jet3(d[0]);
-      v.c[1] = d[1], v.c[2] = d[2] / 2, v.c[3] = d[3] / 6;  // taylor coefficients
-    }
+    double d[4];
+    detail::septic_between(&cam_motion[(interval * cn.dof + k) * 4], &cam_motion[((interval + 1) * cn.dof + k) * 4],
+                           (b - a) * 2 * pi / n, static_cast<double>(i - a) / (b - a), d);
+    Jet3 v(d[0]);
+    v.c[1] = d[1], v.c[2] = d[2] / 2, v.c[3] = d[3] / 6;  // taylor coefficients
+    return v;
+  };
+  // a swing cam's angle at every sample first (its rate says which samples are needed),
+  // then its other coordinates (a floating lever's position) where needed
+  const int angle_dof = cam_angle_variable - cn.first_variable;
+  std::vector<Jet3> angle_at;
+  auto upstream_at = [&](int i, Jet3* up_vars) {
+    for (int k = 0; k < cn.dof; ++k)
+      up_vars[cn.first_variable + k] = k == angle_dof && !angle_at.empty() ? angle_at[i] : upstream_dof(i, k);
   };
   std::vector<Jet3> up_vars_at(up.variables.size(), Jet3(0.0));
   if (options.cam == "swing" && !cam_is_lone_driver) {
     double max_rate = 0.0;
+    angle_at.resize(n);
     for (int i = 0; i < n; ++i) {
-      upstream_at(i, up_vars_at.data());
-      cam_rate[i] = up_vars_at[cam_angle_variable].derivative(1);
+      angle_at[i] = upstream_dof(i, angle_dof);
+      cam_rate[i] = angle_at[i].derivative(1);
       max_rate = std::max(max_rate, std::abs(cam_rate[i]));
     }
     for (int i = 0; i < n; ++i) needed[i] = std::abs(cam_rate[i]) > 1e-4 * max_rate;
