@@ -84,8 +84,8 @@ PolarHit envelope_at_polar_angle(const P2<Jet2>& a, const P2<Jet2>& b, double ph
   // (the samples bracket the target within a fraction of a turn, so the ray is the right one)
   const double c = std::cos(target), s = std::sin(target);
   for (int it = 0; it < 30; ++it) {
-    qx.eval(t, p.x, p.x1, p.x2);
-    qy.eval(t, p.y, p.y1, p.y2);
+    qx.eval(t, p.x, p.x1);
+    qy.eval(t, p.y, p.y1);
     const double f = c * p.y - s * p.x, df = c * p.y1 - s * p.x1;
     const double step = f / df;
     t -= step;
@@ -101,7 +101,7 @@ PolarHit envelope_at_polar_angle(const P2<Jet2>& a, const P2<Jet2>& b, double ph
 // phi_t = (x y' - y x') / r^2, then dr/dphi = r_t / phi_t and
 // d2r/dphi2 = (r_tt - dr/dphi phi_tt) / phi_t^2
 void polar_derivatives(const PolarHit& p, double out[3]) {
-  const double r = std::hypot(p.x, p.y);
+  const double r = std::sqrt(p.x * p.x + p.y * p.y);  // [mm], no overflow at cam sizes
   const double r_t = (p.x * p.x1 + p.y * p.y1) / r;
   const double phi_t = (p.x * p.y1 - p.y * p.x1) / (r * r);
   const double r_tt = (p.x1 * p.x1 + p.y1 * p.y1 + p.x * p.x2 + p.y * p.y2 - r_t * r_t) / r;
@@ -343,18 +343,18 @@ Status swing_profile(const DesignSpec& spec, const kin::Mechanism& up, const Mec
   // radius on the traced stretch at polar angle a (quintic hermite in theta between
   // samples), with dr/da and d2r/da2 (out[0..2])
   const double h = 2 * pi / n;
-  auto traced_polar = [&](double a, double out[3]) {
+  auto traced_hit = [&](double a) {
     int lo = 0, hi = static_cast<int>(phi.size()) - 1;
     while (hi - lo > 1) {
       const int mid = (lo + hi) / 2;
       ((phi[mid] - a) * dir <= 0 ? lo : hi) = mid;
     }
-    polar_derivatives(envelope_at_polar_angle(env[lo], env[hi], phi[lo], phi[hi], h, a), out);
+    return envelope_at_polar_angle(env[lo], env[hi], phi[lo], phi[hi], h, a);
   };
+  auto traced_polar = [&](double a, double out[3]) { polar_derivatives(traced_hit(a), out); };
   auto traced_radius = [&](double a) {
-    double d[3];
-    traced_polar(a, d);
-    return d[0];
+    const PolarHit p = traced_hit(a);
+    return std::sqrt(p.x * p.x + p.y * p.y);
   };
   // the closing stroke must retrace the opening one: radial distance of each closing
   // envelope point from the traced profile at its polar angle (or from the nearer end of

@@ -21,6 +21,11 @@ struct Quintic {
     a[4] = -15 * r0 + 7 * r1 - r2;
     a[5] = 6 * r0 - 3 * r1 + 0.5 * r2;
   }
+  // value and first derivative only
+  void eval(double t, double& p, double& d) const {
+    p = ((((a[5] * t + a[4]) * t + a[3]) * t + a[2]) * t + a[1]) * t + a[0];
+    d = (((5 * a[5] * t + 4 * a[4]) * t + 3 * a[3]) * t + 2 * a[2]) * t + a[1];
+  }
   void eval(double t, double& p, double& d, double& s) const {
     p = ((((a[5] * t + a[4]) * t + a[3]) * t + a[2]) * t + a[1]) * t + a[0];
     d = (((5 * a[5] * t + 4 * a[4]) * t + 3 * a[3]) * t + 2 * a[2]) * t + a[1];
