@@ -752,7 +752,8 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
     return P2<Jet3>{co * lx + so * ly, -so * lx + co * ly};
   };
   const int n = envelope_samples(lift, options.samples);
-  std::vector<P2<Jet3>> path(n), normal(n);  // follower centre / face point and face normal in the profile frame
+  // follower centre / face point and (a flat face only) face normal in the profile frame
+  std::vector<P2<Jet3>> path(n), normal(roller ? 0 : n);
   std::vector<double> theta(n), cam_rate(n), valve_rate(n);
   std::vector<Jet3> motion(n);  // target motion L(theta) as jets
   double motion_lo = 1e300, motion_hi = -1e300;
