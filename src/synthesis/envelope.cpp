@@ -570,23 +570,31 @@ Status swing_profile(const DesignSpec& spec, const kin::Mechanism& up, const Mec
       const double from = 2 * length + traced, rest_length = reach - from;
       if (rest_length < traced) break;
       const detail::Septic rising = detail::nose_septic(end_b[0], end_b[1], end_b[2], length);
-      const double mirrored_rest[3] = {rest_b[0], -rest_b[1], rest_b[2]};
-      const Quintic settling = hermite_over(mirrored_rest, join_b, rest_length);
       bool fits = true;
       for (int k = 0; k <= 64 && fits; ++k) {
         double r[3];
         piece_at(rising, length, k / 64.0, r);
         fits = convex_ok(r);
       }
-      for (int k = 0; k <= 128 && fits; ++k) {
-        double r[3];
-        piece_at(settling, rest_length, k / 128.0, r);
-        fits = convex_ok(r) && r[0] >= std::min(rest_b[0], join_b[0]) - 1e-3;  // [mm] no dip under the rest
+      // the settling piece c2 with the mirrored rest point, else c1, else c0 (the first that
+      // keeps above the rest radius: a concave ramp foot's curvature, or a slope left over
+      // from it, would swing the quintic under it; on the bundled VVLD the c0 kink is 2e-5 rad)
+      for (const auto& [rest_slope, rest_curvature] :
+           {std::pair{-rest_b[1], rest_b[2]}, std::pair{-rest_b[1], 0.0}, std::pair{0.0, 0.0}}) {
+        const double mirrored_rest[3] = {rest_b[0], rest_slope, rest_curvature};
+        const Quintic settling = hermite_over(mirrored_rest, join_b, rest_length);
+        bool settles = fits;
+        for (int k = 0; k <= 128 && settles; ++k) {
+          double r[3];
+          piece_at(settling, rest_length, k / 128.0, r);
+          settles = convex_ok(r) && r[0] >= std::min(rest_b[0], join_b[0]) - 1e-6;  // [mm] no dip under the rest
+        }
+        if (settles) {
+          nose = length, settle_from = from, nose_piece = rising, settle_piece = settling;
+          break;
+        }
       }
-      if (fits) {
-        nose = length, settle_from = from, nose_piece = rising, settle_piece = settling;
-        break;
-      }
+      if (nose > 0) break;
     }
   }
   auto bridge_polar = [&](double a, double out[3]) {
