@@ -612,42 +612,53 @@ TEST_CASE("synthesize writes a profile, a report and a design that kinematics ru
   CHECK(k.exit_code == cli_ok);
 }
 
-TEST_CASE("synthesize rejects a partial target that ends off the base circle, writing nothing",
-          "[cli][synthesize]") {
+namespace {
+
+// synthesize a target table (CSV text) on the bundled roller finger follower; the run is
+// expected to reject it as bad input (exit 3) naming target.csv, with nothing written
+struct RejectedTarget {
   TempDir tmp;
-  const fs::path target = tmp / "target.csv", out = tmp / "out";
-  write_text(target, "cam_deg,lift_mm\n0,0\n10,1\n20,3\n30,5\n40,6\n50,6.5\n");
-  const std::string design = (fs::path(CAMOPT_SOURCE_DIR) / "designs" / "roller_finger_follower.toml").string();
-  const auto r = run_camopt({"synthesize", target.string(), "--design", design, "--out", out.string()});
-  INFO(r.all());
-  CHECK(r.exit_code == cli_input_error);
-  CHECK(contains(r.err, "target.csv"));
-  CHECK(contains(r.err, "base circle"));
-  CHECK((!fs::exists(out) || fs::is_empty(out)));
+  fs::path target = tmp / "target.csv", out = tmp / "out";
+  std::string design = (fs::path(CAMOPT_SOURCE_DIR) / "designs" / "roller_finger_follower.toml").string();
+  RunResult run;
+};
+
+void expect_rejected_target(RejectedTarget& t, const std::string& csv, const std::vector<std::string>& message) {
+  write_text(t.target, csv);
+  t.run = run_camopt({"synthesize", t.target.string(), "--design", t.design, "--out", t.out.string()});
+  INFO(t.run.all());
+  CHECK(t.run.exit_code == cli_input_error);
+  for (const auto& part : message) CHECK(contains(t.run.err, part));
+  CHECK((!fs::exists(t.out) || fs::is_empty(t.out)));
 }
 
-TEST_CASE("synthesize rejects a target with a repeated angle, naming the file, the line and the rule",
+}  // namespace
+
+TEST_CASE("synthesize rejects a partial target that ends off the base circle, writing nothing",
           "[cli][synthesize]") {
-  TempDir tmp;
-  const fs::path target = tmp / "target.csv", out = tmp / "out";
-  // rows at 0, 1, 2, 2, 3 ... deg: line 5 repeats line 4's angle
-  std::string text = "cam_deg,lift_mm\n0,0\n1,0\n2,0\n2,0\n";
-  for (int i = 3; i < 360; ++i) text += std::to_string(i) + ",0\n";
-  write_text(target, text);
-  const std::string design = (fs::path(CAMOPT_SOURCE_DIR) / "designs" / "roller_finger_follower.toml").string();
-  const auto r = run_camopt({"synthesize", target.string(), "--design", design, "--out", out.string()});
-  INFO(r.all());
-  CHECK(r.exit_code == cli_input_error);
-  CHECK(contains(r.err, "target.csv:5"));
-  CHECK(contains(r.err, "value 2 is not greater than the previous value 2 (line 4)"));
-  CHECK(contains(r.err, "angles must be strictly increasing"));
-  CHECK((!fs::exists(out) || fs::is_empty(out)));
+  RejectedTarget t;
+  expect_rejected_target(t, "cam_deg,lift_mm\n0,0\n10,1\n20,3\n30,5\n40,6\n50,6.5\n", {"target.csv", "base circle"});
+}
+
+TEST_CASE("synthesize rejects a target with repeated or coincident angles, naming the file, the line and the rule",
+          "[cli][synthesize]") {
+  // rows at 0, 1, 2, 2, 3 ... deg: line 5 repeats line 4's angle (the CSV reader's rule)
+  std::string repeated = "cam_deg,lift_mm\n0,0\n1,0\n2,0\n2,0\n";
+  for (int i = 3; i < 360; ++i) repeated += std::to_string(i) + ",0\n";
+  RejectedTarget t;
+  expect_rejected_target(t, repeated,
+                         {"target.csv:5", "value 2 is not greater than the previous value 2 (line 4)",
+                          "angles must be strictly increasing"});
+  // 2 and 2 + 1e-9 deg: increasing, but closer than the lift table's 1e-6 deg (its spline's
+  // collocation system is singular there)
+  std::string coincident = "cam_deg,lift_mm\n0,0\n1,0\n2,0\n2.000000001,0\n";
+  for (int i = 3; i < 360; ++i) coincident += std::to_string(i) + ",0\n";
+  RejectedTarget c;
+  expect_rejected_target(c, coincident, {"target.csv:5", "the angles are too close together", "1e-06 deg apart"});
 }
 
 TEST_CASE("synthesize rejects a noisy target for interpolation, naming the row and --smooth; --smooth takes it",
           "[cli][synthesize]") {
-  TempDir tmp;
-  const fs::path target = tmp / "target.csv", out = tmp / "out";
   // 9 mm cycloidal rise and fall over 240 cam deg, rows 1 deg apart, +-0.01 mm alternating on the event
   std::string text = "cam_deg,lift_mm\n";
   for (int i = 0; i < 360; ++i) {
@@ -656,19 +667,12 @@ TEST_CASE("synthesize rejects a noisy target for interpolation, naming the row a
     if (y > 0.05) y += i % 2 ? 0.01 : -0.01;
     text += std::to_string(i) + "," + std::to_string(y) + "\n";
   }
-  write_text(target, text);
-  const std::string design = (fs::path(CAMOPT_SOURCE_DIR) / "designs" / "roller_finger_follower.toml").string();
-  const auto r = run_camopt({"synthesize", target.string(), "--design", design, "--out", out.string()});
-  INFO(r.all());
-  CHECK(r.exit_code == cli_input_error);
-  CHECK(contains(r.err, "target.csv:"));
-  CHECK(contains(r.err, "the table is noisy"));
-  CHECK(contains(r.err, "--smooth"));
-  CHECK((!fs::exists(out) || fs::is_empty(out)));
-  const auto s = run_camopt({"synthesize", target.string(), "--design", design, "--out", out.string(), "--smooth"});
+  RejectedTarget t;
+  expect_rejected_target(t, text, {"target.csv:", "the table is noisy", "--smooth"});
+  const auto s = run_camopt({"synthesize", t.target.string(), "--design", t.design, "--out", t.out.string(), "--smooth"});
   INFO(s.all());
   CHECK(s.exit_code == cli_ok);
-  CHECK(contains(read_file(out / "report.json"), "residual_rms_mm"));
+  CHECK(contains(read_file(t.out / "report.json"), "residual_rms_mm"));
 }
 
 TEST_CASE("synthesize reports an undercut with its angle and exit 4, writing nothing", "[cli][synthesize]") {
