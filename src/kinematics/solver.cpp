@@ -1,6 +1,7 @@
 #include "camopt/kinematics/solver.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <sstream>
@@ -429,8 +430,7 @@ void Kernel::scan_contact_parameters(const Workspace::Block& b) {
     const auto& pose_o = a_param ? pb : pa;
     const auto centre = pose_o.apply(so.origin.x(), so.origin.y());
     const auto [u0, u1] = range(sp);
-    double best = 1e300, best_u = 0.0;
-    for (int i = 0; i < samples; ++i) {
+    auto score_at = [&](int i) {
       ws_.values[sp.variable] = u0 + (u1 - u0) * i / samples;
       const auto P = surface_point(m_, sp, pose_p, ws_.values.data());
       const V2<double> d{centre.x - P.p.x, centre.y - P.p.y};
@@ -440,9 +440,42 @@ void Kernel::scan_contact_parameters(const Workspace::Block& b) {
       // the contact candidate: tangency (along = 0) on the side facing the circle centre
       // (convex circle outside: normal > 0; concave circle around the curve: normal < 0)
       const bool facing = so.offset >= 0 ? normal > 0 : normal < 0;
-      const double score = along + (facing ? 0.0 : 1e6) + 1e-3 * std::abs(std::abs(normal) - std::abs(so.offset));
-      if (score < best) best = score, best_u = ws_.values[sp.variable];
+      return along + (facing ? 0.0 : 1e6) + 1e-3 * std::abs(std::abs(normal) - std::abs(so.offset));
+    };
+    // the best of the `samples` grid, searched coarse to fine: every kCoarse-th sample, then
+    // the grid within kCoarse samples of the kCandidates lowest coarse local minima (a closed
+    // curve's grid is cyclic). Ties go to the lowest index, as in a scan of the whole grid.
+    constexpr int kCoarse = 8, kCandidates = 4, coarse_count = samples / kCoarse;
+    static_assert(samples % kCoarse == 0);
+    const bool cyclic = sp.kind == SurfaceKind::curve;
+    std::array<double, coarse_count> coarse;
+    for (int k = 0; k < coarse_count; ++k) coarse[k] = score_at(k * kCoarse);
+    std::array<int, coarse_count> minima;
+    int minima_count = 0;
+    for (int k = 0; k < coarse_count; ++k) {
+      const bool below_left = k > 0 ? coarse[k] <= coarse[k - 1] : !cyclic || coarse[k] <= coarse[coarse_count - 1];
+      const bool below_right =
+          k + 1 < coarse_count ? coarse[k] <= coarse[k + 1] : !cyclic || coarse[k] <= coarse[0];
+      if (below_left && below_right) minima[minima_count++] = k;
     }
+    const int kept = std::min(kCandidates, minima_count);
+    std::partial_sort(minima.begin(), minima.begin() + kept, minima.begin() + minima_count,
+                      [&](int x, int y) { return coarse[x] < coarse[y] || (coarse[x] == coarse[y] && x < y); });
+    double best = 1e300;
+    int best_i = 0;
+    auto consider = [&](int i, double score) {
+      if (score < best || (score == best && i < best_i)) best = score, best_i = i;
+    };
+    for (int k = 0; k < coarse_count; ++k) consider(k * kCoarse, coarse[k]);
+    for (int m = 0; m < kept; ++m)
+      for (int j = -kCoarse + 1; j < kCoarse; ++j) {
+        if (j == 0) continue;
+        int i = minima[m] * kCoarse + j;
+        if (cyclic) i = (i + samples) % samples;
+        else if (i < 0 || i >= samples) continue;
+        consider(i, score_at(i));
+      }
+    const double best_u = u0 + (u1 - u0) * best_i / samples;
     ws_.values[sp.variable] = best_u;
   }
 }
