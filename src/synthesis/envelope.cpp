@@ -32,11 +32,11 @@ constexpr double pi = std::numbers::pi;
 // a solve at every sample to 1e-12 mm)
 constexpr int kInversionLevels = 64;
 // [rad] spacing of the upstream solves for a cam that is not the driver (a swing cam, a
-// floating lever); septic hermite in the driver angle between them. On the bundled swing
-// designs at 0.25 deg samples, against a 1/16 deg spacing: 1.5 deg moves the profile by at
-// most 9.4e-6 mm (the untouched side; 1 deg: 4.4e-6, 2 deg: 3.3e-5, 3 deg: 5.8e-4 mm) and
-// leaves the round trips unchanged (5.9e-8 and 1.4e-8 mm; 2 deg: 7.0e-8 and 2.0e-8 mm)
-constexpr double kUpstreamSpacing = 1.5 * pi / 180;
+// floating lever); septic hermite in the driver angle between them. 1.5 deg would leave the
+// bundled designs' round trips at their drawing controls unchanged, but at the
+// Valvetronic's part-lift controls it raises them up to 12 times (7.6e-8 mm at 55 deg) and
+// at 60 deg the interpolated lever motion folds the traced stretch (cam 91 deg)
+constexpr double kUpstreamSpacing = 1.0 * pi / 180;
 // where the cam rests at a solve (its taylor terms of order 1 to 3 over the stretch move it
 // by less than kRestMotion rad or mm: the implicit derivatives on a dwell are round-off,
 // ~1e-13, 1e-11 and 1e-9 for a floating lever), the next solve is tried kRestStride spacings
@@ -346,13 +346,17 @@ Status swing_profile(const DesignSpec& spec, const kin::Mechanism& up, const Mec
   // radius on the traced stretch at polar angle a (quintic hermite in theta between
   // samples), with dr/da and d2r/da2 (out[0..2])
   const double h = 2 * pi / n;
-  auto traced_hit = [&](double a) {
+  auto bracket = [&](double a) {  // the sample interval [lo, lo + 1] holding polar angle a
     int lo = 0, hi = static_cast<int>(phi.size()) - 1;
     while (hi - lo > 1) {
       const int mid = (lo + hi) / 2;
       ((phi[mid] - a) * dir <= 0 ? lo : hi) = mid;
     }
-    return envelope_at_polar_angle(env[lo], env[hi], phi[lo], phi[hi], h, a);
+    return lo;
+  };
+  auto traced_hit = [&](double a) {
+    const int lo = bracket(a);
+    return envelope_at_polar_angle(env[lo], env[lo + 1], phi[lo], phi[lo + 1], h, a);
   };
   auto traced_polar = [&](double a, double out[3]) { polar_derivatives(traced_hit(a), out); };
   auto traced_radius = [&](double a) {
@@ -489,28 +493,40 @@ Status swing_profile(const DesignSpec& spec, const kin::Mechanism& up, const Mec
   // the middle of the untouched range)
   const double rest_reach = 0.5 * untouched;
   const double join = phi_start - dir * rest_reach + dir * 2 * pi;  // where the rest side takes over
-  // the traced stretch's end slopes: one-sided second-order differences into it, over
-  // e = 1e-3 rad. At both ends the follower turns back, so the end point's own polar
-  // derivatives divide the cam motion's interpolation error by the vanishing speed squared,
-  // and shorter steps amplify it by 1 / e^2: with 1e-4 rad (or the rest point's polar
-  // derivatives) the untouched far side moved by up to 1.4e-3 mm between upstream spacings
-  // of 1/16 and 1.5 deg, with 1e-3 rad by at most 9.4e-6 mm on the bundled swing designs
+  // slopes on the traced stretch by differences of its radius over e = 1e-3 rad (central,
+  // or one-sided second-order into the stretch at its ends). Near both ends the follower
+  // turns back: the envelope's speed in cam angle falls to ~1e-3 of its peak, and the
+  // polar derivatives of a point there divide the cam motion's interpolation error by that
+  // speed squared (the Valvetronic lever at 60 deg of control: d2r/da2 672 mm/rad^2 at its
+  // rest point against 4.7e-4 by differences, a 2 mm concave radius reported on its 36 mm
+  // idle arc); shorter steps amplify it by 1 / e^2 (with 1e-4 rad the untouched far side
+  // moved by up to 1.4e-3 mm between upstream spacings of 1/16 and 1.5 deg; with 1e-3 rad by
+  // at most 9.4e-6 mm)
   const double e = 1e-3;
-  auto traced_end = [&](double a, double s, double out[3]) {
-    const double f0 = traced_radius(a), f1 = traced_radius(a + s * e), f2 = traced_radius(a + 2 * s * e);
+  const double traced = std::abs(phi_end - phi_start);
+  auto traced_differences = [&](double a, double out[3]) {
+    const double d = (a - phi_start) * dir;  // [rad] into the stretch
+    const double f0 = traced_radius(a);
     out[0] = f0;
+    if (d >= e && d <= traced - e) {
+      const double fp = traced_radius(a + e), fm = traced_radius(a - e);
+      out[1] = (fp - fm) / (2 * e);
+      out[2] = (fp - 2 * f0 + fm) / (e * e);
+      return;
+    }
+    const double s = d < e ? dir : -dir;  // towards the inside
+    const double f1 = traced_radius(a + s * e), f2 = traced_radius(a + 2 * s * e);
     out[1] = s * (-3 * f0 + 4 * f1 - f2) / (2 * e);
     out[2] = (f0 - 2 * f1 + f2) / (e * e);
   };
   double end_d[3], rest_d[3], join_d[3];
-  traced_end(phi_end, -dir, end_d);
-  traced_end(phi_start, dir, rest_d);
+  traced_differences(phi_end, end_d);
+  traced_differences(phi_start, rest_d);
   rest_side_polar(join, join_d);
   const double span = join - phi_end;  // signed
   // the traced stretch at the resolution of resolution_angles, the bridge and the dwell arc
   // (smooth, no target detail) uniform in polar angle
   const double step = 2 * pi / options.points;
-  const double traced = std::abs(phi_end - phi_start);
   std::vector<double> along;  // distance along the traced direction from the rest point [rad]
   for (double a : resolution_angles(env, phi, h, step, false)) along.push_back((a - phi_start) * dir);
   // (polar angle in [0, 2 pi), radius, dr/da, d2r/da2)
@@ -524,10 +540,19 @@ Status swing_profile(const DesignSpec& spec, const kin::Mechanism& up, const Mec
   };
   std::vector<std::array<double, 3>> traced_rows;  // r, dr/da, d2r/da2 at each of `along`
   traced_rows.reserve(along.size());
+  // where the envelope moves slower than 1/10 of its fastest (per sample, in polar angle)
+  // its rows take their slopes from differences (see traced_differences): there the polar
+  // derivatives' error, ~ 4e-10 / (speed per sample)^2 mm/rad^2 on the bundled designs, would
+  // pass 4e-3 mm/rad^2 (3e-5 of the Valvetronic lever's d2r/da2 at its far end)
+  double fastest_step = 0.0;  // [rad] of polar angle per sample
+  for (std::size_t j = 1; j < phi.size(); ++j) fastest_step = std::max(fastest_step, std::abs(phi[j] - phi[j - 1]));
   for (double d : along) {
     double r[3];
-    traced_polar(phi_start + dir * d, r);
-    put(phi_start + dir * d, r);
+    const double a = phi_start + dir * d;
+    const int lo = bracket(a);
+    if (std::abs(phi[lo + 1] - phi[lo]) < 0.1 * fastest_step) traced_differences(a, r);
+    else traced_polar(a, r);
+    put(a, r);
     traced_rows.push_back({r[0], r[1], r[2]});
   }
   const double sense = span > 0 ? 1.0 : -1.0, reach = std::abs(span);
