@@ -92,7 +92,9 @@ PolarHit envelope_at_polar_angle(const P2<Jet2>& a, const P2<Jet2>& b, double ph
     const double f = c * p.y - s * p.x, df = c * p.y1 - s * p.x1;
     const double step = f / df;
     t -= step;
-    if (std::abs(step) < 1e-13) break;  // [fraction of a sample interval]
+    // [fraction of a sample interval] newton converges quadratically: after a step below
+    // 1e-8 the next one would be below ~1e-16 times |f'' / f'|, so it is not taken
+    if (std::abs(step) < 1e-8) break;
   }
   qx.eval(t, p.x, p.x1, p.x2);
   qy.eval(t, p.y, p.y1, p.y2);
