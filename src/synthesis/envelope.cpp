@@ -797,7 +797,10 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
   double motion_lo = 1e300, motion_hi = -1e300;
   for (int i = 0; i < n; ++i) {
     theta[i] = 2 * pi * i / n;
-    motion[i] = lift(Jet3::variable(theta[i]));
+    double d[4];  // L and its derivatives at theta: the jet's taylor coefficients directly
+    lift.evaluate(theta[i], 3, d);
+    motion[i] = Jet3(d[0]);
+    motion[i].c[1] = d[1], motion[i].c[2] = d[2] / 2, motion[i].c[3] = d[3] / 6;
     motion_lo = std::min(motion_lo, motion[i].value());
     motion_hi = std::max(motion_hi, motion[i].value());
   }
