@@ -54,7 +54,7 @@ struct SynthesisResult {
   double min_concave_radius_mm = 0, min_concave_radius_at_deg = 0;  // smallest |radius| of concave parts
   bool concave_narrower_than_wheel = false;
   double face_offset_min_mm = 0, face_offset_max_mm = 0;  // flat face: contact offset along the face
-  int upstream_solves = 0;  // work: kinematic solves of a cam that is not the driver (1 per 1.5 deg where it moves)
+  int upstream_solves = 0;  // work: kinematic solves of a cam that is not the driver (1 per deg where it moves)
   std::vector<std::string> notes;
 };
 
