@@ -429,7 +429,8 @@ void Kernel::scan_contact_parameters(const Workspace::Block& b) {
     const auto& pose_p = a_param ? pa : pb;
     const auto& pose_o = a_param ? pb : pa;
     const auto centre = pose_o.apply(so.origin.x(), so.origin.y());
-    const auto [u0, u1] = range(sp);
+    const auto [range_lo, range_hi] = range(sp);
+    const double u0 = range_lo, u1 = range_hi;  // copies: clang 14 cannot capture structured bindings
     auto score_at = [&](int i) {
       ws_.values[sp.variable] = u0 + (u1 - u0) * i / samples;
       const auto P = surface_point(m_, sp, pose_p, ws_.values.data());
