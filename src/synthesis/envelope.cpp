@@ -342,9 +342,18 @@ Status swing_profile(const DesignSpec& spec, const kin::Mechanism& up, const Mec
   }
   const double dir = phi.back() > phi.front() ? 1.0 : -1.0;
   for (std::size_t j = 1; j < phi.size(); ++j)
-    if ((phi[j] - phi[j - 1]) * dir <= 0)
-      return {StatusCode::undercut, "the synthesized swing profile folds back on itself (undercut or cusp)",
-              "cam " + fmt(theta[run[j]] * 180 / pi) + " deg"};
+    if ((phi[j] - phi[j - 1]) * dir <= 0) {
+      // how far back, and how fast the swing cam moves there: a fold where it barely moves
+      // (next to the ends of its stroke) is the target's own ripple
+      const double rate = std::abs(cam_rate[run[j]]) / max_rate;
+      std::string message = "the synthesized swing profile folds back on itself (undercut or cusp) by " +
+                            fmt(std::abs(phi[j] - phi[j - 1]) * 180 / pi) + " deg of profile, where the swing cam moves at " +
+                            fmt(rate) + " of its peak rate";
+      if (rate < 0.05)
+        message += ": so slow a swing is where its stroke starts or ends, and a fold there comes from ripple in the "
+                   "target lift; sample the target more finely, or smooth it (--smooth)";
+      return {StatusCode::undercut, message, "cam " + fmt(theta[run[j]] * 180 / pi) + " deg"};
+    }
   // radius on the traced stretch at polar angle a (quintic hermite in theta between
   // samples), with dr/da and d2r/da2 (out[0..2])
   const double h = 2 * pi / n;

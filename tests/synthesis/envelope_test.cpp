@@ -244,6 +244,30 @@ TEST_CASE("synthesis: a swing cam's reported curvature is that of the kinematic 
   }
 }
 
+TEST_CASE("synthesis: a swing fold where the swing cam barely moves is reported as ripple in the target",
+          "[synthesis][envelope][swing]") {
+  // the Valvetronic at 60 deg of control from a 0.5 deg table: the lift's interpolation
+  // ripple where the idle travel ends turns the swing back by 2e-7 rad at cam 91.25 deg,
+  // where the lever swings at 0.3 % of its peak rate (from a 0.25 deg table it synthesizes:
+  // the curvature-report test above)
+  DesignSpec d = io::load_design(std::string(CAMOPT_SOURCE_DIR) + "/designs/valvetronic.toml");
+  for (auto& k : d.connections) k.lash_mm = 0.0;
+  const auto m = kin::compile(d);
+  PeriodicSpline target;
+  REQUIRE(kin::periodic_motion(m, m.output_node, {60.0}, 0.5, target).ok());
+  synthesis::SynthesisOptions o;
+  o.cam = "swing";
+  o.controls = {60.0};
+  synthesis::SynthesisResult res;
+  const Status st = synthesis::synthesize(d, target, o, res);
+  INFO(st.str());
+  CHECK(st.code == StatusCode::undercut);
+  CHECK(st.where == "cam 91.25 deg");
+  CHECK(st.message.find("folds back on itself (undercut or cusp) by 1.16") != std::string::npos);
+  CHECK(st.message.find("moves at 0.0031") != std::string::npos);
+  CHECK(st.message.find("ripple in the target lift") != std::string::npos);
+}
+
 TEST_CASE("synthesis: the CVVL rotational cam from the swing-cam motion gives back the input lobe",
           "[synthesis][envelope][swing]") {
   DesignSpec d = io::load_design(std::string(CAMOPT_SOURCE_DIR) + "/designs/cvvl_swing_cam.toml");
