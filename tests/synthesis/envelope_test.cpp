@@ -35,6 +35,20 @@ PeriodicSpline forward_lift(const DesignSpec& d) {
   return lift;
 }
 
+// a bundled design without lash, compiled, and its own lift at one control position [deg]
+// sampled every step_deg: the target for synthesizing its cams
+struct BundledCase {
+  DesignSpec design;
+  kin::Mechanism mechanism;
+  PeriodicSpline lift;
+  BundledCase(const std::string& name, double control, double step_deg = 0.25) {
+    design = io::load_design(std::string(CAMOPT_SOURCE_DIR) + "/designs/" + name + ".toml");
+    for (auto& c : design.connections) c.lash_mm = 0.0;
+    mechanism = kin::compile(design);
+    REQUIRE(kin::periodic_motion(mechanism, mechanism.output_node, {control}, step_deg, lift).ok());
+  }
+};
+
 // largest |lift_a - lift_b| [mm] over a revolution at 0.5 deg, both designs at one control
 // position [deg]: a synthesized cam against the original away from the synthesis position
 double worst_lift_difference(const DesignSpec& a, const DesignSpec& b, double control) {
@@ -210,18 +224,14 @@ TEST_CASE("synthesis: a swing cam's reported curvature is that of the kinematic 
   for (const Case& c : {Case{"cvvl_swing_cam", 0}, Case{"cvvl_swing_cam", 16}, Case{"valvetronic", 0},
                         Case{"valvetronic", 30}, Case{"valvetronic", 60}}) {
     INFO(c.name << " at control " << c.control << " deg");
-    DesignSpec d = io::load_design(std::string(CAMOPT_SOURCE_DIR) + "/designs/" + c.name + ".toml");
-    for (auto& k : d.connections) k.lash_mm = 0.0;
-    const auto m = kin::compile(d);
     // (at 0.25 deg: from a 0.5 deg table the Valvetronic's lift at 60 deg overshoots where its
     // idle travel ends, and its swing folds back at cam 91.25 deg, an undercut Status)
-    PeriodicSpline target;
-    REQUIRE(kin::periodic_motion(m, m.output_node, {c.control}, 0.25, target).ok());
+    const BundledCase v(c.name, c.control);
     synthesis::SynthesisOptions o;
     o.cam = "swing";
     o.controls = {c.control};
     synthesis::SynthesisResult res;
-    REQUIRE(synthesis::synthesize(d, target, o, res).ok());
+    REQUIRE(synthesis::synthesize(v.design, v.lift, o, res).ok());
     const auto cam = kin::CamProfile::build(res.profile);
     std::vector<double> miss;  // |curvature difference| x smallest radius of curvature
     double max_curvature = 0.0, min_curvature = 0.0;
@@ -250,16 +260,12 @@ TEST_CASE("synthesis: a swing fold where the swing cam barely moves is reported 
   // ripple where the idle travel ends turns the swing back by 2e-7 rad at cam 91.25 deg,
   // where the lever swings at 0.3 % of its peak rate (from a 0.25 deg table it synthesizes:
   // the curvature-report test above)
-  DesignSpec d = io::load_design(std::string(CAMOPT_SOURCE_DIR) + "/designs/valvetronic.toml");
-  for (auto& k : d.connections) k.lash_mm = 0.0;
-  const auto m = kin::compile(d);
-  PeriodicSpline target;
-  REQUIRE(kin::periodic_motion(m, m.output_node, {60.0}, 0.5, target).ok());
+  const BundledCase v("valvetronic", 60.0, 0.5);
   synthesis::SynthesisOptions o;
   o.cam = "swing";
   o.controls = {60.0};
   synthesis::SynthesisResult res;
-  const Status st = synthesis::synthesize(d, target, o, res);
+  const Status st = synthesis::synthesize(v.design, v.lift, o, res);
   INFO(st.str());
   CHECK(st.code == StatusCode::undercut);
   CHECK(st.where == "cam 91.25 deg");
@@ -433,16 +439,13 @@ TEST_CASE("synthesis: the VVLD control arm synthesized at maximum lift keeps the
   // synthesized arm (traced stretch + idle curve) must give the original design's lift at
   // those positions (measured: 2.9e-6 .. 1.7e-5 mm for 10 .. 75 deg; the original is a 1
   // deg table whose spline ripples by 1.3e-5 mm on the idle arc next to the ramp foot).
-  DesignSpec d = io::load_design(std::string(CAMOPT_SOURCE_DIR) + "/designs/vvld.toml");
-  for (auto& c : d.connections) c.lash_mm = 0.0;
-  const auto m = kin::compile(d);
-  PeriodicSpline target;
-  REQUIRE(kin::periodic_motion(m, m.output_node, {0.0}, 0.25, target).ok());
+  const BundledCase v("vvld", 0.0);
+  const DesignSpec& d = v.design;
   synthesis::SynthesisOptions o;
   o.cam = "swing";
   o.controls = {0.0};
   synthesis::SynthesisResult res;
-  const Status st = synthesis::synthesize(d, target, o, res);
+  const Status st = synthesis::synthesize(d, v.lift, o, res);
   INFO(st.str());
   REQUIRE(st.ok());
   CHECK(res.cam_node == "control_arm");
@@ -466,16 +469,14 @@ TEST_CASE("synthesis: the Valvetronic lever's working curve (a profile on a floa
   // lift through the finger, is enveloped in the lever's frame. Turning the eccentric turns
   // the resting lever about the camshaft axis, so the idle curve (the resting finger roller
   // over the control family) is the arc r 36 about the camshaft axis (designs/valvetronic.toml).
-  DesignSpec d = io::load_design(std::string(CAMOPT_SOURCE_DIR) + "/designs/valvetronic.toml");
-  for (auto& c : d.connections) c.lash_mm = 0.0;
-  const auto m = kin::compile(d);
-  PeriodicSpline target;
-  REQUIRE(kin::periodic_motion(m, m.output_node, {0.0}, 0.25, target).ok());
+  const BundledCase v("valvetronic", 0.0);
+  const DesignSpec& d = v.design;
+  const kin::Mechanism& m = v.mechanism;
   synthesis::SynthesisOptions o;
   o.cam = "swing";
   o.controls = {0.0};
   synthesis::SynthesisResult res;
-  const Status st = synthesis::synthesize(d, target, o, res);
+  const Status st = synthesis::synthesize(d, v.lift, o, res);
   INFO(st.str());
   REQUIRE(st.ok());
   // the lever's motion every 1 deg where it moves, every 6 deg across the dwell (measured
@@ -514,28 +515,12 @@ TEST_CASE("synthesis: the Valvetronic lever's working curve (a profile on a floa
   }
 }
 
-namespace {
-
-// the bundled Valvetronic without lash and its own lift at one control position
-struct ValvetronicCase {
-  DesignSpec design;
-  PeriodicSpline lift;
-  explicit ValvetronicCase(double control) {
-    design = io::load_design(std::string(CAMOPT_SOURCE_DIR) + "/designs/valvetronic.toml");
-    for (auto& c : design.connections) c.lash_mm = 0.0;
-    const auto m = kin::compile(design);
-    REQUIRE(kin::periodic_motion(m, m.output_node, {control}, 0.25, lift).ok());
-  }
-};
-
-}  // namespace
-
 TEST_CASE("synthesis: the Valvetronic input cam through the floating lever gives back its lobe",
           "[synthesis][envelope][floating]") {
   // the lever's pose is not fixed by the valve lift during its idle travel (the lift dips
   // 0.022 mm while the idle arc slides past the finger roller, then rises): the lever is
   // parameterised by its cam roller's travel, inverted piece by piece (dip, then rise)
-  const ValvetronicCase v(0.0);
+  const BundledCase v("valvetronic", 0.0);
   synthesis::SynthesisOptions o;
   o.controls = {0.0};
   synthesis::SynthesisResult res;
@@ -571,7 +556,7 @@ TEST_CASE("synthesis: a lift the floating lever cannot follow is a singular Stat
   // the design's own lift raised by 0.03 mm: the target turns back at +0.008 mm where the
   // lever's lift only turns back at -0.022 mm (the bottom of its idle dip), so no travel
   // of the lever gives it
-  const ValvetronicCase v(0.0);
+  const BundledCase v("valvetronic", 0.0);
   std::vector<double> x, y;
   for (int i = 0; i < 1440; ++i) x.push_back(i * 0.25 * deg), y.push_back(v.lift(x.back()) + 0.03);
   const PeriodicSpline raised = PeriodicSpline::interpolate(x, y, 2 * pi);
@@ -590,7 +575,7 @@ TEST_CASE("synthesis: a plain lift with a zero base circle through the Valvetron
   // H (1 - u^2)^4, u = (theta - 180 deg) / 70 deg: C3 at the ends, 6 mm peak, no dip. The
   // lever rests where its lift is 0 after the dip (larger base circle), and the lift is
   // followed exactly
-  const ValvetronicCase v(0.0);
+  const BundledCase v("valvetronic", 0.0);
   std::vector<double> x, y;
   for (int i = 0; i < 1440; ++i) {
     const double a = i * 0.25, u = (a - 180) / 70;
