@@ -31,6 +31,52 @@ constexpr double kMaxTravel = 100.0;  // [mm] the scan gives up beyond this prob
 // [mm per mm of peak lift] how close the target's turning lift must come to the lever's
 // (the target is sampled: its extreme sample misses the true turn by ~ L'' h^2 / 8)
 constexpr double kTurnTolerance = 1e-4;
+// [relative to the mean slope] dL/dq at the last sample inverted before the base circle
+// below which the lift does not fix the lever's travel there: the walk's end is then a
+// designed landing (landing_samples). The bundled Valvetronic at 0 deg of control ends at
+// 7.5e-5 (the lever's lift has a 2.2e-8 mm hump within 1.6e-3 mm of its rest); from 5 deg
+// on its lift rises from the rest at 2.6e-2 .. 0.83 and the target fixes the travel
+// down to the rest
+constexpr double kLandingSlope = 1e-3;
+constexpr int kMaxLandingSamples = 64;
+
+// the landing of the lever's travel on the base circle from the jets q(tau) of the last
+// inverted sample, tau the distance walked towards the rest [rad]: the septic hermite from
+// them to rest (q and three derivatives 0) over m samples of h, for the smallest m whose
+// acceleration q'' runs most evenly to 0 (total variation within 1 % of the least over
+// m <= max_m, q falling monotonically to 0, as a ramp designer's constant-deceleration
+// landing would). 0 when no such landing exists
+int landing_samples(const Jet3& q_tau, double h, int max_m) {
+  constexpr int kChecks = 64;  // points along the landing where q'' and the monotony are checked
+  std::array<double, kChecks + 1> q2;
+  double least = 1e300;
+  int least_m = 0;
+  for (int m = 2; m <= max_m; ++m) {
+    const double span = m * h;
+    const double start[4] = {q_tau.derivative(0), q_tau.derivative(1) * span,
+                             q_tau.derivative(2) * span * span, q_tau.derivative(3) * span * span * span};
+    const double rest[4] = {0.0, 0.0, 0.0, 0.0};
+    const detail::Septic piece(start, rest);
+    bool monotone = true;
+    for (int t = 0; t <= kChecks && monotone; ++t) {
+      double d[4];
+      piece.eval(static_cast<double>(t) / kChecks, d);
+      monotone = d[0] >= -1e-9 * start[0] && d[1] <= 1e-9 * std::abs(start[1]);
+      q2[static_cast<std::size_t>(t)] = d[2];
+    }
+    if (!monotone) {
+      if (least_m > 0) break;  // past the monotone landings
+      continue;
+    }
+    double variation = 0.0;
+    for (int t = 1; t <= kChecks; ++t) variation += std::abs(q2[static_cast<std::size_t>(t)] - q2[static_cast<std::size_t>(t - 1)]);
+    variation /= span * span;
+    if (variation < least) least = variation, least_m = m;
+    // q'' runs from its start to 0: no landing varies less than that
+    if (variation <= 1.01 * std::abs(q_tau.derivative(2))) return m;
+  }
+  return least_m;
+}
 
 // q(theta) from L(q0 + d) = L0 + a1 d + a2 d^2 + a3 d^3 and the target's taylor
 // coefficients b in theta (b0 = L0): series reversion to third order
@@ -252,6 +298,7 @@ Status invert_floating_follower(const DesignSpec& spec, const MechanismCut& cut,
   enum class Kind : char { open, rest, inverted, bridged };
   std::vector<Kind> kind(n, Kind::open);
   std::vector<Jet3> q_of(n, Jet3(0.0));
+  std::vector<double> slope_of(n, 0.0);  // dL/dq at each inverted sample
   // invert sample i on piece k (newton inside the piece's grid bracket)
   // guess: the travel predicted from the neighbouring sample (NaN: none), else linear in
   // the scan's bracket
@@ -298,6 +345,7 @@ Status invert_floating_follower(const DesignSpec& spec, const MechanismCut& cut,
   // (the walks invert on the scan's hermite pieces: the scan continued from the rest keeps
   // the drawing's assembly branch; a cold start next to the peak may land on another one)
   const double h = 2 * pi / n;
+  int landing_anchor[2] = {-1, -1};  // per walk (opening, closing): its last inverted sample when it reached the rest
   for (int dir : {-1, +1}) {
     int k = pieces - 1;
     int last = -1, last_piece = -1;  // the walk's last inverted sample and its piece
@@ -309,7 +357,10 @@ Status invert_floating_follower(const DesignSpec& spec, const MechanismCut& cut,
       const int i = ((peak + dir * step) % n + n) % n;
       if (kind[i] != Kind::open) break;  // met the other walk
       const double target = motion[i].value();
-      if (k == 0 && std::abs(target - rest_lift) <= reverse) break;  // the lever at rest: the base circle
+      if (k == 0 && std::abs(target - rest_lift) <= reverse) {  // the lever at rest: the base circle
+        if (last_piece == 0) landing_anchor[dir > 0] = last;
+        break;
+      }
       if (near_rest) {
         kind[i] = Kind::bridged;
         continue;
@@ -352,8 +403,28 @@ Status invert_floating_follower(const DesignSpec& spec, const MechanismCut& cut,
       const Status st = invert_on(i, k, guess, a1);
       if (!st.ok()) return st;
       kind[i] = std::abs(a1) < flat ? Kind::bridged : Kind::inverted;
+      slope_of[i] = a1;
       last = i, last_piece = k;
     }
+  }
+  // a walk whose last inverted sample barely moves the lift lands on the rest as designed
+  // (landing_samples) instead of where the target's lift first meets the rest lift: there
+  // the lever's travel is ~1e-3 mm, and stepping it to 0 in one sample put a slope step
+  // (a -124 mm radius) on the synthesized cam
+  for (int side = 0; side < 2; ++side) {
+    const int anchor = landing_anchor[side], dir = side == 0 ? -1 : 1;
+    if (anchor < 0 || kind[anchor] != Kind::inverted || !(std::abs(slope_of[anchor]) < kLandingSlope * mean_slope))
+      continue;
+    auto walked = [&](int j) { return ((anchor + dir * j) % n + n) % n; };
+    int available = 1;  // samples past the anchor that the landing may take: the walk's own tail and the rest
+    while (available <= kMaxLandingSamples &&
+           (kind[walked(available)] == Kind::open || kind[walked(available)] == Kind::bridged))
+      ++available;
+    Jet3 q_tau = q_of[anchor];  // its travel in the walked angle tau = dir (theta - theta_anchor)
+    q_tau.c[1] *= dir, q_tau.c[3] *= dir;
+    const int landing = landing_samples(q_tau, h, available - 1);
+    if (landing == 0) continue;
+    for (int j = 1; j < available; ++j) kind[walked(j)] = j < landing ? Kind::bridged : Kind::open;
   }
   for (auto& kd : kind)
     if (kd == Kind::open) kd = Kind::rest;  // between the two walks: the base circle
