@@ -360,17 +360,33 @@ PeriodicSpline PeriodicSpline::interpolate_periodic(std::span<const double> x, s
   // unknowns shifted by 3 (b-spline j -> column j + 3) the system is cyclic pentadiagonal
   // (the basis triangle at each knot is kept for the taylor coefficients below:
   // triangle[i][q (q + 1) / 2 + r] = N_{i-q+r, q}(t_i))
-  std::vector<std::array<double, (p + 1) * (p + 2) / 2>> triangle(static_cast<std::size_t>(n));
+  // evenly spaced data (to round-off of the period: x_i = x_0 + i period / n, as every
+  // sampled table in camopt) share one triangle, that of the uniform knots
+  bool uniform = true;
+  for (int i = 0; i < n && uniform; ++i)
+    uniform = std::abs(x[static_cast<std::size_t>(i)] - (x.front() + i * (period / n))) <= 1e-13 * period;
+  const int triangles = uniform ? 1 : n;
+  std::vector<std::array<double, (p + 1) * (p + 2) / 2>> triangle(static_cast<std::size_t>(triangles));
   std::vector<std::array<double, 5>> band(static_cast<std::size_t>(n));
   Eigen::VectorXd b(n);
   for (int i = 0; i < n; ++i) {
-    double ndu[p + 1][p + 1];
-    bspline_basis_triangle(T.data(), i + p, p, T[static_cast<std::size_t>(i + p)], ndu);
-    CAMOPT_ASSERT(ndu[p][p] == 0.0);
-    auto& tri = triangle[static_cast<std::size_t>(i)];
-    for (int q = 0; q <= p; ++q)
-      for (int r = 0; r <= q; ++r) tri[static_cast<std::size_t>(q * (q + 1) / 2 + r)] = ndu[r][q];
-    for (int r = 0; r < p; ++r) band[static_cast<std::size_t>(i)][static_cast<std::size_t>(r)] = ndu[r][p];
+    if (i < triangles) {
+      double ndu[p + 1][p + 1];
+      if (uniform) {
+        double knots[2 * p + 1];
+        for (int m = 0; m <= 2 * p; ++m) knots[m] = (m - p) * (period / n);
+        bspline_basis_triangle(knots, p, p, 0.0, ndu);
+      } else {
+        bspline_basis_triangle(T.data(), i + p, p, T[static_cast<std::size_t>(i + p)], ndu);
+      }
+      CAMOPT_ASSERT(ndu[p][p] == 0.0);
+      auto& tri = triangle[static_cast<std::size_t>(i)];
+      for (int q = 0; q <= p; ++q)
+        for (int r = 0; r <= q; ++r) tri[static_cast<std::size_t>(q * (q + 1) / 2 + r)] = ndu[r][q];
+    }
+    const auto& tri = triangle[static_cast<std::size_t>(uniform ? 0 : i)];
+    for (int r = 0; r < p; ++r)
+      band[static_cast<std::size_t>(i)][static_cast<std::size_t>(r)] = tri[static_cast<std::size_t>(p * (p + 1) / 2 + r)];
     b[i] = y[static_cast<std::size_t>(i)];
   }
   Eigen::VectorXd shifted, c(n);
@@ -413,7 +429,7 @@ PeriodicSpline PeriodicSpline::interpolate_periodic(std::span<const double> x, s
   s.x_.assign(x.begin(), x.end());
   s.coef_.resize(static_cast<std::size_t>(n));
   for (int i = 0; i < n; ++i) {
-    const auto& tri = triangle[static_cast<std::size_t>(i)];
+    const auto& tri = triangle[static_cast<std::size_t>(uniform ? 0 : i)];
     for (int k = 0; k <= p; ++k) {
       const int q = p - k;
       double v = 0.0;
