@@ -561,6 +561,31 @@ TEST_CASE("synthesis: the Valvetronic input cam through the floating lever gives
   CHECK(sharpest > 16.0);
 }
 
+TEST_CASE("synthesis: the Valvetronic input cam at small control angles, where the lever's lift has a hump next to "
+          "its rest", "[synthesis][envelope][floating]") {
+  // below ~3 deg of control the lever's lift first rises by up to ~1e-3 mm, then dips, then
+  // lifts: three monotone pieces whose turns fall between the 0.04 mm scan points. Taken at
+  // the nearest scan point, these controls failed: an undercut (0.3, 0.35, 0.7, 1.1, 1.15,
+  // 1.4, 1.55, 1.6, 2.45, 2.85 deg) or a 0.038 mm step that the round trip could not pass
+  // (0.25, 0.65 deg)
+  for (double control : {0.25, 0.3, 0.65, 1.1, 1.4, 2.45, 2.85}) {
+    const BundledCase v("valvetronic", control);
+    synthesis::SynthesisOptions o;
+    o.controls = {control};
+    synthesis::SynthesisResult res;
+    const Status st = synthesis::synthesize(v.design, v.lift, o, res);
+    INFO("control " << control << " deg: " << st.str());
+    REQUIRE(st.ok());
+    CHECK(res.min_radius_of_curvature_mm > 13.8);  // the lobe's own: 13.88 mm
+    synthesis::RoundTrip rt;
+    const Status back = synthesis::round_trip(synthesis::with_profile(v.design, res.profile), v.lift, {control},
+                                              res.connection, rt);
+    INFO(back.str() << "; round trip " << rt.max_error_mm << " mm at " << rt.max_error_at_deg << " deg");
+    REQUIRE(back.ok());
+    CHECK(rt.max_error_mm < 1e-7);
+  }
+}
+
 TEST_CASE("synthesis: a lift the floating lever cannot follow is a singular Status naming the angle",
           "[synthesis][envelope][floating]") {
   // the design's own lift raised by 0.03 mm: the target turns back at +0.008 mm where the
