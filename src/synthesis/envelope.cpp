@@ -357,13 +357,23 @@ Status swing_profile(const DesignSpec& spec, const kin::Mechanism& up, const Mec
   // radius on the traced stretch at polar angle a (quintic hermite in theta between
   // samples), with dr/da and d2r/da2 (out[0..2])
   const double h = 2 * pi / n;
-  auto bracket = [&](double a) {  // the sample interval [lo, lo + 1] holding polar angle a
-    int lo = 0, hi = static_cast<int>(phi.size()) - 1;
+  // the sample interval [lo, lo + 1] holding polar angle a (the first or last interval
+  // beyond the ends): the last answer and its neighbours first (the lookups mostly walk
+  // along the stretch), else bisection
+  const int last_interval = static_cast<int>(phi.size()) - 2;
+  int hint = 0;
+  auto bracket = [&](double a) {
+    auto holds = [&](int lo) {
+      return (lo == 0 || (phi[lo] - a) * dir <= 0) && (lo == last_interval || (phi[lo + 1] - a) * dir > 0);
+    };
+    for (int lo : {hint, hint + 1, hint - 1})
+      if (lo >= 0 && lo <= last_interval && holds(lo)) return hint = lo;
+    int lo = 0, hi = last_interval + 1;
     while (hi - lo > 1) {
       const int mid = (lo + hi) / 2;
       ((phi[mid] - a) * dir <= 0 ? lo : hi) = mid;
     }
-    return lo;
+    return hint = lo;
   };
   auto traced_hit = [&](double a) {
     const int lo = bracket(a);
