@@ -571,21 +571,6 @@ Status Kernel::differentiate(Workspace::Block& b, double driver) {
 
 // ---- one-equation form of a curve-circle contact (Workspace::Block::OffsetContact) ----
 
-// the circle centre that touches the curve at parameter u, in the curve body's drawing
-// frame [mm]: C = p(u) + offset n(u), n the curve's outward unit normal (right of its
-// counter-clockwise tangent), as its taylor series of order M in u
-template <int M>
-V2<Jet<M>> offset_local(const Mechanism& m, const Surface& s, double offset, double u) {
-  using std::sqrt;
-  using T = Jet<M>;
-  const CurvePoint<T> c = m.profiles[s.profile].point_series<M>(u);
-  const T len = sqrt(square(c.dx) + square(c.dy));
-  const T k = offset / len;
-  const T qx = c.x + k * c.dy, qy = c.y - k * c.dx;
-  const double co = s.cos_orient, so = s.sin_orient;
-  return {s.origin.x() + co * qx - so * qy, s.origin.y() + so * qx + co * qy};
-}
-
 // the one equation [mm]: the centre at its distance from the unknown body's pivot
 // (rotational) or on the unknown body's line of travel (translational)
 double offset_residual(const Workspace::Block::OffsetContact& oc, const Node& node, const Eigen::Vector2d& pivot,
@@ -651,7 +636,7 @@ template <int M>
   double evaluated_at = u;
   for (int ev = 0; ev < max_evaluations && !converged; ++ev) {
     evaluated_at = u;
-    q = offset_local<M>(m_, curve, oc.centre_offset, u);
+    q = detail::offset_local<M>(m_, curve, oc.centre_offset, u);
     bool reevaluate = false;
     for (int shifts = 0; shifts <= max_shifts && !reevaluate; ++shifts) {
       centre = pose0.apply(q.x.c[0], q.y.c[0]);

@@ -18,6 +18,7 @@
 #include "camopt/kinematics/sweep.hpp"
 #include "camopt/synthesis/detail/hermite.hpp"
 #include "camopt/synthesis/floating_inversion.hpp"
+#include "camopt/synthesis/lever_path.hpp"
 #include "camopt/synthesis/mechanism_cut.hpp"
 
 namespace camopt::synthesis {
@@ -885,13 +886,31 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
   const int stride = cam_is_lone_driver ? 1 : std::max(1, static_cast<int>(std::lround(kUpstreamSpacing * n / (2 * pi))));
   std::vector<int> node_at;           // sample index of each upstream solve, ascending, the last n
   std::vector<double> cam_motion;     // [node][dof][derivative]
+  // a floating cam that the driver moves through one roller: its motion from the lever
+  // path (lever_path.hpp) instead of a solve of its whole contact cluster at every node;
+  // the first node is solved whole (the path's start, and the workspace's state)
+  LeverPath lever_path;
+  LeverState path_state;  // where the lever path last found the lever
+  if (!cam_is_lone_driver && cn.kind == NodeKind::floating)
+    if (!build_lever_path(cut.upstream, up, cam, controls, lever_path).ok()) lever_path = {};  // solved whole
   auto solve_upstream = [&](int sample) -> Status {
     const double at = 2 * pi * sample / n;
+    if (lever_path.contact >= 0 && !node_at.empty()) {
+      Jet3 lever[3];
+      if (lever_at(lever_path, up, up_ws, at, path_state, lever).ok()) {
+        node_at.push_back(sample);
+        for (const Jet3& v : lever)
+          for (int d = 0; d < 4; ++d) cam_motion.push_back(v.derivative(d));
+        return Status::success();
+      }
+      lever_path = {};  // from here on solved whole
+    }
     const Status st = kin::solve(up, up_ws, at, {3, false});
     if (!st.ok()) return {st.code, st.message, "cam " + fmt(at * 180 / pi) + " deg"};
     node_at.push_back(sample);
     for (int k = 0; k < cn.dof; ++k)
       for (int d = 0; d < 4; ++d) cam_motion.push_back(up_ws.vars[cn.first_variable + k].derivative(d));
+    if (lever_path.contact >= 0) lever_path_state(lever_path, up, up_ws, at, path_state);
     return Status::success();
   };
   const double rest_span = kRestStride * stride * 2 * pi / n;  // [rad] of driver
@@ -914,6 +933,7 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
         // try the dwell: one solve kRestStride strides on, kept when the cam rests there at
         // the same pose; else dropped and the stretch solved stride by stride from here
         before = up_ws;
+        const LeverState state_before = path_state;
         const int far = std::min(n, node_at.back() + kRestStride * stride);
         if (Status st = solve_upstream(far); !st.ok()) return st;
         bool dwell = at_rest(j + 1);
@@ -923,6 +943,7 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
         node_at.pop_back();
         cam_motion.resize(cam_motion.size() - static_cast<std::size_t>(cn.dof) * 4);
         up_ws = before;
+        path_state = state_before;
       }
       if (Status st = solve_upstream(next); !st.ok()) return st;
     }

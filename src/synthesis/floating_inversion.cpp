@@ -9,6 +9,7 @@
 #include "camopt/kinematics/mechanism.hpp"
 #include "camopt/kinematics/solver.hpp"
 #include "camopt/synthesis/detail/hermite.hpp"
+#include "camopt/synthesis/detail/radial_probe.hpp"
 
 namespace camopt::synthesis {
 
@@ -118,34 +119,13 @@ Status invert_floating_follower(const DesignSpec& spec, const MechanismCut& cut,
     throw InputError(conn.where, "synthesize: a floating follower '" + cut.follower_node +
                                      "' needs a rotational cam, not the " + to_string(cam_node->kind) + " '" +
                                      cut.cam_node + "'");
-  // the probe: a flat face on a translating node, pushing the roller along the cam's
-  // radial direction d through a roller centre c; its travel q is the roller centre's
-  // displacement along d
+  // the probe (detail/radial_probe.hpp) pushes the roller along the cam's radial direction
   const double c0x = follower_surface.origin_mm[0], c0y = follower_surface.origin_mm[1];
   const double px = cam_node->pivot_mm[0], py = cam_node->pivot_mm[1];
   const double base = std::hypot(c0x - px, c0y - py);  // [mm] roller centre from the cam pivot on the base circle
   if (!(base > 1e-9))
     throw InputError(conn.where, "synthesize: the roller of '" + cut.follower_node + "' is centred on the cam pivot");
-  const double r = follower_surface.radius_mm;
-  // the probe pushing the roller radially through (cx, cy): its node and its face
-  auto probe_parts = [&](double cx, double cy) {
-    const double len = std::hypot(cx - px, cy - py), dx = (cx - px) / len, dy = (cy - py) / len;
-    std::pair<NodeSpec, ConnectionSpec> parts;
-    auto& [probe, face] = parts;
-    probe.name = "synthesis_probe";
-    probe.kind = NodeKind::translational;
-    probe.origin_mm = {cx, cy};
-    probe.direction = {dx, dy};
-    face.name = "synthesis_probe_face";
-    face.kind = ConnectionKind::contact;
-    face.surface_a.node = probe.name;
-    face.surface_a.shape = SurfaceShape::line;
-    face.surface_a.origin_mm = {cx - r * dx, cy - r * dy};
-    face.surface_a.normal = {dx, dy};
-    face.surface_b = follower_surface;
-    face.surface_b.concave = false;
-    return parts;
-  };
+  auto probe_parts = [&](double cx, double cy) { return detail::radial_probe(follower_surface, px, py, cx, cy); };
   auto make_probe = [&](double cx, double cy) {
     DesignSpec probe_spec = cut.downstream;
     auto [probe, face] = probe_parts(cx, cy);

@@ -42,6 +42,21 @@ struct Pose {
   }
 };
 
+// the circle centre that touches the curve at parameter u, in the curve body's drawing
+// frame [mm]: C = p(u) + offset n(u), n the curve's outward unit normal (right of its
+// counter-clockwise tangent), as its taylor series of order M in u
+template <int M>
+inline V2<Jet<M>> offset_local(const Mechanism& m, const Surface& s, double offset, double u) {
+  using std::sqrt;
+  using T = Jet<M>;
+  const CurvePoint<T> c = m.profiles[s.profile].point_series<M>(u);
+  const T len = sqrt(square(c.dx) + square(c.dy));
+  const T k = offset / len;
+  const T qx = c.x + k * c.dy, qy = c.y - k * c.dx;
+  const double co = s.cos_orient, so = s.sin_orient;
+  return {s.origin.x() + co * qx - so * qy, s.origin.y() + so * qx + co * qy};
+}
+
 // pose of node n given all variables (vars) and the current pivots (controls applied)
 template <class T>
 Pose<T> node_pose(const Mechanism& m, int n, const T* vars, const Eigen::Vector2d* pivots) {
