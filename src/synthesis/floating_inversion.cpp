@@ -318,16 +318,23 @@ Status invert_floating_follower(const DesignSpec& spec, const MechanismCut& cut,
     const double target = motion[i].value();
     const auto piece = static_cast<std::size_t>(k);
     const double sign = turn_lift[piece + 1] > turn_lift[piece] ? 1.0 : -1.0;
-    // the bracket: the piece's ends and the scan points between them, up to the first whose
-    // lift reaches the target
-    double lo = turn_q[piece], lo_lift = turn_lift[piece], hi = turn_q[piece + 1], hi_lift = turn_lift[piece + 1];
-    for (int j = static_cast<int>(std::floor(lo / kScanStep)) + 1; j * kScanStep < turn_q[piece + 1]; ++j) {
-      if ((grid_lift[j] - target) * sign >= 0) {
-        hi = j * kScanStep, hi_lift = grid_lift[j];
-        break;
-      }
-      lo = j * kScanStep, lo_lift = grid_lift[j];
+    // the bracket: between the piece's ends and the scan points inside it, the first whose
+    // lift reaches the target and the one before (bisection: the lift is monotone there)
+    int inside_lo = static_cast<int>(std::floor(turn_q[piece] / kScanStep)) + 1;
+    int inside_hi = static_cast<int>(std::ceil(turn_q[piece + 1] / kScanStep)) - 1;
+    while (inside_lo * kScanStep <= turn_q[piece]) ++inside_lo;
+    while (inside_hi >= inside_lo && inside_hi * kScanStep >= turn_q[piece + 1]) --inside_hi;
+    int reach = inside_lo, past = inside_hi + 1;  // the first scan point inside reaching the target
+    while (reach < past) {
+      const int mid = (reach + past) / 2;
+      if ((grid_lift[mid] - target) * sign >= 0)
+        past = mid;
+      else
+        reach = mid + 1;
     }
+    double lo = turn_q[piece], lo_lift = turn_lift[piece], hi = turn_q[piece + 1], hi_lift = turn_lift[piece + 1];
+    if (reach > inside_lo) lo = (reach - 1) * kScanStep, lo_lift = grid_lift[reach - 1];
+    if (reach <= inside_hi) hi = reach * kScanStep, hi_lift = grid_lift[reach];
     const double span = hi_lift - lo_lift;
     double q = span != 0.0 ? lo + std::clamp((target - lo_lift) / span, 0.0, 1.0) * (hi - lo) : 0.5 * (lo + hi);
     if (guess > lo && guess < hi) q = guess;
