@@ -21,6 +21,11 @@ namespace camopt::cli {
 
 namespace {
 
+// a numerical failure names the target table's largest slope step above this fraction of
+// its steepest slope (the bundled lifts computed with lash: 0.32 to 0.34; smooth tables
+// ~1e-3; the real ICESym table's bump at 125 cam deg: 0.82, which synthesizes)
+constexpr double kSlopeStepHint = 0.1;
+
 struct SynthesizeOptions {
   std::string target_csv, design, out_dir, cam = "rotational";
   std::optional<double> control;
@@ -136,15 +141,25 @@ void run_synthesize(const SynthesizeOptions& o) {
     throw InputError("--control: design '" + o.design + "' has no [[control]]");
   }
 
+  // a failure where the target table's slope steps (a lift computed with lash) names the step
+  auto with_slope_step = [&](Status st) {
+    if (valve_target && target.slope_step_ratio > kSlopeStepHint)
+      st.message += "; the target's slope steps by " + format_value(target.slope_step_mm_per_deg, 3) +
+                    " mm/deg at cam " + format_value(target.slope_step_at_deg, 6) + " deg (" +
+                    format_value(target.slope_step_ratio, 3) +
+                    " of its steepest slope): a lift computed with lash steps where the lash is taken up, which no "
+                    "cam gives; give the lift without lash (lash_mm = 0), or smooth the table (--smooth)";
+    return st;
+  };
   synthesis::SynthesisResult res;
   Status st = synthesis::synthesize(spec, motion, opt, res);
-  if (!st.ok()) throw NumericalError(st);
+  if (!st.ok()) throw NumericalError(with_slope_step(st));
   synthesis::RoundTrip rt;
   st = synthesis::round_trip(synthesis::with_profile(spec, res.profile), motion, opt.controls, res.connection, rt,
                              opt.target_node);
   if (!st.ok()) {
     st.message = "forward kinematics of the synthesized profile: " + st.message;
-    throw NumericalError(st);
+    throw NumericalError(with_slope_step(st));
   }
 
   // ---- outputs ----

@@ -134,6 +134,32 @@ void check_steps_and_noise(const std::vector<Site>& data, const AtRow& at_row) {
   }
 }
 
+// the largest slope step of an interpolated table (TargetLift::slope_step_*)
+void find_slope_step(const std::vector<Site>& data, TargetLift& out) {
+  const std::size_t n = data.size();
+  double steepest = 0.0;
+  for (std::size_t i = 0; i + 1 < n; ++i)
+    steepest = std::max(steepest, std::abs((data[i + 1].lift - data[i].lift) / (data[i + 1].deg - data[i].deg)));
+  if (!(steepest > 0.0)) return;
+  for (std::size_t i = 2; i + 3 < n; ++i) {
+    const double h = data[i + 1].deg - data[i].deg;
+    bool uniform = true;
+    for (std::size_t k = i - 2; k < i + 3; ++k)
+      if (std::abs((data[k + 1].deg - data[k].deg) - h) > 1e-6 * h) uniform = false;
+    if (!uniform) continue;
+    double l[6];  // rows i - 2 .. i + 3
+    for (std::size_t k = 0; k < 6; ++k) l[k] = data[i - 2 + k].lift;
+    const double left = (3 * l[2] - 4 * l[1] + l[0]) / (2 * h), right = (-3 * l[3] + 4 * l[4] - l[5]) / (2 * h);
+    const double acc_left = (l[2] - 2 * l[1] + l[0]) / (h * h), acc_right = (l[5] - 2 * l[4] + l[3]) / (h * h);
+    const double step = right - left - h * (acc_left + acc_right) / 2;
+    if (std::abs(step) / steepest > out.slope_step_ratio) {
+      out.slope_step_ratio = std::abs(step) / steepest;
+      out.slope_step_mm_per_deg = step;
+      out.slope_step_at_deg = data[i + 1].deg;
+    }
+  }
+}
+
 }  // namespace
 
 double PeriodicBSpline::derivative(double cam_deg, int k) const {
@@ -379,6 +405,7 @@ TargetLift fit_target_lift(std::span<const double> cam_deg, std::span<const doub
   TargetLift out;
   out.closed_on_base_circle = closed;
   out.closure_message = message;
+  if (!options.smooth) find_slope_step(data, out);
 
   std::vector<double> x, y;
   if (!options.smooth) {

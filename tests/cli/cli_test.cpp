@@ -690,34 +690,63 @@ TEST_CASE("synthesize reports an undercut with its angle and exit 4, writing not
   CHECK((!fs::exists(out) || fs::is_empty(out)));
 }
 
-TEST_CASE("synthesize --cam swing gives the CVVL swing cam for its own lift", "[cli][synthesize]") {
-  TempDir tmp;
-  // the bundled CVVL without lash, its profile files referenced absolutely
-  std::string text = read_file(source_dir() / "designs" / "cvvl_swing_cam.toml");
+// the bundled design `name` without lash, written to dir with its profile files referenced
+// absolutely
+fs::path design_without_lash(const fs::path& dir, const std::string& name) {
+  std::string text = read_file(source_dir() / "designs" / (name + ".toml"));
   for (std::string::size_type at; (at = text.find("lash_mm = 0.1")) != std::string::npos;)
     text.replace(at, 13, "lash_mm = 0.0");
   const std::string profiles = "file = \"" + (source_dir() / "designs" / "profiles").string() + "/";
   for (std::string::size_type at = 0; (at = text.find("file = \"profiles/", at)) != std::string::npos;)
     text.replace(at, 17, profiles), at += profiles.size();
-  const fs::path design = tmp / "cvvl.toml", lift = tmp / "lift", target = tmp / "target.csv", out = tmp / "out";
+  const fs::path design = dir / (name + ".toml");
   write_text(design, text);
-  REQUIRE(run_camopt({"kinematics", design.string(), "--step", "0.5", "--outputs", "lift", "--out", lift.string()})
+  return design;
+}
+
+// the design's own valve lift at one control position and step [cam deg], written by
+// `camopt kinematics` and turned into a synthesize target (cam_deg,lift_mm; the repeated
+// 360 deg row dropped)
+fs::path own_lift_target(const fs::path& dir, const fs::path& design, const std::string& control, const std::string& step) {
+  const fs::path lift = dir / ("lift" + control), target = dir / ("target" + control + ".csv");
+  REQUIRE(run_camopt({"kinematics", design.string(), "--control", control, "--step", step, "--outputs", "lift",
+                      "--out", lift.string()})
               .exit_code == cli_ok);
-  // kinematics.csv -> cam_deg,lift_mm over one cycle (drop the repeated 360 deg row)
   const auto lines = split_lines(read_file(lift / "kinematics.csv"));
   std::string csv = "cam_deg,lift_mm\n";
-  for (std::size_t i = 1; i + 1 < lines.size(); ++i) {
-    const auto first = lines[i].find(','), second = lines[i].find(',', first + 1);
-    csv += lines[i].substr(first + 1) + "\n";
-    (void)second;
-  }
+  for (std::size_t i = 1; i + 1 < lines.size(); ++i) csv += lines[i].substr(lines[i].find(',') + 1) + "\n";
   write_text(target, csv);
+  return target;
+}
+
+TEST_CASE("synthesize --cam swing gives the CVVL swing cam for its own lift", "[cli][synthesize]") {
+  TempDir tmp;
+  const fs::path design = design_without_lash(tmp.path(), "cvvl_swing_cam"), out = tmp / "out";
+  const fs::path target = own_lift_target(tmp.path(), design, "0", "0.5");
   const auto r = run_camopt({"synthesize", target.string(), "--design", design.string(), "--cam", "swing", "--control",
                              "0", "--out", out.string()});
   INFO(r.all());
   REQUIRE(r.exit_code == cli_ok);
   CHECK(contains(read_file(out / "report.json"), "\"cam\": \"swing\""));
   CHECK(contains(read_file(out / "report.json"), "\"follower_node\": \"finger\""));
+}
+
+TEST_CASE("synthesize names the target's slope step when a lift computed with lash cannot be synthesized",
+          "[cli][synthesize]") {
+  // the CVVL as shipped (lash 0.1 mm): its valve starts and seats at 0.08 mm/deg, where the
+  // lash is taken up and opened (0.32 of its steepest slope). No cam gives that kink: the
+  // synthesized swing cam's forward kinematics jumps, and the failure says why
+  TempDir tmp;
+  const fs::path shipped = source_dir() / "designs" / "cvvl_swing_cam.toml", out = tmp / "out";
+  const fs::path target = own_lift_target(tmp.path(), shipped, "0", "0.25");
+  const auto r = run_camopt({"synthesize", target.string(), "--design", shipped.string(), "--cam", "swing",
+                             "--control", "0", "--out", out.string()});
+  INFO(r.all());
+  CHECK(r.exit_code == cli_numerical_failure);
+  CHECK(contains(r.err, "slope steps by 0.079"));
+  CHECK(contains(r.err, "at cam 112.25 deg"));
+  CHECK(contains(r.err, "without lash"));
+  CHECK((!fs::exists(out) || fs::is_empty(out)));
 }
 
 TEST_CASE("synthesize --cam swing gives the VVLD control arm for its own lift at two control positions",
@@ -735,24 +764,9 @@ TEST_CASE("synthesize --cam swing gives the VVLD control arm for its own lift at
   for (std::size_t i = 1; i < rows.size(); ++i) lowest = std::min(lowest, std::stod(rows[i].substr(rows[i].rfind(',') + 1)));
   CHECK(lowest >= 0.0);
   // without lash (as the CVVL case above) its own lift synthesizes back at 0 and 50 deg
-  std::string text = read_file(shipped);
-  for (std::string::size_type at; (at = text.find("lash_mm = 0.1")) != std::string::npos;)
-    text.replace(at, 13, "lash_mm = 0.0");
-  const std::string profiles = "file = \"" + (source_dir() / "designs" / "profiles").string() + "/";
-  for (std::string::size_type at = 0; (at = text.find("file = \"profiles/", at)) != std::string::npos;)
-    text.replace(at, 17, profiles), at += profiles.size();
-  const fs::path design = tmp / "vvld.toml";
-  write_text(design, text);
+  const fs::path design = design_without_lash(tmp.path(), "vvld");
   for (const char* control : {"0", "50"}) {
-    const fs::path lift = tmp / (std::string("lift") + control), target = tmp / (std::string("t") + control + ".csv"),
-                   out = tmp / (std::string("out") + control);
-    REQUIRE(run_camopt({"kinematics", design.string(), "--control", control, "--step", "0.25", "--outputs", "lift",
-                        "--out", lift.string()})
-                .exit_code == cli_ok);
-    const auto lines = split_lines(read_file(lift / "kinematics.csv"));
-    std::string csv = "cam_deg,lift_mm\n";
-    for (std::size_t i = 1; i + 1 < lines.size(); ++i) csv += lines[i].substr(lines[i].find(',') + 1) + "\n";
-    write_text(target, csv);
+    const fs::path target = own_lift_target(tmp.path(), design, control, "0.25"), out = tmp / (std::string("out") + control);
     const auto r = run_camopt({"synthesize", target.string(), "--design", design.string(), "--cam", "swing",
                                "--control", control, "--out", out.string()});
     INFO("control " << control << ": " << r.all());

@@ -115,6 +115,33 @@ TEST_CASE("target lift: clean full-cycle table is interpolated exactly", "[synth
   }
 }
 
+TEST_CASE("target lift: the largest slope step of a table is its lash take-up", "[synthesis][target_lift]") {
+  // the cycloidal rise-fall (9 mm, 120 + 120 deg) at 0.25 deg is smooth; less 0.3 mm of
+  // lash, max(0, L - 0.3), the valve starts and seats with the law's slope where L = 0.3:
+  // 9/120 (1 - cos 2 pi u), u - sin(2 pi u) / (2 pi) = 0.3 / 9
+  std::vector<double> deg, smooth, lashed;
+  for (int i = 0; i < 1440; ++i) {
+    deg.push_back(0.25 * i);
+    smooth.push_back(cycloidal_rise_fall(0.25 * i));
+    lashed.push_back(std::max(0.0, smooth.back() - 0.3));
+  }
+  double u = 0.3;  // newton on the unit cycloid
+  for (int it = 0; it < 50; ++it) u -= (u - std::sin(2 * pi * u) / (2 * pi) - 0.3 / 9) / (1 - std::cos(2 * pi * u));
+  const double take_up_deg = 120 * u, take_up_slope = 9.0 / 120 * (1 - std::cos(2 * pi * u));  // [mm/deg]
+  TargetLiftOptions opt;
+  const TargetLift clean = fit_target_lift(deg, smooth, {}, opt);
+  INFO("smooth: " << clean.slope_step_ratio << " at " << clean.slope_step_at_deg << " deg");
+  CHECK(clean.slope_step_ratio < 1e-3);
+  const TargetLift step = fit_target_lift(deg, lashed, {}, opt);
+  INFO("lashed: " << step.slope_step_mm_per_deg << " mm/deg (" << step.slope_step_ratio << ") at "
+                  << step.slope_step_at_deg << " deg; take-up " << take_up_slope << " mm/deg at " << take_up_deg
+                  << " deg");
+  CHECK(std::abs(std::abs(step.slope_step_mm_per_deg) - take_up_slope) < 0.05 * take_up_slope);
+  CHECK(std::min(std::abs(step.slope_step_at_deg - take_up_deg), std::abs(step.slope_step_at_deg - (240 - take_up_deg))) <
+        0.5);
+  CHECK(step.slope_step_ratio == Approx(std::abs(step.slope_step_mm_per_deg) / (2 * 9.0 / 120)).epsilon(1e-3));
+}
+
 TEST_CASE("target lift: real tappet table (-84 .. 80 cam deg) is closed on the base circle",
           "[synthesis][target_lift][real]") {
   const camopt::io::CsvTable csv = camopt::io::read_csv(kTappet);

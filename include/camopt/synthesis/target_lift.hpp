@@ -53,6 +53,12 @@ struct TargetLift {
   double residual_rms_mm = 0, residual_max_mm = 0, residual_max_at_deg = 0;
   // peak of the spline [mm] and its angle [cam deg, in the table's range first .. first + 360)
   double max_lift_mm = 0, max_lift_at_deg = 0;
+  // the table's largest slope step (an interpolated table): across one interval, the
+  // slopes at its ends from the two intervals beyond each end, less what the acceleration on
+  // both sides explains [mm/deg], relative to the table's steepest slope, and the interval's
+  // end [cam deg as written]. A lift computed with lash steps where the lash is taken up
+  // (the bundled Valvetronic's: 0.33), which no cam can give; a smooth table leaves ~1e-3
+  double slope_step_mm_per_deg = 0, slope_step_ratio = 0, slope_step_at_deg = 0;
 
   double lift_at(double cam_deg) const;  // [mm] at [cam deg]
 };
