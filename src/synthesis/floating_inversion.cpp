@@ -442,10 +442,11 @@ Status invert_floating_follower(const DesignSpec& spec, const MechanismCut& cut,
     if (anchor < 0 || kind[anchor] != Kind::inverted || !(std::abs(slope_of[anchor]) < kLandingSlope * mean_slope))
       continue;
     auto walked = [&](int j) { return ((anchor + dir * j) % n + n) % n; };
-    int available = 1;  // samples past the anchor that the landing may take: the walk's own tail and the rest
-    while (available <= kMaxLandingSamples &&
-           (kind[walked(available)] == Kind::open || kind[walked(available)] == Kind::bridged))
-      ++available;
+    // samples past the anchor that the landing may take: the walk's own bridged tail, then
+    // the rest up to the other walk
+    int available = 1;
+    while (available <= kMaxLandingSamples && kind[walked(available)] == Kind::bridged) ++available;
+    while (available <= kMaxLandingSamples && kind[walked(available)] == Kind::open) ++available;
     Jet3 q_tau = q_of[anchor];  // its travel in the walked angle tau = dir (theta - theta_anchor)
     q_tau.c[1] *= dir, q_tau.c[3] *= dir;
     const int landing = landing_samples(q_tau, h, available - 1);
