@@ -136,14 +136,15 @@ Status build_lever_path(const DesignSpec& upstream, const kin::Mechanism& up, in
   };
   std::vector<std::array<double, 20>> ahead, behind;  // q >= 0 ascending, q < 0 descending
   double reach = 0.0;
+  kin::Workspace at_zero = ws;  // solved at q = 0: the scan below 0 continues from it
   for (int side = 0; side < 2; ++side) {
-    const kin::Workspace at_zero = ws;  // (side 1: continues from the solved q = 0)
     for (int j = side == 0 ? 0 : -1;; j += side == 0 ? 1 : -1) {
       std::array<double, 20> g{};
       const double q = j * kLeverPathStep;
       if (const Status st = scan_point(q, g, reach); !st.ok())
         return {st.code, "the lever '" + lever_name + "' pushed " + fmt(q) + " mm along its roller's radial path: " +
                              st.message, "probe travel " + fmt(q) + " mm"};
+      if (j == 0) at_zero = ws;
       (side == 0 ? ahead : behind).push_back(g);
       if (side == 0 ? reach > reach_hi && j > 0 : reach < reach_lo) break;
       if (static_cast<int>(ahead.size() + behind.size()) > kMaxScanPoints)
