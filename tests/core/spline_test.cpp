@@ -182,18 +182,20 @@ TEST_CASE("periodic spline: convergence order on uniform and jittered grids") {
   }
 }
 
-TEST_CASE("periodic spline: the banded solve gives the sparse LU's spline") {
-  // jittered knots (a non-uniform collocation matrix), from the smallest size (6: the
-  // 4 x 4 schur block wraps onto the first two rows) to a long table; values and every
+TEST_CASE("periodic spline: the banded solve and the uniform recursive filter give the sparse LU's spline") {
+  // jittered knots (a non-uniform collocation matrix: the banded solve) and uniform ones
+  // (the recursive filter), from the smallest size (6: the 4 x 4 schur block wraps onto the
+  // first two rows; the filter's periodic sums wrap) to a long table; values and every
   // derivative at points between the knots
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> jitter(-0.3, 0.3);
-  for (int n : {6, 7, 9, 40, 1500}) {
-    INFO("n = " << n);
+  for (const bool uniform : {false, true})
+  for (int n : {6, 7, 9, 40, 64, 65, 1500}) {
+    INFO((uniform ? "uniform" : "jittered") << " knots, n = " << n);
     std::vector<double> x(static_cast<std::size_t>(n)), y(x.size());
     const double h = 2 * std::numbers::pi / n;
     for (int i = 0; i < n; ++i) {
-      x[static_cast<std::size_t>(i)] = (i + jitter(rng)) * h;
+      x[static_cast<std::size_t>(i)] = (i + (uniform ? 0.0 : jitter(rng))) * h;
       y[static_cast<std::size_t>(i)] = std::exp(std::sin(x[static_cast<std::size_t>(i)])) + 0.1 * (i % 3);
     }
     const PeriodicSpline lu = PeriodicSpline::interpolate_by_sparse_lu(x, y, 2 * std::numbers::pi);
@@ -213,6 +215,28 @@ TEST_CASE("periodic spline: the banded solve gives the sparse LU's spline") {
       INFO("derivative " << o << ": " << worst[o] << " of " << size[o]);
       CHECK(worst[o] <= 1e-12 * size[o]);
     }
+  }
+}
+
+TEST_CASE("periodic spline: the uniform recursive filter solves its cyclic system to round-off") {
+  // the filter alone (PeriodicSpline::interpolate falls back to the banded solve when its
+  // residual is not at round-off, so the comparison above cannot see a wrong filter)
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> value(-1.0, 1.0);
+  for (int n : {1, 2, 5, 6, 7, 12, 63, 64, 65, 1440}) {
+    INFO("n = " << n);
+    std::vector<double> b(static_cast<std::size_t>(n)), x(b.size());
+    double size = 0.0;
+    for (double& v : b) v = 16.0 + value(rng), size = std::max(size, std::abs(v));
+    camopt::detail::solve_uniform_quintic_cyclic(b, x);
+    double worst = 0.0;
+    for (int i = 0; i < n; ++i) {
+      auto at = [&](int k) { return x[static_cast<std::size_t>(((i + k) % n + n) % n)]; };
+      const double lhs = (at(-2) + 26 * at(-1) + 66 * at(0) + 26 * at(1) + at(2)) / 120;
+      worst = std::max(worst, std::abs(lhs - b[static_cast<std::size_t>(i)]));
+    }
+    INFO("worst residual " << worst << " against values up to " << size);
+    CHECK(worst <= 4e-15 * size);
   }
 }
 

@@ -56,6 +56,11 @@ class PiecewiseQuintic {
   double inv_w_ = 0.0;  // buckets per unit x
 };
 
+// x solving the cyclic system of uniform quintic b-spline interpolation at the knots,
+// (x_(i-2) + 26 x_(i-1) + 66 x_i + 26 x_(i+1) + x_(i+2)) / 120 = b_i (indices mod n), by
+// recursive filtering (PeriodicSpline::interpolate on evenly spaced data)
+void solve_uniform_quintic_cyclic(std::span<const double> b, std::span<double> x);
+
 }  // namespace detail
 
 namespace detail {
