@@ -179,15 +179,14 @@ bool solve_cyclic_pentadiagonal(const std::vector<std::array<double, 5>>& band, 
   return cyclic_residual_ok(band, b, x);
 }
 
-// the cyclic system of uniform quintic b-spline interpolation at the knots,
-// (x_{i-2} + 26 x_{i-1} + 66 x_i + 26 x_{i+1} + x_{i+2}) / 120 = b_i, by recursive filtering
-// (Unser, Aldroubi & Eden, IEEE Trans. Signal Processing 41(2), 1993): the symbol factors as
-// (1 - l z)(1 - l / z)(1 - m z)(1 - m / z) / (120 l m), l and m the roots of
-// z^4 + 26 z^3 + 66 z^2 + 26 z + 1 inside the unit circle, so x is 120 l m times a causal and
-// an anticausal first-order recursion per root, each started from its periodic sum (64 terms
-// reach |l|^64 = 4e-24). O(n), about 20 flops per row; the caller checks the residual.
 }  // namespace
 
+// recursive filtering (Unser, Aldroubi & Eden, IEEE Trans. Signal Processing 41(2), 1993):
+// the symbol of (1, 26, 66, 26, 1) / 120 factors as (1 - l z)(1 - l / z)(1 - m z)(1 - m / z)
+// / (120 l m), l and m the roots of z^4 + 26 z^3 + 66 z^2 + 26 z + 1 inside the unit circle,
+// so x is 120 l m times a causal and an anticausal first-order recursion per root, each
+// started from its periodic sum (64 terms reach |l|^64 = 4e-24). O(n), about 20 flops per
+// row; PeriodicSpline::interpolate checks the residual.
 void detail::solve_uniform_quintic_cyclic(std::span<const double> b, std::span<double> x) {
   // z + 1/z = w = -13 -+ sqrt(105) (the quartic is palindromic); the root inside the unit
   // circle as 2 / (w - sqrt(w^2 - 4)), free of cancellation

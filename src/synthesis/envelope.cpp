@@ -817,10 +817,9 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
   double motion_lo = 1e300, motion_hi = -1e300;
   for (int i = 0; i < n; ++i) {
     theta[i] = 2 * pi * i / n;
-    double d[4];  // L and its derivatives at theta: the jet's taylor coefficients directly
+    double d[4];  // L and its derivatives at theta
     lift.evaluate(theta[i], 3, d);
-    motion[i] = Jet3(d[0]);
-    motion[i].c[1] = d[1], motion[i].c[2] = d[2] / 2, motion[i].c[3] = d[3] / 6;
+    motion[i] = jet_from_derivatives<3>(d);
     motion_lo = std::min(motion_lo, motion[i].value());
     motion_hi = std::max(motion_hi, motion[i].value());
   }
@@ -960,9 +959,7 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
     double d[4];
     detail::septic_between(&cam_motion[(interval * cn.dof + k) * 4], &cam_motion[((interval + 1) * cn.dof + k) * 4],
                            (b - a) * 2 * pi / n, static_cast<double>(i - a) / (b - a), d);
-    Jet3 v(d[0]);
-    v.c[1] = d[1], v.c[2] = d[2] / 2, v.c[3] = d[3] / 6;  // taylor coefficients
-    return v;
+    return jet_from_derivatives<3>(d);
   };
   // a swing cam's angle at every sample first (its rate says which samples are needed),
   // then its other coordinates (a floating lever's position) where needed

@@ -243,8 +243,7 @@ Status invert_floating_follower(const DesignSpec& spec, const MechanismCut& cut,
         double d[4];
         detail::septic_between(&grid_jets[static_cast<std::size_t>(j)][4 * f],
                                &grid_jets[static_cast<std::size_t>(j + 1)][4 * f], kScanStep, q / kScanStep - j, d);
-        *out3[f] = Jet3(d[0]);
-        out3[f]->c[1] = d[1], out3[f]->c[2] = d[2] / 2, out3[f]->c[3] = d[3] / 6;
+        *out3[f] = jet_from_derivatives<3>(d);
       }
       return Status::success();
     }
@@ -470,7 +469,6 @@ Status invert_floating_follower(const DesignSpec& spec, const MechanismCut& cut,
   }
   // 4. bridges: runs of samples where the lift barely moves with q (next to a turning
   // point or the rest) take q from septic hermite pieces between their neighbours' jets
-  const double inverse_factorial[4] = {1.0, 1.0, 0.5, 1.0 / 6.0};  // taylor coefficient = derivative / k!
   int rest_samples = 0, bridged_samples = 0;
   const kin::detail::V2<Jet3> rest_centre{Jet3(grid_jets[0][4]), Jet3(grid_jets[0][8])};
   for (int i = 0; i < n; ++i)
@@ -496,9 +494,10 @@ Status invert_floating_follower(const DesignSpec& spec, const MechanismCut& cut,
     for (int c = 0; c < count; ++c) {
       const int s = (i + c) % n;
       double d[4];
-      piece.eval((c + 1.0) / (count + 1.0), d);
-      Jet3 q(std::max(0.0, d[0]));
-      for (int o = 1; o < 4; ++o) q.c[o] = d[o] / std::pow(span, o) * inverse_factorial[o];
+      piece.eval((c + 1.0) / (count + 1.0), d);  // derivatives per unit of the piece's parameter
+      d[0] = std::max(0.0, d[0]);
+      for (int o = 1; o < 4; ++o) d[o] /= std::pow(span, o);
+      const Jet3 q = jet_from_derivatives<3>(d);
       Jet3 lift;
       kin::detail::V2<Jet3> cc;
       const Status st = probe_at(q.value(), lift, cc);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <string>
 
 #include "camopt/core/trig_cache.hpp"
@@ -28,6 +29,7 @@ constexpr int kMaxScanPoints = 4000;
 constexpr double kRelativeTolerance = 1e-13;
 
 std::string fmt(double v) { return format_value(v, 6); }
+std::string driver_deg(double theta) { return "driver " + fmt(theta * 180 / std::numbers::pi) + " deg"; }
 
 // grid entry f (0..2: lever variables, 3, 4: roller centre x, y) at travel q: value and
 // three derivatives in q (septic hermite between scan points)
@@ -192,18 +194,22 @@ Status lever_at(const LeverPath& path, const kin::Mechanism& up, const kin::Work
   double q = state.q.c[0] + h * (state.q.c[1] + h * (state.q.c[2] + h * state.q.c[3]));
   double u = state.u.c[0] + h * (state.u.c[1] + h * (state.u.c[2] + h * state.u.c[3]));
   if (!(q >= path.q_first && q <= q_last)) q = state.q.c[0], u = state.u.c[0];
-  // newton on roller centre C(q) = cam point G(u): J = [C_q, -G_u]
-  double cq[2][4], gx = 0, gy = 0, gux = 0, guy = 0, det = 0;
+  // newton on roller centre C(q) = cam point G(u): J = [C_q, -G_u]; J (dq, du) = -(fx, fy)
+  double cq[2][4], gux = 0, guy = 0, det = 0;
+  auto step = [&](double fx, double fy, double& dq, double& du) {
+    dq = (fx * guy - gux * fy) / det;
+    du = (cq[1][1] * fx - cq[0][1] * fy) / det;
+  };
   bool converged = false;
   for (int it = 0; it < 30 && !converged; ++it) {
     if (!(q >= path.q_first && q <= q_last))
       return {StatusCode::no_convergence,
               "the lever's roller left its scanned path (" + fmt(q) + " mm of probe travel, scanned " +
                   fmt(path.q_first) + " .. " + fmt(q_last) + " mm)",
-              "driver " + fmt(theta * 180 / 3.141592653589793) + " deg"};
+              driver_deg(theta)};
     const auto g = kin::detail::offset_local<1>(up, cam, path.centre_offset, u);
     const double dx = g.x.c[0] - rx, dy = g.y.c[0] - ry;
-    gx = pivot.x() + cs * dx - sn * dy, gy = pivot.y() + sn * dx + cs * dy;
+    const double gx = pivot.x() + cs * dx - sn * dy, gy = pivot.y() + sn * dx + cs * dy;
     gux = cs * g.x.c[1] - sn * g.y.c[1], guy = sn * g.x.c[1] + cs * g.y.c[1];
     grid_at(path, 3, q, cq[0]);
     grid_at(path, 4, q, cq[1]);
@@ -214,16 +220,16 @@ Status lever_at(const LeverPath& path, const kin::Mechanism& up, const kin::Work
     // convergence): the lever then does not carry the tolerance's noise, which the swing
     // profile's untouched far side would magnify (to ~1e-7 mm)
     converged = std::hypot(fx, fy) <= tol;
-    q += (-fx * -guy - gux * fy) / det;
-    u += (-cq[0][1] * fy + cq[1][1] * fx) / det;
-  }
-  if (converged) {
-    grid_at(path, 3, q, cq[0]);
-    grid_at(path, 4, q, cq[1]);
+    double dq, du;
+    step(fx, fy, dq, du);
+    q += dq, u += du;
   }
   if (!converged)
     return {StatusCode::no_convergence, "the cam contact on the lever's roller did not converge",
-            "driver " + fmt(theta * 180 / 3.141592653589793) + " deg"};
+            driver_deg(theta)};
+  grid_at(path, 3, q, cq[0]);
+  grid_at(path, 4, q, cq[1]);
+  det = cq[0][1] * -guy + gux * cq[1][1];
   // taylor coefficients in theta, order by order: (C(q(t)) - G(u(t), t))_k = 0 is linear in
   // (q_k, u_k) with the newton jacobian, the lower orders known
   const auto g3 = kin::detail::offset_local<3>(up, cam, path.centre_offset, u);
@@ -236,9 +242,7 @@ Status lever_at(const LeverPath& path, const kin::Mechanism& up, const kin::Work
     const Jet3 ax = compose(gdx, uj) - rx, ay = compose(gdy, uj) - ry;
     const Jet3 fx = compose(cq[0], qj) - (pivot.x() + c3 * ax - s3 * ay);
     const Jet3 fy = compose(cq[1], qj) - (pivot.y() + s3 * ax + c3 * ay);
-    const double rkx = fx.c[k], rky = fy.c[k];
-    qj.c[k] = (-rkx * -guy - gux * rky) / det;
-    uj.c[k] = (-cq[0][1] * rky + cq[1][1] * rkx) / det;
+    step(fx.c[k], fy.c[k], qj.c[k], uj.c[k]);
   }
   for (int f = 0; f < 3; ++f) {
     double d[4];

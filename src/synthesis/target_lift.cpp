@@ -78,6 +78,14 @@ struct Site {
   int row;      // index into the input, -1 for a filled zero-lift point
 };
 
+// rows first .. last equally spaced (to 1e-6 of their spacing)
+bool equally_spaced(const std::vector<Site>& data, std::size_t first, std::size_t last) {
+  const double h = data[first + 1].deg - data[first].deg;
+  for (std::size_t k = first; k < last; ++k)
+    if (std::abs((data[k + 1].deg - data[k].deg) - h) > 1e-6 * h) return false;
+  return true;
+}
+
 // clean tables only: an exact interpolant rings at a step and follows noise in its
 // acceleration, so both are rejected with the row, the values and the remedy
 template <class AtRow>
@@ -105,12 +113,10 @@ void check_steps_and_noise(const std::vector<Site>& data, const AtRow& at_row) {
   std::size_t worst = 0;
   for (std::size_t i = 2; i + 2 < n; ++i) {
     const double h = data[i + 1].deg - data[i].deg;
-    bool uniform = true, lifted = true;
-    for (std::size_t k = i - 2; k <= i + 2; ++k) {
-      if (k + 1 <= i + 2 && std::abs((data[k + 1].deg - data[k].deg) - h) > 1e-6 * h) uniform = false;
+    bool lifted = true;
+    for (std::size_t k = i - 2; k <= i + 2; ++k)
       if (data[k].lift < kNoiseMinLift * peak) lifted = false;
-    }
-    if (!uniform || !lifted) continue;
+    if (!lifted || !equally_spaced(data, i - 2, i + 2)) continue;
     const double second = data[i - 1].lift - 2 * data[i].lift + data[i + 1].lift;
     const double d4 = data[i - 2].lift - 4 * data[i - 1].lift + 6 * data[i].lift - 4 * data[i + 1].lift + data[i + 2].lift;
     largest_second = std::max(largest_second, std::abs(second));
@@ -143,10 +149,7 @@ void find_slope_step(const std::vector<Site>& data, TargetLift& out) {
   if (!(steepest > 0.0)) return;
   for (std::size_t i = 2; i + 3 < n; ++i) {
     const double h = data[i + 1].deg - data[i].deg;
-    bool uniform = true;
-    for (std::size_t k = i - 2; k < i + 3; ++k)
-      if (std::abs((data[k + 1].deg - data[k].deg) - h) > 1e-6 * h) uniform = false;
-    if (!uniform) continue;
+    if (!equally_spaced(data, i - 2, i + 3)) continue;
     double l[6];  // rows i - 2 .. i + 3
     for (std::size_t k = 0; k < 6; ++k) l[k] = data[i - 2 + k].lift;
     const double left = (3 * l[2] - 4 * l[1] + l[0]) / (2 * h), right = (-3 * l[3] + 4 * l[4] - l[5]) / (2 * h);

@@ -396,6 +396,14 @@ constexpr void taylor_shift(Jet<N>& x, double h) noexcept {
     for (int k = N - 1; k >= i; --k) x.c[k] += h * x.c[k + 1];
 }
 
+// the jet of f at a point from f, f', ..., f^(N) there: taylor coefficients f^(k) / k!
+template <int N>
+constexpr Jet<N> jet_from_derivatives(const double* f_derivatives) noexcept {
+  Jet<N> r(f_derivatives[0]);
+  for (int k = 1; k <= N; ++k) r.c[k] = f_derivatives[k] * detail::kInvFactorial<N>[static_cast<std::size_t>(k)];
+  return r;
+}
+
 // f(x(t)) from f, f', ..., f^(N) at x0 = x.value():
 // f(x) = sum_k f^(k)(x0) / k! (x - x0)^k, truncated at order N (faa di bruno by powers)
 template <int N>
