@@ -152,6 +152,14 @@ class Kernel {
   Kernel(const Mechanism& m, Workspace& ws, const Request& rq, TrustOutcome* trust = nullptr)
       : m_(m), ws_(ws), rq_(rq), trust_(trust) {}
 
+  // the plan step `step` is not solved: `node`'s variables are set from `vars` (see
+  // solve_prescribed), the step's contact parameters keep their values
+  void prescribe(int step, int node, const Jet3* vars) {
+    prescribed_step_ = step;
+    prescribed_node_ = node;
+    prescribed_vars_ = vars;
+  }
+
   Status run(double driver);
 
  private:
@@ -210,6 +218,8 @@ class Kernel {
   Workspace& ws_;
   const Request& rq_;
   TrustOutcome* trust_;
+  int prescribed_step_ = -1, prescribed_node_ = -1;
+  const Jet3* prescribed_vars_ = nullptr;
 };
 
 // out = a * v for the leading n x n block (no expression templates: n is 1 to 3 here)
@@ -1048,6 +1058,19 @@ Status Kernel::run(double driver) {
   ws_.max_condition = 0.0;
   for (std::size_t si = 0; si < m_.plan.size(); ++si) {
     const SolveStep& step = m_.plan[si];
+    if (static_cast<int>(si) == prescribed_step_) {
+      // the node as given; the contact parameters stay where they were last solved
+      const Node& node = m_.nodes[static_cast<std::size_t>(prescribed_node_)];
+      for (int v : step.unknowns) ws_.vars[v] = Jet3(ws_.values[v] = ws_.predicted[v] = ws_.prev_values[v]);
+      for (int k = 0; k < node.dof; ++k) {
+        const int v = node.first_variable + k;
+        ws_.vars[v] = prescribed_vars_[k];
+        for (int o = rq_.derivative_order + 1; o <= 3; ++o) ws_.vars[v].c[o] = 0.0;
+        ws_.values[v] = ws_.vars[v].value();
+      }
+      ws_.invalidate_pose(prescribed_node_);
+      continue;
+    }
     if (step.method != StepMethod::implicit) {
       Status st = closed_form(step, static_cast<int>(si), driver);
       if (!st.ok()) return st;
@@ -1517,6 +1540,41 @@ Status solve_fresh(const Mechanism& mech, Workspace& ws, double driver, const Re
   return st;
 }
 }  // namespace
+
+namespace {
+// the plan step that solves `node`, if it solves nothing else but contact parameters (else -1)
+int prescribable_step(const Mechanism& mech, int node) {
+  const Node& n = mech.nodes[static_cast<std::size_t>(node)];
+  if (n.first_variable < 0 || n.control >= 0 || node == mech.driver_node) return -1;
+  for (std::size_t si = 0; si < mech.plan.size(); ++si) {
+    const auto& unknowns = mech.plan[si].unknowns;
+    if (std::find(unknowns.begin(), unknowns.end(), n.first_variable) == unknowns.end()) continue;
+    for (int v : unknowns)
+      if (mech.variables[static_cast<std::size_t>(v)].node >= 0 && mech.variables[static_cast<std::size_t>(v)].node != node)
+        return -1;
+    return mech.plan[si].one_sided ? -1 : static_cast<int>(si);
+  }
+  return -1;
+}
+}  // namespace
+
+bool can_prescribe(const Mechanism& mech, int node) { return prescribable_step(mech, node) >= 0; }
+
+Status solve_prescribed(const Mechanism& mech, Workspace& ws, double driver, const Request& request, int node,
+                        std::span<const Jet3> node_vars) {
+  const int step = prescribable_step(mech, node);
+  CAMOPT_ASSERT(step >= 0 && static_cast<int>(node_vars.size()) == mech.nodes[static_cast<std::size_t>(node)].dof);
+  CAMOPT_ASSERT(ws.history >= 1 && !request.contacts);
+  place_pivots(mech, ws);
+  TrustOutcome trust;
+  Kernel kernel(mech, ws, request, &trust);
+  kernel.prescribe(step, node, node_vars.data());
+  const Status st = kernel.run(driver);
+  if (!st.ok() || !trust.rejected) return st;
+  ++ws.stats.rejected_steps;
+  drop_block_warm_starts(ws);
+  return jump_status(mech, trust, driver, "one step");
+}
 
 bool at_drawing(const Mechanism& mech, const std::vector<double>& controls, double driver) {
   return driver == 0.0 && controls == mech.default_controls();

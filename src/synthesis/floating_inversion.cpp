@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <numbers>
+#include <optional>
 
 #include "camopt/kinematics/detail/geometry.hpp"
 #include "camopt/kinematics/mechanism.hpp"
@@ -28,6 +29,9 @@ std::string deg_of(double rad) { return fmt(rad * 180 / pi); }
 // (the round trip holds up to 0.07 mm; at 0.08 mm it stops at the cam's rest junction)
 constexpr double kScanStep = 0.04;
 constexpr double kFlatSlope = 1e-5;
+// [mm] probe travel between solves of the whole mechanism where the scan takes the lever's
+// pose from them (septic hermite in q)
+constexpr double kLeverStep = 0.5;
 constexpr double kMaxTravel = 100.0;  // [mm] the scan gives up beyond this probe travel
 // [mm per mm of peak lift] how close the target's turning lift must come to the lever's
 // (the target is sampled: its extreme sample misses the true turn by ~ L'' h^2 / 8)
@@ -195,8 +199,8 @@ Status invert_floating_follower(const DesignSpec& spec, const MechanismCut& cut,
   ws.set_controls(controls);
   const int lift_var = m.nodes[static_cast<std::size_t>(m.node_index(target_node))].first_variable;
   const int follower = m.node_index(cut.follower_node);
-  auto centre_of_q = [&] {
-    return kin::detail::node_pose(m, follower, ws.vars.data(), ws.pivots.data()).apply(c0x, c0y);
+  auto centre_in = [&](const kin::Workspace& w) {
+    return kin::detail::node_pose(m, follower, w.vars.data(), w.pivots.data()).apply(c0x, c0y);
   };
 
   const int n = static_cast<int>(theta.size());
@@ -206,10 +210,19 @@ Status invert_floating_follower(const DesignSpec& spec, const MechanismCut& cut,
   // 1. scan L(q) from the rest up past the largest target lift, keeping the lift and the
   // roller centre with three derivatives in q at every scan point: between them they are
   // septic hermite pieces in q (kScanStep apart), so the inversion below needs no solves
+  //
+  // The lever itself is smooth in q (its other contacts are rollers on circles), the lift is
+  // not (the working curve is a table): where the kernel can take the lever as given
+  // (kin::solve_prescribed), the whole mechanism is solved only every kLeverStep, and at the
+  // scan points between them the lever's pose is septic hermite in q from those solves and
+  // only the contacts after it are solved
   std::vector<double> grid_lift;
   std::vector<std::array<double, 12>> grid_jets;  // [L, centre x, centre y][derivative 0..3]
-  for (int j = 0;; ++j) {
-    const double q = j * kScanStep;
+  const bool lever_given = kin::can_prescribe(m, follower);
+  const kin::Node& lever = m.nodes[static_cast<std::size_t>(follower)];
+  std::vector<std::array<double, 12>> lever_grid;  // [x, y, phi][derivative 0..3] every kLeverStep
+  std::optional<kin::Workspace> scan_ws;  // the scan between the lever's solves
+  auto solve_whole = [&](double q) -> Status {
     const Status st = kin::solve(m, ws, q, {3, false});
     if (!st.ok())
       return {st.code,
@@ -217,11 +230,54 @@ Status invert_floating_follower(const DesignSpec& spec, const MechanismCut& cut,
               "cannot be solved with its other contacts (" + st.message + ") before the valve reaches the target's " +
                   fmt(motion_hi) + " mm",
               "probe travel " + fmt(q) + " mm"};
-    grid_lift.push_back(ws.vars[static_cast<std::size_t>(lift_var)].value());
-    const auto c = centre_of_q();
+    return Status::success();
+  };
+  // the lever's pose as just solved in ws, a point of lever_grid
+  auto record_lever = [&] {
+    std::array<double, 12>& g = lever_grid.emplace_back();
+    for (int k = 0; k < 3; ++k)
+      for (int d = 0; d < 4; ++d) g[4 * k + d] = ws.vars[static_cast<std::size_t>(lever.first_variable + k)].derivative(d);
+  };
+  // the scan point at q: solved in ws, or with the lever given in scan_ws (`at`: which)
+  const kin::Workspace* at = &ws;
+  auto scan_at = [&](double q) -> Status {
+    if (!lever_given) return solve_whole(q);
+    if (q == 0.0) {
+      if (const Status st = solve_whole(q); !st.ok()) return st;
+      record_lever();
+      scan_ws = ws;
+      at = &*scan_ws;
+      return Status::success();
+    }
+    while (static_cast<double>(lever_grid.size() - 1) * kLeverStep < q) {
+      if (const Status st = solve_whole(static_cast<double>(lever_grid.size()) * kLeverStep); !st.ok()) return st;
+      record_lever();
+    }
+    const int j = std::min(static_cast<int>(lever_grid.size()) - 2, static_cast<int>(q / kLeverStep));
+    Jet3 pose[3];
+    for (int k = 0; k < 3; ++k) {
+      double d[4];
+      detail::septic_between(&lever_grid[static_cast<std::size_t>(j)][4 * k],
+                             &lever_grid[static_cast<std::size_t>(j + 1)][4 * k], kLeverStep, q / kLeverStep - j, d);
+      pose[k] = jet_from_derivatives<3>(d);
+    }
+    if (kin::solve_prescribed(m, *scan_ws, q, {3, false}, follower, pose).ok()) return Status::success();
+    // the step from the last scan point was rejected: the whole mechanism there
+    const Status st = kin::solve(m, *scan_ws, q, {3, false});
+    if (!st.ok())
+      return {st.code, "the valve train after the lever '" + cut.follower_node + "' pushed " + fmt(q) +
+                           " mm along its cam roller's radial path: " + st.message,
+              "probe travel " + fmt(q) + " mm"};
+    return Status::success();
+  };
+  for (int j = 0;; ++j) {
+    const double q = j * kScanStep;
+    if (const Status st = scan_at(q); !st.ok()) return st;
+    grid_lift.push_back(at->vars[static_cast<std::size_t>(lift_var)].value());
+    const auto c = centre_in(*at);
     std::array<double, 12>& g = grid_jets.emplace_back();
     for (int d = 0; d < 4; ++d) {
-      g[d] = ws.vars[static_cast<std::size_t>(lift_var)].derivative(d);
+      g[d] = at->vars[static_cast<std::size_t>(lift_var)].derivative(d);
       g[4 + d] = c.x.derivative(d);
       g[8 + d] = c.y.derivative(d);
     }
@@ -250,7 +306,7 @@ Status invert_floating_follower(const DesignSpec& spec, const MechanismCut& cut,
     const Status st = kin::solve(m, ws, q, {3, false});
     if (!st.ok()) return st;
     lift = ws.vars[static_cast<std::size_t>(lift_var)];
-    centre = centre_of_q();
+    centre = centre_in(ws);
     return Status::success();
   };
   // 2. monotone pieces of L(q) between its turning points. A turn lies where dL/dq changes

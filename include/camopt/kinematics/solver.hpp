@@ -154,6 +154,22 @@ class Workspace {
 Status solve(const Mechanism& mech, Workspace& ws, double driver, const Request& request,
              const Workspace* drawing = nullptr);
 
+// one point with the variables of node `node` given, as jets in the driver (`node_vars`, in
+// the node's variable order), instead of solved: the plan step that solves the node is
+// skipped, the later steps solve the rest against it (a lever whose pose the caller already
+// has, e.g. interpolated from solves of its own). That step must solve nothing but the node
+// and contact parameters; those parameters are not used by any other step, and keep their
+// last solved values (so no contact outputs: request.contacts must be false). One step from
+// the workspace's last point (which must be a solved point at these controls), under the
+// trust check but without halving: a rejected step returns a Status, the workspace keeps its
+// last point, and a solve() from there takes the step in full.
+Status solve_prescribed(const Mechanism& mech, Workspace& ws, double driver, const Request& request, int node,
+                        std::span<const Jet3> node_vars);
+
+// whether solve_prescribed can take `node` (the plan step that solves it solves nothing else
+// but its contacts' parameters)
+bool can_prescribe(const Mechanism& mech, int node);
+
 // the drawing's setting: driver 0 [rad or mm] and every control at its default. A fresh
 // workspace asked for any other point is assembled by continuation from the drawing.
 bool at_drawing(const Mechanism& mech, const std::vector<double>& controls, double driver);
