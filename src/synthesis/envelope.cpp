@@ -1192,16 +1192,23 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
     // bring the target into the traced range
     double target = target0 + 2 * pi * std::floor((std::min(phi[0], phi[n]) - target0) / (2 * pi) + 1.0);
     if (target > std::max(phi[0], phi[n])) target -= 2 * pi;
-    // phi is monotone: phi[lo] .. phi[hi] brackets the target; the targets ascend, so the
-    // previous bracket is tried first
-    int lo = hint, hi = hint + 1;
-    if (!((phi[lo] - target) * sign <= 0 && (phi[hi] - target) * sign > 0)) {
-      lo = 0, hi = n;
-      while (hi - lo > 1) {
+    // phi is monotone: phi[lo] .. phi[lo + 1] brackets the target; the targets ascend about
+    // as densely as the samples, so the previous bracket and its neighbours are tried first
+    auto holds = [&](int l) { return (phi[l] - target) * sign <= 0 && (phi[l + 1] - target) * sign > 0; };
+    int lo = -1;
+    for (int l : {hint, hint + 1, hint - 1})
+      if (l >= 0 && l < n && holds(l)) {
+        lo = l;
+        break;
+      }
+    if (lo < 0) {
+      lo = 0;
+      for (int hi = n; hi - lo > 1;) {
         const int mid = (lo + hi) / 2;
         ((phi[mid] - target) * sign <= 0 ? lo : hi) = mid;
       }
     }
+    const int hi = lo + 1;
     hint = lo;
     const PolarHit p = envelope_at_polar_angle(env[lo], env[hi % n], phi[lo], phi[hi], h, target);
     const double x = p.x, y = p.y, x1 = p.x1, y1 = p.y1, x2 = p.x2, y2 = p.y2;
