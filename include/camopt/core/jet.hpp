@@ -409,7 +409,18 @@ constexpr Jet<N> jet_from_derivatives(const double* f_derivatives) noexcept {
 template <int N>
 constexpr Jet<N> compose(const double* f_derivatives, const Jet<N>& x) noexcept {
   Jet<N> r(f_derivatives[0]);
-  if constexpr (N >= 1) {
+  if constexpr (N == 3) {
+    // the loop below written out (the kinematics' order), in its order of operations, so
+    // the result is the same to the bit: r_1 = a_1 x_1, r_2 = a_1 x_2 + a_2 x_1^2,
+    // r_3 = a_1 x_3 + a_2 (x_1 x_2 + x_2 x_1) + a_3 x_1 (x_1 x_1), a_k = f^(k) / k!
+    const double x1 = x.c[1], x2 = x.c[2], x3 = x.c[3];
+    const double a1 = f_derivatives[1] * detail::kInvFactorial<3>[1];
+    const double a2 = f_derivatives[2] * detail::kInvFactorial<3>[2];
+    const double a3 = f_derivatives[3] * detail::kInvFactorial<3>[3];
+    r.c[1] = 0.0 + a1 * x1;
+    r.c[2] = (0.0 + a1 * x2) + a2 * (x1 * x1);
+    r.c[3] = ((0.0 + a1 * x3) + a2 * (x1 * x2 + x2 * x1)) + a3 * (x1 * (x1 * x1));
+  } else if constexpr (N >= 1) {
     Jet<N> d = x;
     d.c[0] = 0.0;
     Jet<N> p = d;  // (x - x0)^k, zero below order k
