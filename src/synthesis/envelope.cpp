@@ -871,6 +871,10 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
           inverse[(q * dof + k) * 4 + d] = down_ws.vars[fn->first_variable + k].derivative(d);
     }
   }
+  detail::SepticPieces inverse_pieces(std::max(dof, 1));  // the follower between levels
+  for (int q = 0; q < levels && !floating_follower; ++q)
+    inverse_pieces.add_interval(&inverse[static_cast<std::size_t>(q * dof * 4)],
+                                &inverse[static_cast<std::size_t>((q + 1) * dof * 4)], level_step);
   // a rotational cam that is the only body upstream turns with the driver: no solve needed
   const bool cam_is_lone_driver = up.variables.size() == 1 && cam == up.driver_node && up.driver_variable() == 0;
   Jet3 driver_alone;
@@ -953,12 +957,15 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
   std::vector<char> needed(static_cast<std::size_t>(n), 1);
   std::size_t interval = 0;  // upstream interval of the current sample
   // the cam's variable first_variable + k at sample i (septic hermite between solves)
+  detail::SepticPieces upstream_pieces(cn.dof);
+  for (std::size_t j = 0; j + 1 < node_at.size(); ++j)
+    upstream_pieces.add_interval(&cam_motion[j * cn.dof * 4], &cam_motion[(j + 1) * cn.dof * 4],
+                                 (node_at[j + 1] - node_at[j]) * 2 * pi / n);
   auto upstream_dof = [&](int i, int k) {
     while (node_at[interval + 1] <= i) ++interval;
     const int a = node_at[interval], b = node_at[interval + 1];
     double d[4];
-    detail::septic_between(&cam_motion[(interval * cn.dof + k) * 4], &cam_motion[((interval + 1) * cn.dof + k) * 4],
-                           (b - a) * 2 * pi / n, static_cast<double>(i - a) / (b - a), d);
+    upstream_pieces.eval(interval, k, static_cast<double>(i - a) / (b - a), d);
     return jet_from_derivatives<3>(d);
   };
   // a swing cam's angle at every sample first (its rate says which samples are needed),
@@ -981,7 +988,6 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
     for (int i = 0; i < n; ++i) needed[i] = std::abs(cam_rate[i]) > 1e-4 * max_rate;
     interval = 0;
   }
-  const double step_power[4] = {1.0, level_step, level_step * level_step, level_step * level_step * level_step};
   std::vector<Jet3> vars(down.variables.size(), Jet3(0.0));
   for (int i = 0; i < n; ++i) {
     const Jet3& L = motion[i];
@@ -990,14 +996,8 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
     const double u = std::clamp((L.value() - motion_lo) / level_step, 0.0, static_cast<double>(levels));
     const int q = std::min(levels - 1, static_cast<int>(u));
     for (int k = 0; k < dof && !floating_follower; ++k) {
-      // end data per unit of the local parameter t = u - q: d^j/dt^j = step^j d^j/dL^j
-      double e0[4], e1[4], d[4];
-      for (int j = 0; j < 4; ++j) {
-        e0[j] = inverse[(q * dof + k) * 4 + j] * step_power[j];
-        e1[j] = inverse[((q + 1) * dof + k) * 4 + j] * step_power[j];
-      }
-      Septic(e0, e1).eval(u - q, d);
-      for (int j = 1; j < 4; ++j) d[j] /= step_power[j];
+      double d[4];
+      inverse_pieces.eval(static_cast<std::size_t>(q), k, u - q, d);
       vars[fn->first_variable + k] = compose(d, L);  // follower(theta) = F(L(theta))
     }
     // the cam's motion: the driver itself (its angle is theta), or interpolated from upstream

@@ -221,6 +221,7 @@ Status invert_floating_follower(const DesignSpec& spec, const MechanismCut& cut,
   const bool lever_given = kin::can_prescribe(m, follower);
   const kin::Node& lever = m.nodes[static_cast<std::size_t>(follower)];
   std::vector<std::array<double, 12>> lever_grid;  // [x, y, phi][derivative 0..3] every kLeverStep
+  detail::SepticPieces lever_pieces(3);             // between them
   std::optional<kin::Workspace> scan_ws;  // the scan between the lever's solves
   auto solve_whole = [&](double q) -> Status {
     const Status st = kin::solve(m, ws, q, {3, false});
@@ -237,6 +238,8 @@ Status invert_floating_follower(const DesignSpec& spec, const MechanismCut& cut,
     std::array<double, 12>& g = lever_grid.emplace_back();
     for (int k = 0; k < 3; ++k)
       for (int d = 0; d < 4; ++d) g[4 * k + d] = ws.vars[static_cast<std::size_t>(lever.first_variable + k)].derivative(d);
+    if (lever_grid.size() >= 2)
+      lever_pieces.add_interval(lever_grid[lever_grid.size() - 2].data(), lever_grid.back().data(), kLeverStep);
   };
   // the scan point at q: solved in ws, or with the lever given in scan_ws (`at`: which)
   const kin::Workspace* at = &ws;
@@ -257,8 +260,7 @@ Status invert_floating_follower(const DesignSpec& spec, const MechanismCut& cut,
     Jet3 pose[3];
     for (int k = 0; k < 3; ++k) {
       double d[4];
-      detail::septic_between(&lever_grid[static_cast<std::size_t>(j)][4 * k],
-                             &lever_grid[static_cast<std::size_t>(j + 1)][4 * k], kLeverStep, q / kLeverStep - j, d);
+      lever_pieces.eval(static_cast<std::size_t>(j), k, q / kLeverStep - j, d);
       pose[k] = jet_from_derivatives<3>(d);
     }
     if (kin::solve_prescribed(m, *scan_ws, q, {3, false}, follower, pose).ok()) return Status::success();
@@ -289,6 +291,10 @@ Status invert_floating_follower(const DesignSpec& spec, const MechanismCut& cut,
               "probe travel " + fmt(q) + " mm"};
   }
   const int top = static_cast<int>(grid_lift.size()) - 1;
+  detail::SepticPieces scan_pieces(3);  // the scan's septic hermite pieces
+  for (int j = 0; j < top; ++j)
+    scan_pieces.add_interval(grid_jets[static_cast<std::size_t>(j)].data(), grid_jets[static_cast<std::size_t>(j + 1)].data(),
+                             kScanStep);
   // the lift and the roller centre at travel q as jets in q: hermite between scan points,
   // a solve beyond the scan (continued from the last one)
   auto probe_at = [&](double q, Jet3& lift, kin::detail::V2<Jet3>& centre) -> Status {
@@ -297,8 +303,7 @@ Status invert_floating_follower(const DesignSpec& spec, const MechanismCut& cut,
       Jet3* out3[3] = {&lift, &centre.x, &centre.y};
       for (int f = 0; f < 3; ++f) {
         double d[4];
-        detail::septic_between(&grid_jets[static_cast<std::size_t>(j)][4 * f],
-                               &grid_jets[static_cast<std::size_t>(j + 1)][4 * f], kScanStep, q / kScanStep - j, d);
+        scan_pieces.eval(static_cast<std::size_t>(j), f, q / kScanStep - j, d);
         *out3[f] = jet_from_derivatives<3>(d);
       }
       return Status::success();
@@ -325,12 +330,10 @@ Status invert_floating_follower(const DesignSpec& spec, const MechanismCut& cut,
     double lo = 0.0, hi = 1.0, d[4];
     for (int it = 0; it < 60 && hi - lo > 1e-13; ++it) {
       const double mid = 0.5 * (lo + hi);
-      detail::septic_between(&grid_jets[static_cast<std::size_t>(j)][0], &grid_jets[static_cast<std::size_t>(j + 1)][0],
-                             kScanStep, mid, d);
+      scan_pieces.eval(static_cast<std::size_t>(j), 0, mid, d);
       ((d[1] > 0) == (s0 > 0) ? lo : hi) = mid;
     }
-    detail::septic_between(&grid_jets[static_cast<std::size_t>(j)][0], &grid_jets[static_cast<std::size_t>(j + 1)][0],
-                           kScanStep, 0.5 * (lo + hi), d);
+    scan_pieces.eval(static_cast<std::size_t>(j), 0, 0.5 * (lo + hi), d);
     turn_q.push_back((j + 0.5 * (lo + hi)) * kScanStep), turn_lift.push_back(d[0]);
   }
   turn_q.push_back(top * kScanStep), turn_lift.push_back(grid_lift[top]);

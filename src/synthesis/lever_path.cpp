@@ -36,8 +36,7 @@ std::string driver_deg(double theta) { return "driver " + fmt(theta * 180 / std:
 void grid_at(const LeverPath& p, int f, double q, double out[4]) {
   const double t = (q - p.q_first) / p.step;
   const int j = std::clamp(static_cast<int>(std::floor(t)), 0, static_cast<int>(p.grid.size()) - 2);
-  detail::septic_between(&p.grid[static_cast<std::size_t>(j)][static_cast<std::size_t>(4 * f)],
-                         &p.grid[static_cast<std::size_t>(j + 1)][static_cast<std::size_t>(4 * f)], p.step, t - j, out);
+  p.pieces.eval(static_cast<std::size_t>(j), f, t - j, out);
 }
 
 }  // namespace
@@ -159,6 +158,8 @@ Status build_lever_path(const DesignSpec& upstream, const kin::Mechanism& up, in
   }
   out.grid.assign(behind.rbegin(), behind.rend());
   out.grid.insert(out.grid.end(), ahead.begin(), ahead.end());
+  for (std::size_t j = 0; j + 1 < out.grid.size(); ++j)
+    out.pieces.add_interval(out.grid[j].data(), out.grid[j + 1].data(), kLeverPathStep);
   out.q_first = -static_cast<double>(behind.size()) * kLeverPathStep;
   out.contact = contact;
   out.lever_node = lever;

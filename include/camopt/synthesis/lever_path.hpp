@@ -18,6 +18,7 @@
 #include "camopt/core/jet.hpp"
 #include "camopt/kinematics/mechanism.hpp"
 #include "camopt/kinematics/solver.hpp"
+#include "camopt/synthesis/detail/hermite.hpp"
 
 namespace camopt::synthesis {
 
@@ -34,6 +35,7 @@ struct LeverPath {
   // variables in the upstream mechanism (x, y [mm], phi [rad]), then its roller's centre
   // (global x, y [mm])
   std::vector<std::array<double, 20>> grid;
+  detail::SepticPieces pieces{5};  // the grid's septic hermite pieces (built with it)
 };
 
 // the lever path of `lever` (a floating node of the upstream mechanism `up`, compiled from

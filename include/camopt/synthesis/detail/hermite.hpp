@@ -3,6 +3,8 @@
 // parameter), used to resample envelopes and to interpolate inverse motions.
 
 #include <cmath>
+#include <cstddef>
+#include <vector>
 
 namespace camopt::synthesis::detail {
 
@@ -95,5 +97,39 @@ inline void septic_between(const double* d0, const double* d1, double span, doub
   power = span;
   for (int k = 1; k < 4; ++k, power *= span) out[k] /= power;
 }
+
+// septic_between's pieces built once for a table evaluated many times (the same numbers):
+// consecutive points, each with `fields` functions by value and three derivatives per unit
+// of the variable, laid out [field * 4 + derivative]
+class SepticPieces {
+ public:
+  explicit SepticPieces(int fields = 1) : fields_(fields) {}
+  void clear() { pieces_.clear(); }
+  // the interval from point a to point b, `span` of the variable apart
+  void add_interval(const double* a, const double* b, double span) {
+    for (int f = 0; f < fields_; ++f) {
+      double e0[4], e1[4], power = 1.0;
+      for (int k = 0; k < 4; ++k, power *= span) e0[k] = a[4 * f + k] * power, e1[k] = b[4 * f + k] * power;
+      Piece& p = pieces_.emplace_back(Piece{Septic(e0, e1), {}});
+      power = span;
+      for (int k = 1; k < 4; ++k, power *= span) p.divisor[k - 1] = power;
+    }
+  }
+  std::size_t intervals() const { return pieces_.size() / static_cast<std::size_t>(fields_); }
+  // field f on interval i at t in [0, 1] of it: out[k] = derivative k per unit of the variable
+  void eval(std::size_t i, int f, double t, double* out) const {
+    const Piece& p = pieces_[i * static_cast<std::size_t>(fields_) + static_cast<std::size_t>(f)];
+    p.septic.eval(t, out);
+    for (int k = 1; k < 4; ++k) out[k] /= p.divisor[k - 1];
+  }
+
+ private:
+  struct Piece {
+    Septic septic;
+    double divisor[3];  // span^1..3
+  };
+  int fields_;
+  std::vector<Piece> pieces_;
+};
 
 }  // namespace camopt::synthesis::detail
