@@ -87,20 +87,9 @@ inline Septic nose_septic(double p, double d, double s, double length) {
   return Septic(start, top);
 }
 
-// septic hermite between two points a span apart, from the value and three derivatives at
-// both ends per unit of the variable (d0, d1); out[k] = k-th derivative at the fraction t
-// of the span, per unit of the variable
-inline void septic_between(const double* d0, const double* d1, double span, double t, double* out) {
-  double e0[4], e1[4], power = 1.0;
-  for (int k = 0; k < 4; ++k, power *= span) e0[k] = d0[k] * power, e1[k] = d1[k] * power;
-  Septic(e0, e1).eval(t, out);
-  power = span;
-  for (int k = 1; k < 4; ++k, power *= span) out[k] /= power;
-}
-
-// septic_between's pieces built once for a table evaluated many times (the same numbers):
-// consecutive points, each with `fields` functions by value and three derivatives per unit
-// of the variable, laid out [field * 4 + derivative]
+// septic hermite pieces between consecutive points a span apart, from the value and three
+// derivatives at both ends per unit of the variable, built once for a table evaluated many
+// times. Each point carries `fields` functions, laid out [field * 4 + derivative]
 class SepticPieces {
  public:
   explicit SepticPieces(int fields = 1) : fields_(fields) {}
