@@ -1064,14 +1064,22 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
           return kin::solve(mech, w, at, {0, false}).ok();
         };
         const kin::Workspace up_start = up_ws, down_start = down_ws;
+        // a downstream that no control moves rests the same at every position: solved once
+        const bool down_follows_control = std::any_of(down.nodes.begin(), down.nodes.end(), [](const kin::Node& nd) {
+          return nd.control >= 0 || nd.pivot_control >= 0;
+        });
         for (int side = 0; side < 2; ++side) {
           std::vector<double> ctl = controls;
           kin::Workspace up_w = up_start, down_w = down_start;
+          bool down_at_rest = false;
           for (std::ptrdiff_t j = side == 0 ? split : split - 1; side == 0 ? j <= kIdleControls : j >= 0;
                j += side == 0 ? 1 : -1) {
             ctl[0] = family[static_cast<std::size_t>(j)];
-            if (!solve_at(up, up_w, ctl, rest_theta) || !solve_at(down, down_w, ctl, rest_level))
-              break;  // the family ends where the mechanism no longer assembles
+            if (!solve_at(up, up_w, ctl, rest_theta)) break;  // the family ends where the mechanism no longer assembles
+            if (down_follows_control || !down_at_rest) {
+              if (!solve_at(down, down_w, ctl, rest_level)) break;
+              down_at_rest = true;
+            }
             const auto cpose = kin::detail::node_pose(up, cam, up_w.vars.data(), up_w.pivots.data());
             const auto fpose = kin::detail::node_pose(down, follower, down_w.vars.data(), down_w.pivots.data());
             const P2<Jet3> c =

@@ -93,7 +93,6 @@ inline Septic nose_septic(double p, double d, double s, double length) {
 class SepticPieces {
  public:
   explicit SepticPieces(int fields = 1) : fields_(fields) {}
-  void clear() { pieces_.clear(); }
   // the interval from point a to point b, `span` of the variable apart
   void add_interval(const double* a, const double* b, double span) {
     for (int f = 0; f < fields_; ++f) {
