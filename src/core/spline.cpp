@@ -484,8 +484,10 @@ PeriodicSpline PeriodicSpline::interpolate_periodic(std::span<const double> x, s
     for (int k = 0; k <= p; ++k) {
       const int q = p - k;
       double v = 0.0;
-      for (int r = 0; r <= q; ++r)
-        v += tri[static_cast<std::size_t>(q * (q + 1) / 2 + r)] * diff[static_cast<std::size_t>(wrap(i - q + r))][static_cast<std::size_t>(k)];
+      for (int r = 0; r <= q; ++r) {
+        const int j = i - q + r;  // in i - p .. i: wraps below 0 only (no integer division here)
+        v += tri[static_cast<std::size_t>(q * (q + 1) / 2 + r)] * diff[static_cast<std::size_t>(j < 0 ? j + n : j)][static_cast<std::size_t>(k)];
+      }
       s.coef_[static_cast<std::size_t>(i)][static_cast<std::size_t>(k)] = v * kInvFactorial[k];
     }
   }
