@@ -32,11 +32,14 @@ std::string fmt(double v) { return format_value(v, 6); }
 std::string driver_deg(double theta) { return "driver " + fmt(theta * 180 / std::numbers::pi) + " deg"; }
 
 // grid entry f (0..2: lever variables, 3, 4: roller centre x, y) at travel q: value and
-// three derivatives in q (septic hermite between scan points)
-void grid_at(const LeverPath& p, int f, double q, double out[4]) {
+// three derivatives in q (septic hermite between scan points), or the value and slope only
+void grid_at(const LeverPath& p, int f, double q, double out[4], bool slope_only = false) {
   const double t = (q - p.q_first) / p.step;
   const int j = std::clamp(static_cast<int>(std::floor(t)), 0, static_cast<int>(p.grid.size()) - 2);
-  p.pieces.eval(static_cast<std::size_t>(j), f, t - j, out);
+  if (slope_only)
+    p.pieces.eval1(static_cast<std::size_t>(j), f, t - j, out);
+  else
+    p.pieces.eval(static_cast<std::size_t>(j), f, t - j, out);
 }
 
 }  // namespace
@@ -212,8 +215,8 @@ Status lever_at(const LeverPath& path, const kin::Mechanism& up, const kin::Work
     const double dx = g.x.c[0] - rx, dy = g.y.c[0] - ry;
     const double gx = pivot.x() + cs * dx - sn * dy, gy = pivot.y() + sn * dx + cs * dy;
     gux = cs * g.x.c[1] - sn * g.y.c[1], guy = sn * g.x.c[1] + cs * g.y.c[1];
-    grid_at(path, 3, q, cq[0]);
-    grid_at(path, 4, q, cq[1]);
+    grid_at(path, 3, q, cq[0], true);  // newton needs the value and slope
+    grid_at(path, 4, q, cq[1], true);
     const double fx = cq[0][0] - gx, fy = cq[1][0] - gy;
     det = cq[0][1] * -guy + gux * cq[1][1];
     if (!(std::abs(det) > 0.0)) break;

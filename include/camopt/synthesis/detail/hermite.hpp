@@ -60,6 +60,15 @@ struct Septic {
     a[6] = 70 * r0 - 34 * r1 + 6.5 * r2 - r3 / 2;
     a[7] = -20 * r0 + 10 * r1 - 2 * r2 + r3 / 6;
   }
+  // value and slope only (d[0], d[1]: the same numbers as eval's)
+  void eval1(double t, double* d) const {
+    d[0] = a[7];
+    d[1] = 0.0;
+    for (int k = 6; k >= 0; --k) {
+      d[1] = d[1] * t + d[0];
+      d[0] = d[0] * t + a[k];
+    }
+  }
   // d[k] = p^(k)(t), k = 0..3
   void eval(double t, double* d) const {
     // horner with synthetic division (Numerical Recipes, ddpoly): d[j] = p^(j) / j!
@@ -109,6 +118,12 @@ class SepticPieces {
     const Piece& p = pieces_[i * static_cast<std::size_t>(fields_) + static_cast<std::size_t>(f)];
     p.septic.eval(t, out);
     for (int k = 1; k < 4; ++k) out[k] /= p.divisor[k - 1];
+  }
+  // ... its value and first derivative only (out[0], out[1])
+  void eval1(std::size_t i, int f, double t, double* out) const {
+    const Piece& p = pieces_[i * static_cast<std::size_t>(fields_) + static_cast<std::size_t>(f)];
+    p.septic.eval1(t, out);
+    out[1] /= p.divisor[0];
   }
 
  private:
