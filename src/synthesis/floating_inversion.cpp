@@ -383,6 +383,11 @@ Status invert_floating_follower(const DesignSpec& spec, const MechanismCut& cut,
     while (inside_lo * kScanStep <= turn_q[piece]) ++inside_lo;
     while (inside_hi >= inside_lo && inside_hi * kScanStep >= turn_q[piece + 1]) --inside_hi;
     int reach = inside_lo, past = inside_hi + 1;  // the first scan point inside reaching the target
+    auto reaches = [&](int j) { return j > inside_hi || (grid_lift[j] - target) * sign >= 0; };
+    if (guess >= 0.0) {  // the scan point just past the predicted travel, if it is that point
+      const int near = std::clamp(static_cast<int>(std::ceil(guess / kScanStep)), inside_lo, inside_hi + 1);
+      if (reaches(near) && (near == inside_lo || !reaches(near - 1))) reach = past = near;
+    }
     while (reach < past) {
       const int mid = (reach + past) / 2;
       if ((grid_lift[mid] - target) * sign >= 0)
