@@ -878,6 +878,8 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
   // a rotational cam that is the only body upstream turns with the driver: no solve needed
   const bool cam_is_lone_driver = up.variables.size() == 1 && cam == up.driver_node && up.driver_variable() == 0;
   Jet3 driver_alone;
+  std::vector<double> driver_sin, driver_cos;  // of every sample's cam angle (the lone driver's pose)
+  if (cam_is_lone_driver) revolution_sin_cos(n, driver_sin, driver_cos);
   if (cam_is_lone_driver) {  // one solve fills the workspace's pivot positions for node_pose
     const Status st = kin::solve(up, up_ws, 0.0, {3, false});
     if (!st.ok()) return {st.code, st.message, "cam 0 deg"};
@@ -1003,6 +1005,7 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
     // the cam's motion: the driver itself (its angle is theta), or interpolated from upstream
     const Jet3* up_vars = &driver_alone;
     driver_alone = Jet3::variable(theta[i]);
+    if (cam_is_lone_driver) memo_sin_cos_insert(theta[i], driver_sin[i], driver_cos[i]);
     if (!cam_is_lone_driver) {
       upstream_at(i, up_vars_at.data());
       up_vars = up_vars_at.data();
