@@ -4,6 +4,7 @@
 // of a textbook frame into the drawing, and a per-sweep compare against an oracle that
 // reports the worst point.
 #include <Eigen/Core>
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <numbers>
@@ -35,6 +36,16 @@ inline constexpr double kOrderRel[4] = {kDisplacementRel, kVelocityRel, kAcceler
 // the sweep of the issue: a full revolution at 0.5 deg
 inline constexpr double kSweepStepDeg = 0.5;
 inline constexpr int kSweepPoints = 721;  // 0 .. 360 deg, both ends
+
+// the largest difference between two formulations of a quantity, and the quantity's peak
+struct Peaks {
+  double err = 0.0, peak = 0.0;
+  void add(double a, double b) {
+    err = std::max(err, std::abs(a - b));
+    peak = std::max(peak, std::abs(b));
+  }
+  double rel() const { return err / std::max(peak, 1e-300); }
+};
 
 // a rigid placement of an oracle's textbook frame into the drawing [rad, mm]
 struct Placement {

@@ -23,15 +23,6 @@ constexpr double kAgreeRel[4] = {1e-10, 1e-9, 1e-8, 1e-7};
 constexpr double kContactAgreeRel = 1e-8;  // contact quantities, relative to their peak
 constexpr double kConditionAgreeRel = 1e-8;
 
-struct Peaks {
-  double err = 0.0, peak = 0.0;
-  void add(double a, double b) {
-    err = std::max(err, std::abs(a - b));
-    peak = std::max(peak, std::abs(b));
-  }
-  double rel() const { return err / std::max(peak, 1e-300); }
-};
-
 // file: relative to the source directory
 void compare(const std::string& file, double control) {
   const auto m = kin::compile(io::load_design(std::string(CAMOPT_SOURCE_DIR) + "/" + file));

@@ -25,15 +25,6 @@ namespace {
 // pose equal to the last bit: they differ by round-off (relative to each quantity's peak)
 constexpr double kAgreeRel[4] = {1e-12, 1e-11, 1e-10, 1e-9};
 
-struct Peaks {
-  double err = 0.0, peak = 0.0;
-  void add(double a, double b) {
-    err = std::max(err, std::abs(a - b));
-    peak = std::max(peak, std::abs(b));
-  }
-  double rel() const { return err / std::max(peak, 1e-300); }
-};
-
 kin::Mechanism valvetronic() {
   return kin::compile(io::load_design(std::string(CAMOPT_SOURCE_DIR) + "/designs/valvetronic.toml"));
 }
