@@ -211,14 +211,15 @@ Status invert_floating_follower(const DesignSpec& spec, const MechanismCut& cut,
   // roller centre with three derivatives in q at every scan point: between them they are
   // septic hermite pieces in q (kScanStep apart), so the inversion below needs no solves
   //
-  // The lever itself is smooth in q (its other contacts are rollers on circles), the lift is
-  // not (the working curve is a table): where the kernel can take the lever as given
-  // (kin::solve_prescribed), the whole mechanism is solved only every kLeverStep, and at the
+  // The lever itself is smooth in q where its other contacts are analytic (the bundled
+  // Valvetronic's rollers on a disc and a circle), the lift is not (the working curve is a
+  // table): there, and where the kernel can take the lever as given (kin::solve_prescribed),
+  // the whole mechanism is solved only every kLeverStep, and at the
   // scan points between them the lever's pose is septic hermite in q from those solves and
   // only the contacts after it are solved
   std::vector<double> grid_lift;
   std::vector<std::array<double, 12>> grid_jets;  // [L, centre x, centre y][derivative 0..3]
-  const bool lever_given = kin::can_prescribe(m, follower);
+  const bool lever_given = kin::can_prescribe(m, follower) && detail::held_analytically(m, follower);
   const kin::Node& lever = m.nodes[static_cast<std::size_t>(follower)];
   std::vector<std::array<double, 12>> lever_grid;  // [x, y, phi][derivative 0..3] every kLeverStep
   detail::SepticPieces lever_pieces(3);             // between them

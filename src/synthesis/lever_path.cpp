@@ -104,6 +104,7 @@ Status build_lever_path(const DesignSpec& upstream, const kin::Mechanism& up, in
     return Status::success();  // the other contacts do not hold the lever to one degree of freedom
   }
   const int lv = m.node_index(lever_name);
+  if (!detail::held_analytically(m, lv)) return Status::success();  // not smooth enough for the path's steps
   const kin::Node& probe_lever = m.nodes[static_cast<std::size_t>(lv)];
   const kin::Node& up_lever = up.nodes[static_cast<std::size_t>(lever)];
   const double len = std::hypot(cx - px, cy - py);

@@ -41,8 +41,9 @@ struct LeverPath {
 // the lever path of `lever` (a floating node of the upstream mechanism `up`, compiled from
 // `upstream`) at the control positions `controls`. out.contact stays -1 when the upstream is
 // not of that form (the driver touches the lever through anything but one cam contact on a
-// lever roller, or the lever is not held by its other contacts): the caller then solves the
-// upstream whole. A Status when the scan fails.
+// lever roller, the lever is not held by its other contacts, or one of them is a profile
+// table, which leaves the lever's pose too rough for the path's steps): the caller then
+// solves the upstream whole. A Status when the scan fails.
 Status build_lever_path(const DesignSpec& upstream, const kin::Mechanism& up, int lever,
                         const std::vector<double>& controls, LeverPath& out);
 

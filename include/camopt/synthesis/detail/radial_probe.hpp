@@ -6,12 +6,33 @@
 // solves the lever with exact jets in the travel. Used by the inversion through a floating
 // follower (floating_inversion.hpp) and by the lever path of a floating swing cam
 // (lever_path.hpp).
+#include <algorithm>
 #include <cmath>
 #include <utility>
 
 #include "camopt/core/design_spec.hpp"
+#include "camopt/kinematics/mechanism.hpp"
 
 namespace camopt::synthesis::detail {
+
+// whether the contacts of the plan step that solves `node` are analytic: no profile table
+// among their surfaces (circles, lines and disc profiles only). Then the node's pose is
+// smooth in the probe travel, and septic hermite between solves 0.5 mm apart is exact to
+// round-off; a table's knots would leave it only as smooth as the table's spline
+inline bool held_analytically(const kin::Mechanism& m, int node) {
+  const int first = m.nodes[static_cast<std::size_t>(node)].first_variable;
+  for (const kin::SolveStep& step : m.plan) {
+    if (std::find(step.unknowns.begin(), step.unknowns.end(), first) == step.unknowns.end()) continue;
+    for (int ci : step.connections) {
+      const kin::Connection& c = m.connections[static_cast<std::size_t>(ci)];
+      for (const kin::Surface* s : {&c.surface_a, &c.surface_b})
+        if (s->kind == kin::SurfaceKind::curve && !m.profiles[static_cast<std::size_t>(s->profile)].is_disc())
+          return false;
+    }
+    return true;
+  }
+  return false;
+}
 
 inline constexpr const char* kProbeNode = "synthesis_probe";
 inline constexpr const char* kProbeFace = "synthesis_probe_face";
