@@ -930,14 +930,19 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
   };
   if (!cam_is_lone_driver) {
     if (Status st = solve_upstream(0); !st.ok()) return st;
-    kin::Workspace before = up_ws;  // the state a refused dwell try returns to (assigned, not reallocated)
+    // the state a refused dwell try returns to: the workspace where the upstream is solved
+    // whole (assigned, not reallocated, after the first), the lever path's state where it
+    // follows the path (which reads the workspace's pivots only)
+    std::optional<kin::Workspace> before;
     while (node_at.back() < n) {
       const std::size_t j = node_at.size() - 1;
       const int next = std::min(n, node_at.back() + stride);
       if (at_rest(j) && next < n) {
         // try the dwell: one solve kRestStride strides on, kept when the cam rests there at
         // the same pose; else dropped and the stretch solved stride by stride from here
-        before = up_ws;
+        const bool whole = lever_path.contact < 0;
+        if (whole && before) *before = up_ws;
+        if (whole && !before) before.emplace(up_ws);
         const LeverState state_before = path_state;
         const int far = std::min(n, node_at.back() + kRestStride * stride);
         if (Status st = solve_upstream(far); !st.ok()) return st;
@@ -947,7 +952,7 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
         if (dwell) continue;
         node_at.pop_back();
         cam_motion.resize(cam_motion.size() - static_cast<std::size_t>(cn.dof) * 4);
-        up_ws = before;
+        if (whole) up_ws = *before;  // (a path that fell back to whole solves goes on from far)
         path_state = state_before;
       }
       if (Status st = solve_upstream(next); !st.ok()) return st;
