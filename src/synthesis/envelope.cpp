@@ -1071,14 +1071,16 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
           w.set_controls(ctl);
           return kin::solve(mech, w, at, {0, false}).ok();
         };
-        const kin::Workspace up_start = up_ws, down_start = down_ws;
         // a downstream that no control moves rests the same at every position: solved once
         const bool down_follows_control = std::any_of(down.nodes.begin(), down.nodes.end(), [](const kin::Node& nd) {
           return nd.control >= 0 || nd.pivot_control >= 0;
         });
         for (int side = 0; side < 2; ++side) {
           std::vector<double> ctl = controls;
-          kin::Workspace up_w = up_start, down_w = down_start;
+          // both sides start from the synthesized position's workspaces (their last use: the
+          // second side takes them over)
+          kin::Workspace up_w = side == 0 ? up_ws : std::move(up_ws);
+          kin::Workspace down_w = side == 0 ? down_ws : std::move(down_ws);
           bool down_at_rest = false;
           for (std::ptrdiff_t j = side == 0 ? split : split - 1; side == 0 ? j <= kIdleControls : j >= 0;
                j += side == 0 ? 1 : -1) {
