@@ -1001,10 +1001,9 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
     valve_rate[i] = L.derivative(1);
     if (!needed[i]) continue;  // a swing cam's dwell (cam_rate is set)
     const double u = std::clamp((L.value() - motion_lo) / level_step, 0.0, static_cast<double>(levels));
-    const int q = std::min(levels - 1, static_cast<int>(u));
     for (int k = 0; k < dof && !floating_follower; ++k) {
       double d[4];
-      inverse_pieces.eval(static_cast<std::size_t>(q), k, u - q, d);
+      inverse_pieces.eval_at(u, k, d);
       vars[fn->first_variable + k] = compose(d, L);  // follower(theta) = F(L(theta))
     }
     // the cam's motion: the driver itself (its angle is theta), or interpolated from upstream

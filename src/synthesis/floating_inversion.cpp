@@ -257,11 +257,10 @@ Status invert_floating_follower(const DesignSpec& spec, const MechanismCut& cut,
       if (const Status st = solve_whole(static_cast<double>(lever_grid.size()) * kLeverStep); !st.ok()) return st;
       record_lever();
     }
-    const int j = std::min(static_cast<int>(lever_grid.size()) - 2, static_cast<int>(q / kLeverStep));
     Jet3 pose[3];
     for (int k = 0; k < 3; ++k) {
       double d[4];
-      lever_pieces.eval(static_cast<std::size_t>(j), k, q / kLeverStep - j, d);
+      lever_pieces.eval_at(q / kLeverStep, k, d);
       pose[k] = jet_from_derivatives<3>(d);
     }
     if (kin::solve_prescribed(m, *scan_ws, q, {3, false}, follower, pose).ok()) return Status::success();
@@ -300,11 +299,10 @@ Status invert_floating_follower(const DesignSpec& spec, const MechanismCut& cut,
   // a solve beyond the scan (continued from the last one)
   auto probe_at = [&](double q, Jet3& lift, kin::detail::V2<Jet3>& centre) -> Status {
     if (q >= 0.0 && q <= top * kScanStep) {
-      const int j = std::min(top - 1, static_cast<int>(q / kScanStep));
       Jet3* out3[3] = {&lift, &centre.x, &centre.y};
       for (int f = 0; f < 3; ++f) {
         double d[4];
-        scan_pieces.eval(static_cast<std::size_t>(j), f, q / kScanStep - j, d);
+        scan_pieces.eval_at(q / kScanStep, f, d);
         *out3[f] = jet_from_derivatives<3>(d);
       }
       return Status::success();

@@ -34,12 +34,7 @@ std::string driver_deg(double theta) { return "driver " + fmt(theta * 180 / std:
 // grid entry f (0..2: lever variables, 3, 4: roller centre x, y) at travel q: value and
 // three derivatives in q (septic hermite between scan points), or the value and slope only
 void grid_at(const LeverPath& p, int f, double q, double out[4], bool slope_only = false) {
-  const double t = (q - p.q_first) / p.step;
-  const int j = std::clamp(static_cast<int>(std::floor(t)), 0, static_cast<int>(p.grid.size()) - 2);
-  if (slope_only)
-    p.pieces.eval1(static_cast<std::size_t>(j), f, t - j, out);
-  else
-    p.pieces.eval(static_cast<std::size_t>(j), f, t - j, out);
+  p.pieces.eval_at((q - p.q_first) / p.step, f, out, slope_only);
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 // hermite polynomials on [0, 1] from end values and derivatives (per unit of the local
 // parameter), used to resample envelopes and to interpolate inverse motions.
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <vector>
@@ -111,8 +112,9 @@ class SepticPieces {
       power = span;
       for (int k = 1; k < 4; ++k, power *= span) p.divisor[k - 1] = power;
     }
+    ++intervals_;
   }
-  std::size_t intervals() const { return pieces_.size() / static_cast<std::size_t>(fields_); }
+  std::size_t intervals() const { return intervals_; }
   // field f on interval i at t in [0, 1] of it: out[k] = derivative k per unit of the variable
   void eval(std::size_t i, int f, double t, double* out) const {
     const Piece& p = pieces_[i * static_cast<std::size_t>(fields_) + static_cast<std::size_t>(f)];
@@ -125,6 +127,16 @@ class SepticPieces {
     p.septic.eval1(t, out);
     out[1] /= p.divisor[0];
   }
+  // field f at x, counted in intervals from the first point (evenly spaced points), on the
+  // interval holding it (the first or the last beyond the ends); slope_only: eval1
+  void eval_at(double x, int f, double* out, bool slope_only = false) const {
+    const int last = static_cast<int>(intervals_) - 1;
+    const int i = x > 0.0 ? std::min(last, static_cast<int>(x)) : 0;  // (truncation is floor for x > 0)
+    if (slope_only)
+      eval1(static_cast<std::size_t>(i), f, x - i, out);
+    else
+      eval(static_cast<std::size_t>(i), f, x - i, out);
+  }
 
  private:
   struct Piece {
@@ -132,6 +144,7 @@ class SepticPieces {
     double divisor[3];  // span^1..3
   };
   int fields_;
+  std::size_t intervals_ = 0;
   std::vector<Piece> pieces_;
 };
 
