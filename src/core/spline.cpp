@@ -315,14 +315,27 @@ std::size_t detail::PiecewiseQuintic::locate(double x) const noexcept {
   return i;
 }
 
+namespace {
+// f^(k)(s) = sum_{m=k}^{5} m!/(m-k)! a_m s^(m-k), by horner (k fixed: the loop unrolls and
+// the unit factors of k = 0 fold away)
+template <int K>
+double piece_derivative(const std::array<double, 6>& a, double s) noexcept {
+  double v = kFalling[K][5] * a[5];
+  for (int m = 4; m >= K; --m) v = v * s + kFalling[K][m] * a[m];
+  return v;
+}
+}  // namespace
+
 void detail::PiecewiseQuintic::evaluate_piece(std::size_t i, double s, int max_order,
                                               double* out) const noexcept {
   const std::array<double, 6>& a = coef_[i];
-  // f^(k)(s) = sum_{m=k}^{5} m!/(m-k)! a_m s^(m-k), by horner
-  for (int k = 0; k <= max_order; ++k) {
-    double v = kFalling[k][5] * a[5];
-    for (int m = 4; m >= k; --m) v = v * s + kFalling[k][m] * a[m];
-    out[k] = v;
+  switch (max_order) {
+    case 5: out[5] = piece_derivative<5>(a, s); [[fallthrough]];
+    case 4: out[4] = piece_derivative<4>(a, s); [[fallthrough]];
+    case 3: out[3] = piece_derivative<3>(a, s); [[fallthrough]];
+    case 2: out[2] = piece_derivative<2>(a, s); [[fallthrough]];
+    case 1: out[1] = piece_derivative<1>(a, s); [[fallthrough]];
+    default: out[0] = piece_derivative<0>(a, s);
   }
 }
 
