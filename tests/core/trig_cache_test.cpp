@@ -48,3 +48,42 @@ TEST_CASE("revolution_sin_cos matches libm at every sample of the revolution", "
     }
   }
 }
+
+// the sin/cos memo: libm's bits on a miss, the stored entry on a hit (the first by index when
+// an angle is stored twice), the oldest entry replaced after SinCosMemo::size others, and an
+// empty slot (NaN) matched by nothing
+TEST_CASE("memo_sin_cos returns libm on a miss and the stored entry on a hit", "[core][trig]") {
+  camopt::SinCosMemo& memo = camopt::SinCosMemo::local();
+  memo.clear();
+  for (int i = 0; i < 40; ++i) {  // more angles than entries, each asked twice
+    const double x = -7.0 + 0.37 * i;
+    for (int twice = 0; twice < 2; ++twice) {
+      double s = 0.0, c = 0.0;
+      camopt::memo_sin_cos(x, s, c);
+      CHECK(s == std::sin(x));
+      CHECK(c == std::cos(x));
+    }
+  }
+  memo.clear();
+  camopt::memo_sin_cos_insert(0.5, 0.25, 0.75);  // not sin/cos of 0.5: tells a hit from a miss
+  camopt::memo_sin_cos_insert(0.5, -1.0, -2.0);  // a second entry at the same angle, later index
+  double s = 0.0, c = 0.0;
+  camopt::memo_sin_cos(0.5, s, c);
+  CHECK(s == 0.25);
+  CHECK(c == 0.75);
+  for (int k = 0; k < static_cast<int>(camopt::SinCosMemo::size) - 1; ++k)
+    camopt::memo_sin_cos(1.0 + k, s, c);  // the first 0.5 entry is replaced, the second is not
+  camopt::memo_sin_cos(0.5, s, c);
+  CHECK(s == -1.0);
+  CHECK(c == -2.0);
+  camopt::memo_sin_cos(1.0 + camopt::SinCosMemo::size, s, c);  // replaces the second
+  camopt::memo_sin_cos(0.5, s, c);
+  CHECK(s == std::sin(0.5));
+  CHECK(c == std::cos(0.5));
+  memo.clear();
+  camopt::memo_sin_cos(std::nan(""), s, c);
+  CHECK(std::isnan(s));
+  CHECK(std::isnan(c));
+  CHECK(memo.find(std::nan("")) == -1);  // (stored, but NaN equals nothing)
+  memo.clear();
+}

@@ -3,31 +3,47 @@
 // times (value, jacobian and derivative sweeps all share the value point), so a small
 // per-thread memo saves most libm calls. Results are bit-identical to std::sin/std::cos,
 // except for entries moved by memo_sin_cos_shift or put in by memo_sin_cos_insert.
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <vector>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "camopt/core/jet.hpp"
 
 namespace camopt {
 
 struct SinCosMemo {
-  struct Entry {
-    double x, s, c;
-  };
   static constexpr double nan = std::numeric_limits<double>::quiet_NaN();  // never equal: empty
   static constexpr unsigned size = 8;
-  Entry entries[size] = {{nan, 0, 0}, {nan, 0, 0}, {nan, 0, 0}, {nan, 0, 0},
-                         {nan, 0, 0}, {nan, 0, 0}, {nan, 0, 0}, {nan, 0, 0}};
+  // the angles apart from their values, so a lookup compares all of them at once
+  alignas(64) double x[size] = {nan, nan, nan, nan, nan, nan, nan, nan};
+  double s[size] = {}, c[size] = {};
   unsigned next = 0;
   static SinCosMemo& local() noexcept {
     thread_local SinCosMemo memo;
     return memo;
   }
-  // (an older entry at the same x may remain: lookups take the first; both are within
-  // round-off, and clear() at the start of a computation keeps the choice deterministic)
-  void add(double x, double s, double c) noexcept {
-    entries[next] = {x, s, c};
+  // the first entry (lowest index) holding angle `at`, or -1. (An older entry at the same
+  // angle may remain: lookups take the first; both are within round-off, and clear() at the
+  // start of a computation keeps the choice deterministic)
+  int find(double at) const noexcept {
+    unsigned mask = 0;  // bit k: x[k] == at
+#if defined(__SSE2__)
+    const __m128d a = _mm_set1_pd(at);
+    for (unsigned k = 0; k < size; k += 2)
+      mask |= static_cast<unsigned>(_mm_movemask_pd(_mm_cmpeq_pd(_mm_load_pd(x + k), a))) << k;
+#else
+    for (unsigned k = 0; k < size; ++k) mask |= static_cast<unsigned>(x[k] == at) << k;
+#endif
+    return mask == 0 ? -1 : std::countr_zero(mask);
+  }
+  void add(double at, double sin_at, double cos_at) noexcept {
+    x[next] = at;
+    s[next] = sin_at;
+    c[next] = cos_at;
     next = (next + 1) % size;
   }
   void clear() noexcept { *this = SinCosMemo{}; }
@@ -35,12 +51,11 @@ struct SinCosMemo {
 
 inline void memo_sin_cos(double x, double& s, double& c) noexcept {
   SinCosMemo& memo = SinCosMemo::local();
-  for (const auto& e : memo.entries)
-    if (e.x == x) {
-      s = e.s;
-      c = e.c;
-      return;
-    }
+  if (const int k = memo.find(x); k >= 0) {
+    s = memo.s[k];
+    c = memo.c[k];
+    return;
+  }
   s = std::sin(x);
   c = std::cos(x);
   memo.add(x, s, c);
@@ -55,14 +70,12 @@ inline void memo_sin_cos_insert(double x, double s, double c) noexcept { SinCosM
 inline void memo_sin_cos_shift(double x, double h) noexcept {
   if (!(std::abs(h) <= 1e-3)) return;
   SinCosMemo& memo = SinCosMemo::local();
-  for (const auto& e : memo.entries)
-    if (e.x == x) {
-      const double h2 = h * h;
-      const double sh = h * (1.0 - h2 / 6.0 * (1.0 - h2 / 20.0)), ch = 1.0 - h2 / 2.0 * (1.0 - h2 / 12.0);
-      const double s = e.s, c = e.c;
-      memo.add(x + h, s * ch + c * sh, c * ch - s * sh);
-      return;
-    }
+  if (const int k = memo.find(x); k >= 0) {
+    const double h2 = h * h;
+    const double sh = h * (1.0 - h2 / 6.0 * (1.0 - h2 / 20.0)), ch = 1.0 - h2 / 2.0 * (1.0 - h2 / 12.0);
+    const double s = memo.s[k], c = memo.c[k];
+    memo.add(x + h, s * ch + c * sh, c * ch - s * sh);
+  }
 }
 
 inline void sin_cos(double x, double& s, double& c) noexcept { memo_sin_cos(x, s, c); }
