@@ -827,12 +827,16 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
   // they are solved at levels across L's range (F and three derivatives, by implicit
   // differentiation in the solver) and interpolated by septic hermite pieces in L, then
   // composed with L(theta) (Faa di Bruno). levels run up from the rest (L = 0) for warm starts.
+  // A roller's centre (global x, y) is as much a function of L: interpolated in place of the
+  // variables, it spares the pose (sin and cos of the follower's angle) at every sample
   const kin::Node* fn = floating_follower ? nullptr : &down.nodes[follower];
   const int dof = floating_follower ? 0 : fn->dof;
+  const bool invert_centre = !floating_follower && roller;
+  const int fields = invert_centre ? 2 : dof;  // interpolated in L: centre x, y, or the variables
   if (motion_hi - motion_lo < 1e-9) motion_hi = motion_lo + 1e-3;  // no motion: any small bracket
   const int levels = kInversionLevels;
   const double level_step = (motion_hi - motion_lo) / levels;
-  std::vector<double> inverse((levels + 1) * dof * 4);  // [level][dof][derivative]
+  std::vector<double> inverse((levels + 1) * fields * 4);  // [level][field][derivative]
   FloatingInversion through_lever;
   if (floating_follower) {
     const Status st = invert_floating_follower(spec, cut, target_node, controls, theta, motion, through_lever);
@@ -866,15 +870,21 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
         st.where = "cam " + fmt(theta[at] * 180 / pi) + " deg";
         return st;
       }
-      for (int k = 0; k < dof; ++k)
-        for (int d = 0; d < 4; ++d)
-          inverse[(q * dof + k) * 4 + d] = down_ws.vars[fn->first_variable + k].derivative(d);
+      double* at_level = &inverse[static_cast<std::size_t>(q * fields * 4)];
+      if (invert_centre) {
+        const auto centre = kin::detail::node_pose(down, follower, down_ws.vars.data(), down_ws.pivots.data())
+                                .apply(follower_surface.origin_mm[0], follower_surface.origin_mm[1]);
+        for (int d = 0; d < 4; ++d) at_level[d] = centre.x.derivative(d), at_level[4 + d] = centre.y.derivative(d);
+      } else {
+        for (int k = 0; k < dof; ++k)
+          for (int d = 0; d < 4; ++d) at_level[k * 4 + d] = down_ws.vars[fn->first_variable + k].derivative(d);
+      }
     }
   }
-  detail::SepticPieces inverse_pieces(std::max(dof, 1));  // the follower between levels
+  detail::SepticPieces inverse_pieces(std::max(fields, 1));  // the follower between levels
   for (int q = 0; q < levels && !floating_follower; ++q)
-    inverse_pieces.add_interval(&inverse[static_cast<std::size_t>(q * dof * 4)],
-                                &inverse[static_cast<std::size_t>((q + 1) * dof * 4)], level_step);
+    inverse_pieces.add_interval(&inverse[static_cast<std::size_t>(q * fields * 4)],
+                                &inverse[static_cast<std::size_t>((q + 1) * fields * 4)], level_step);
   // a rotational cam that is the only body upstream turns with the driver: no solve needed
   const bool cam_is_lone_driver = up.variables.size() == 1 && cam == up.driver_node && up.driver_variable() == 0;
   Jet3 driver_alone;
@@ -996,15 +1006,16 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
     interval = 0;
   }
   std::vector<Jet3> vars(down.variables.size(), Jet3(0.0));
+  std::vector<Jet3> inverted(invert_centre ? 2 : 0, Jet3(0.0));  // a roller's centre at a sample
   for (int i = 0; i < n; ++i) {
     const Jet3& L = motion[i];
     valve_rate[i] = L.derivative(1);
     if (!needed[i]) continue;  // a swing cam's dwell (cam_rate is set)
     const double u = std::clamp((L.value() - motion_lo) / level_step, 0.0, static_cast<double>(levels));
-    for (int k = 0; k < dof && !floating_follower; ++k) {
+    for (int k = 0; k < fields; ++k) {
       double d[4];
       inverse_pieces.eval_at(u, k, d);
-      vars[fn->first_variable + k] = compose(d, L);  // follower(theta) = F(L(theta))
+      (invert_centre ? inverted[k] : vars[fn->first_variable + k]) = compose(d, L);  // follower(theta) = F(L(theta))
     }
     // the cam's motion: the driver itself (its angle is theta), or interpolated from upstream
     const Jet3* up_vars = &driver_alone;
@@ -1024,6 +1035,10 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
     if (floating_follower) {
       path[i] = to_profile(kin::detail::V2<Jet3>{through_lever.centre_x[i], through_lever.centre_y[i]});
       continue;  // a roller (invert_floating_follower requires one)
+    }
+    if (invert_centre) {
+      path[i] = to_profile(kin::detail::V2<Jet3>{inverted[0], inverted[1]});
+      continue;  // a roller: no face normal
     }
     const auto fpose = kin::detail::node_pose(down, follower, vars.data(), down_ws.pivots.data());
     path[i] = to_profile(fpose.apply(follower_surface.origin_mm[0], follower_surface.origin_mm[1]));
