@@ -35,6 +35,10 @@ struct SynthesizeOptions {
   double wheel_radius_mm = 0.0;
   double min_radius_mm = 0.0;
   double closure_tolerance_mm = 0.05;
+  // largest round-trip error accepted, in the target's unit (mm; deg for a rotational
+  // --target-node): 5 um, the grinding accuracy (the bundled designs round-trip to < 1e-6 mm
+  // at 0.25 deg, < 1e-4 mm at 1 deg)
+  double max_round_trip_error = 0.005;
   std::string target_node;  // empty: the valve
   std::optional<double> master_radius_mm;  // grinding table master roller
   double grinding_step_deg = 0.25;
@@ -161,6 +165,22 @@ void run_synthesize(const SynthesizeOptions& o) {
     st.message = "forward kinematics of the synthesized profile: " + st.message;
     throw NumericalError(with_slope_step(st));
   }
+  // round trip in the target's unit: mm for the valve, deg for a rotational target node
+  bool angle_target = false;
+  for (const auto& n : spec.nodes)
+    if (!valve_target && n.name == o.target_node) angle_target = n.kind == NodeKind::rotational;
+  const std::string rt_unit = angle_target ? "deg" : "mm";
+  const double rt_scale = angle_target ? 180.0 / M_PI : 1.0;
+  // a profile whose forward kinematics does not follow the target is no answer (e.g. a
+  // target that steps in slope: the envelope folds, and the follower skips the fold)
+  if (!(rt.max_error_mm * rt_scale <= o.max_round_trip_error))
+    throw NumericalError(with_slope_step(
+        {StatusCode::infeasible,
+         "the synthesized profile does not give the target: its forward kinematics misses it by " +
+             format_value(rt.max_error_mm * rt_scale, 3) + " " + rt_unit + " (rms " +
+             format_value(rt.rms_error_mm * rt_scale, 3) + " " + rt_unit + "), more than --max-round-trip-error " +
+             format_value(o.max_round_trip_error, 3) + " " + rt_unit,
+         "cam " + format_value(rt.max_error_at_deg, 6) + " deg"}));
 
   // ---- outputs ----
   const bool flat = res.follower_shape == "line";
@@ -193,12 +213,6 @@ void run_synthesize(const SynthesizeOptions& o) {
     checks["face_width_needed_mm"] = needed;
     if (half_width > 0) checks["face_width_ok"] = needed <= 2.0 * half_width;
   }
-  // round trip in the target's unit: mm for the valve, deg for a rotational target node
-  bool angle_target = false;
-  for (const auto& n : spec.nodes)
-    if (!valve_target && n.name == o.target_node) angle_target = n.kind == NodeKind::rotational;
-  const std::string rt_unit = angle_target ? "deg" : "mm";
-  const double rt_scale = angle_target ? 180.0 / M_PI : 1.0;
   checks["round_trip_max_error_" + rt_unit] = rt.max_error_mm * rt_scale;
   checks["round_trip_max_error_at_cam_deg"] = rt.max_error_at_deg;
   checks["round_trip_rms_error_" + rt_unit] = rt.rms_error_mm * rt_scale;
@@ -281,6 +295,10 @@ void setup_synthesize(CLI::App& app) {
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--min-radius", opts->min_radius_mm, "smallest allowed radius of curvature of the cam [mm]")
       ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--max-round-trip-error", opts->max_round_trip_error,
+                  "largest error of the synthesized profile's forward kinematics against the target, else no output "
+                  "and exit 4 [mm; deg for a rotational --target-node]")
+      ->check(CLI::PositiveNumber);
   cmd->callback([opts] { run_synthesize(*opts); });
 }
 

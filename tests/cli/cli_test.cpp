@@ -762,6 +762,29 @@ TEST_CASE("synthesize names the target's slope step when a lift computed with la
   CHECK((!fs::exists(out) || fs::is_empty(out)));
 }
 
+TEST_CASE("synthesize refuses a profile whose round trip misses the target by more than allowed", "[cli][synthesize]") {
+  // the bundled intake lift on the finger follower round-trips to ~1e-7 mm (the main job):
+  // allowed 1e-12 mm it is refused, naming the error and the cam angle, and writes nothing;
+  // allowed 1e-5 mm it passes
+  TempDir tmp;
+  const std::string design = (source_dir() / "designs" / "roller_finger_follower.toml").string();
+  const std::string target = (source_dir() / "designs" / "targets" / "rff_intake_lift.csv").string();
+  const fs::path strict = tmp / "strict", loose = tmp / "loose";
+  const auto r = run_camopt({"synthesize", target, "--design", design, "--out", strict.string(),
+                             "--max-round-trip-error", "1e-12"});
+  INFO(r.all());
+  CHECK(r.exit_code == cli_numerical_failure);
+  CHECK(contains(r.err, "misses it by"));
+  CHECK(contains(r.err, "more than --max-round-trip-error 1e-12 mm"));
+  CHECK(contains(r.err, "(at cam "));
+  CHECK((!fs::exists(strict) || fs::is_empty(strict)));
+  const auto ok = run_camopt({"synthesize", target, "--design", design, "--out", loose.string(),
+                              "--max-round-trip-error", "1e-5"});
+  INFO(ok.all());
+  CHECK(ok.exit_code == cli_ok);
+  CHECK(fs::exists(loose / "profile.csv"));
+}
+
 TEST_CASE("synthesize --cam swing gives the VVLD control arm for its own lift at two control positions",
           "[cli][synthesize]") {
   TempDir tmp;
