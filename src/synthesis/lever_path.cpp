@@ -155,10 +155,10 @@ Status build_lever_path(const DesignSpec& upstream, const kin::Mechanism& up, in
     }
     if (side == 0) ws = at_zero;
   }
-  out.grid.assign(behind.rbegin(), behind.rend());
-  out.grid.insert(out.grid.end(), ahead.begin(), ahead.end());
-  for (std::size_t j = 0; j + 1 < out.grid.size(); ++j)
-    out.pieces.add_interval(out.grid[j].data(), out.grid[j + 1].data(), kLeverPathStep);
+  std::vector<std::array<double, 20>> grid(behind.rbegin(), behind.rend());  // ascending q
+  grid.insert(grid.end(), ahead.begin(), ahead.end());
+  for (std::size_t j = 0; j + 1 < grid.size(); ++j)
+    out.pieces.add_interval(grid[j].data(), grid[j + 1].data(), kLeverPathStep);
   out.q_first = -static_cast<double>(behind.size()) * kLeverPathStep;
   out.contact = contact;
   out.lever_node = lever;
@@ -187,7 +187,7 @@ Status lever_at(const LeverPath& path, const kin::Mechanism& up, const kin::Work
   sin_cos(theta, sn, cs);
   const double rx = driver.pivot.x(), ry = driver.pivot.y();
   const double tol = kRelativeTolerance * up.length_scale;
-  const double q_last = path.q_first + path.step * static_cast<double>(path.grid.size() - 1);
+  const double q_last = path.q_first + path.step * static_cast<double>(path.pieces.intervals());
   // the start: the last angle's taylor series carried to theta (its value alone if that
   // leaves the scan)
   const double h = theta - state.theta;

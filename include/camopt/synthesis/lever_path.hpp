@@ -31,11 +31,10 @@ struct LeverPath {
   std::array<double, 2> direction{};  // ... along the cam pivot's radial direction (unit)
   double q_first = 0.0;         // [mm] probe travel of the first scan point
   double step = 0.0;            // [mm] between scan points
-  // per scan point, each with its value and three derivatives in q: the lever's three
-  // variables in the upstream mechanism (x, y [mm], phi [rad]), then its roller's centre
-  // (global x, y [mm])
-  std::vector<std::array<double, 20>> grid;
-  detail::SepticPieces pieces{5};  // the grid's septic hermite pieces (built with it)
+  // septic hermite pieces in q between the scan points, from each point's value and three
+  // derivatives in q of five fields: the lever's three variables in the upstream mechanism
+  // (x, y [mm], phi [rad]), then its roller's centre (global x, y [mm])
+  detail::SepticPieces pieces{5};
 };
 
 // the lever path of `lever` (a floating node of the upstream mechanism `up`, compiled from
