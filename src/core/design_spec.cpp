@@ -43,4 +43,20 @@ const char* to_string(SurfaceShape shape) {
   return "?";
 }
 
+const char* to_string(ContactLaw law) {
+  switch (law) {
+    case ContactLaw::hertz: return "hertz";
+    case ContactLaw::linear: return "linear";
+  }
+  return "?";
+}
+
+const char* to_string(ContactDampingLaw law) {
+  switch (law) {
+    case ContactDampingLaw::hunt_crossley: return "hunt_crossley";
+    case ContactDampingLaw::linear: return "linear";
+  }
+  return "?";
+}
+
 }  // namespace camopt

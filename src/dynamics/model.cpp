@@ -213,7 +213,7 @@ Model compile_dynamics(const kin::Mechanism& mech) {
                                         " must be >= 0");
       d.friction = *cs->friction_coefficient;
     }
-    if (cs->contact_damping_N_s_per_mm) d.damping = *cs->contact_damping_N_s_per_mm;
+    if (cs->contact_law.damping_N_s_per_m) d.damping = *cs->contact_law.damping_N_s_per_m * 1e-3;  // [N s/mm]
     const MaterialSpec* ma = nullptr;
     const MaterialSpec* mb = nullptr;
     for (const auto& m : spec.materials) {

@@ -374,7 +374,7 @@ class Parser {
     const Keys gear = {"nodes", "ratio"};
     const Keys variable_gear = {"nodes", "ratio_table"};
     const Keys rack_pinion = {"nodes", "pitch_radius_mm"};
-    const Keys contact = {"a", "b", "lash_mm", "materials", "width_mm", "friction_coefficient", "damping_N_s_per_mm"};
+    const Keys contact = {"a", "b", "lash_mm", "materials", "width_mm", "friction_coefficient", "damping_N_s_per_m"};
     const Keys* own = &link;
     switch (c.kind) {
       case ConnectionKind::link:
@@ -439,7 +439,7 @@ class Parser {
         }
         c.width_mm = t.optional_number("width_mm", gt(0.0));
         c.friction_coefficient = t.optional_number("friction_coefficient", ge(0.0));
-        c.contact_damping_N_s_per_mm = t.optional_number("damping_N_s_per_mm", ge(0.0));
+        c.contact_law.damping_N_s_per_m = t.optional_number("damping_N_s_per_m", ge(0.0));
         break;
     }
     c.where = t.where();

@@ -250,7 +250,7 @@ TEST_CASE("flexible: the Cam Design Handbook pushrod valve gear (CDH11) has mode
 TEST_CASE("flexible: single-mass follower against an RK4 integration with tiny steps") {
   // soft spring: the follower leaves the cam near the nose above ~8800 rpm
   DesignSpec d = direct_valve(5, 20);
-  d.connections[0].contact_damping_N_s_per_mm = 0.0;  // a continuous force (RK4 steps over impacts)
+  d.connections[0].contact_law.damping_N_s_per_m = 0.0;  // a continuous force (RK4 steps over impacts)
   const kin::Mechanism mech = kin::compile(d);
   const dynamics::Model model = dynamics::compile_dynamics(mech);
   const double e_star = dynamics::contact_modulus(210e3, 0.3, 210e3, 0.3);

@@ -19,6 +19,32 @@ using Vec2 = std::array<double, 2>;
 
 enum class NodeKind { rotational, translational, floating };
 
+// force law of a flexible-model contact or valve seat (docs/dynamics.md, "Contact laws")
+enum class ContactLaw { hertz, linear };
+enum class ContactDampingLaw { hunt_crossley, linear };
+struct ContactLawSpec {
+  ContactLaw law = ContactLaw::hertz;
+  ContactDampingLaw damping_law = ContactDampingLaw::hunt_crossley;  // hertz law only
+  std::optional<double> stiffness_N_per_mm;  // linear law: k (required there)
+  // linear law: c in F = max(0, k d + c d'); hertz + linear damping: c in max(0, F_H + c d');
+  // hertz + hunt_crossley: alpha matched to c at the reference load
+  std::optional<double> damping_N_s_per_m;
+  std::optional<double> restitution;  // hertz + hunt_crossley: coefficient of restitution, (0, 1]
+};
+
+// the seat of a valve (a translational node): a one-sided contact at its rest displacement
+struct SeatSpec {
+  bool enabled = true;             // false: no seat (a mechanism that is not a valvetrain)
+  double diameter_mm = 29.0;       // seat (gauge) diameter
+  double angle_deg = 45.0;         // seat face angle from the valve head plane
+  double width_mm = 1.5;           // width of the seat face
+  double crown_radius_mm = 5.0;    // hertz law: reduced radius of the section across the face
+  std::string material;            // hertz law: insert material; "" = the valve's contact material
+  ContactLawSpec law;
+  bool given = false;              // a seat table was written in the design
+  SourceRef where;
+};
+
 // a pivot moved by a control input: it rotates about `about_mm` by gain * control
 // (eccentric control shaft, or an arc centred on a roller as in the CVVL)
 struct PivotMotionSpec {
@@ -45,6 +71,9 @@ struct NodeSpec {
   std::optional<double> torsional_stiffness_Nm_per_rad;  // rotational compliance
   std::optional<double> axial_stiffness_N_per_mm;        // translational compliance
   std::optional<double> damping_ratio;                   // of that compliance [-]
+  std::optional<double> damping_N_s_per_m;      // translational compliance: damper [N s/m]
+  std::optional<double> damping_Nm_s_per_rad;   // rotational compliance: damper [N m s/rad]
+  SeatSpec seat;  // the output node always has one (unless disabled); others when given
   SourceRef where;
 };
 
@@ -106,7 +135,11 @@ struct ConnectionSpec {
   std::string material_a, material_b; // names of [[material]] (dynamics / Hertz)
   std::optional<double> width_mm;     // contact line length for Hertz stress
   std::optional<double> friction_coefficient;
-  std::optional<double> contact_damping_N_s_per_mm;
+  ContactLawSpec contact_law;  // flexible model's force law
+  // link, crank_slider, rack_pinion [N/mm]; gear, variable_gear [N m/rad]: flexible model's
+  // bilateral stiffness, and the damping ratio of its local mode
+  std::optional<double> stiffness_N_per_mm, stiffness_Nm_per_rad;
+  std::optional<double> damping_ratio;
   SourceRef where;
 };
 
@@ -119,6 +152,7 @@ struct MaterialSpec {
 };
 
 enum class SpringKind { compression, torsion };
+constexpr int kMaxSurgeMasses = 500;
 
 struct SpringSpec {
   std::string name;
@@ -132,7 +166,10 @@ struct SpringSpec {
   double preload_Nmm = 0.0;       // torsion
   // mass-elastic data (flexible model; mass also adds 1/3 to the node in rigid mode)
   std::optional<double> mass_kg;
-  int surge_masses = 0;  // lumped masses for the surge model (0 = massless)
+  int surge_masses = 0;  // lumped masses for the surge model (0 = massless), at most kMaxSurgeMasses
+  std::optional<double> damping_N_s_per_m;       // viscous damping between the spring's ends
+  std::optional<double> coil_damping_ratio;      // coil-to-coil: ratio of the first surge mode
+  std::optional<double> coil_damping_N_s_per_m;  // coil-to-coil: damper between adjacent coil masses
   std::optional<double> installed_length_mm, solid_length_mm;
   std::optional<double> wire_diameter_mm, mean_coil_diameter_mm, active_coils, shear_modulus_GPa;
   SourceRef where;
@@ -181,5 +218,7 @@ const char* to_string(NodeKind kind);
 const char* to_string(ConnectionKind kind);
 const char* to_string(ProfileForm form);
 const char* to_string(SurfaceShape shape);
+const char* to_string(ContactLaw law);
+const char* to_string(ContactDampingLaw law);
 
 }  // namespace camopt
