@@ -1,6 +1,7 @@
 // camopt dynamics: rigid (issue #6) and flexible (issue #7) valvetrain dynamics.
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -23,10 +24,16 @@ namespace camopt::cli {
 namespace {
 
 struct DynamicsOptions {
-  std::string design, model = "rigid", contacts = "rigid", rpm, out_dir, control;
+  std::string design, model = "rigid", contacts = "rigid", rpm, out_dir, control, start = "static";
   double step_deg = 0.0;  // 0: the design's step
   dynamics::FlexibleOptions flexible;
 };
+
+std::string shortest_number(double v) {
+  char buf[32];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, r.ptr);
+}
 
 // json number, or null for +-inf (a separation speed that never happens)
 nlohmann::json finite_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
@@ -519,6 +526,11 @@ void run_flexible_model(const DynamicsOptions& o) {
   add_column("lift_kinematic_" + lift_unit, [](const Res& r, std::size_t i) { return r.lift_kinematic[i]; });
   add_column("lift_" + lift_unit, [](const Res& r, std::size_t i) { return r.lift[i]; });
   add_column("lift_loss_" + lift_unit, [](const Res& r, std::size_t i) { return r.lift_kinematic[i] - r.lift[i]; });
+  // the valve's dynamic velocity and acceleration (mm -> m; an angle output stays in deg)
+  const double si = angle_out ? 1.0 : 1e-3;
+  add_column(angle_out ? "vel_deg_per_s" : "vel_m_per_s", [si](const Res& r, std::size_t i) { return r.velocity[i] * si; });
+  add_column(angle_out ? "acc_deg_per_s2" : "acc_m_per_s2",
+             [si](const Res& r, std::size_t i) { return r.acceleration[i] * si; });
   for (std::size_t c = 0; c < nc; ++c) {
     const auto& conn = mech.connections[c];
     const bool contact = conn.kind == ConnectionKind::contact;
@@ -527,11 +539,15 @@ void run_flexible_model(const DynamicsOptions& o) {
     if (contact && model.contacts[c].friction > 0 && !model.contacts[c].rolling)
       add_column(n + "friction_W", [nc, c](const Res& r, std::size_t i) { return r.friction_power[i * nc + c]; });
   }
-  bool has_seat = false;
-  for (const auto& cd : model.contacts) has_seat = has_seat || cd.held_node > 0;
-  if (has_seat) add_column("seat_force_N", [](const Res& r, std::size_t i) { return r.seat_force[i]; });
-  add_column("cam_torque_Nm", [](const Res& r, std::size_t i) { return r.cam_torque[i] * 1e-3; });
   const Res& first = runs.front().result;
+  const bool has_seat = !first.seat_names.empty();
+  if (has_seat) add_column("seat_force_N", [](const Res& r, std::size_t i) { return r.seat_force[i]; });
+  const std::size_t nseat = first.seat_names.size();
+  if (nseat > 1)
+    for (std::size_t k = 0; k < nseat; ++k)
+      add_column("seat_" + first.seat_names[k] + "_force_N",
+                 [k, nseat](const Res& r, std::size_t i) { return r.seat_forces[i * nseat + k]; });
+  add_column("cam_torque_Nm", [](const Res& r, std::size_t i) { return r.cam_torque[i] * 1e-3; });
   for (std::size_t e = 0; e < first.element_names.size(); ++e) {
     const int node = mech.node_index(first.element_names[e]);
     const bool angle = mech.nodes[node].kind != NodeKind::translational;
@@ -545,6 +561,16 @@ void run_flexible_model(const DynamicsOptions& o) {
                [s, nch](const Res& r, std::size_t i) { return r.coil_force_top[i * nch + s]; });
     add_column("spring_" + first.chain_names[s] + "_seat_N",
                [s, nch](const Res& r, std::size_t i) { return r.coil_force_base[i * nch + s]; });
+    add_column("spring_" + first.chain_names[s] + "_static_N",
+               [s, nch](const Res& r, std::size_t i) { return r.spring_static_load[i * nch + s]; });
+  }
+  if (o.flexible.coil_displacements) {
+    const int masses = first.layout.spring_masses;
+    int k = 0;
+    for (std::size_t s = 0; s < nch; ++s)
+      for (int j = 1; j < first.chain_segments[s]; ++j, ++k)
+        add_column("spring_" + first.chain_names[s] + "_coil" + std::to_string(j) + "_mm",
+                   [k, masses](const Res& r, std::size_t i) { return r.coil_displacement[i * masses + k]; });
   }
 
   // ---- summary.json ----
@@ -557,6 +583,11 @@ void run_flexible_model(const DynamicsOptions& o) {
   summary["relative_tolerance"] = o.flexible.relative_tolerance;
   summary["absolute_tolerance"] = o.flexible.absolute_tolerance;
   summary["run_time_s"] = seconds;
+  summary["start"] = o.flexible.start_at_rest ? "rest" : "static";
+  nlohmann::json parameters = nlohmann::json::array();
+  for (const auto& p : first.parameters)
+    parameters.push_back({{"key", p.key}, {"value", p.value}, {"unit", p.unit}, {"from_design", p.from_design}});
+  summary["model_parameters"] = parameters;
   nlohmann::json results = nlohmann::json::array(), map = nlohmann::json::array();
   for (const Run& run : runs) {
     const Res& r = run.result;
@@ -564,6 +595,10 @@ void run_flexible_model(const DynamicsOptions& o) {
     j["rpm"] = run.rpm;
     j["control_" + su.control_unit] = su.control_values[run.position];
     j.update(flexible_run_summary(mech, model, r));
+    if (!r.periodic && !o.flexible.start_at_rest)
+      info("dynamics (flexible): warning: no periodic steady state at " + shortest_number(run.rpm) + " rpm after " +
+           std::to_string(r.revolutions_integrated) + " revolutions (start-state difference " +
+           shortest_number(r.periodic_difference) + " tolerances); the last revolution is reported: raise --revolutions");
     const bool separates = j["any_contact_separates"].get<bool>();
     map.push_back({{"rpm", run.rpm},
                    {"control_" + su.control_unit, su.control_values[run.position]},
@@ -605,12 +640,19 @@ void setup_dynamics(CLI::App& app) {
   cmd->add_option("--revolutions", opts->flexible.revolutions,
                   "flexible: cam revolutions integrated at most, the last reported; stops earlier at a periodic steady state (default 3)")
       ->check(CLI::Range(1, 1000));
+  cmd->add_option("--start", opts->start, "flexible: static (default: start in the static balance moving with the "
+                                         "kinematic path, report the last revolution) or rest (every body at rest, "
+                                         "the valve on its seat; report every revolution: start-up transients)")
+      ->check(CLI::IsMember({"static", "rest"}));
+  cmd->add_flag("--coil-displacements", opts->flexible.coil_displacements,
+                "flexible: write the displacement of every coil mass of the multi-mass springs [mm]");
   cmd->add_option("--rtol", opts->flexible.relative_tolerance, "flexible: CVODE relative tolerance (default 1e-6)")
       ->check(CLI::Range(1e-14, 1e-1));
   cmd->add_option("--atol", opts->flexible.absolute_tolerance,
                   "flexible: CVODE absolute tolerance on deviations [mm or rad] (default 1e-7)")
       ->check(CLI::Range(1e-16, 1.0));
   cmd->callback([opts] {
+    opts->flexible.start_at_rest = opts->start == "rest";
     if (opts->model == "flexible") {
       run_flexible_model(*opts);
       return;

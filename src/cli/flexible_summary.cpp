@@ -14,8 +14,6 @@ nlohmann::json flexible_run_summary(const kin::Mechanism& mech, const dynamics::
   const std::size_t nc = mech.connections.size(), nch = r.chain_names.size();
   const bool angle_out = mech.nodes[mech.output_node].kind != NodeKind::translational;
   const std::string lift_unit = angle_out ? "deg" : "mm";
-  bool has_seat = false;
-  for (const auto& cd : model.contacts) has_seat = has_seat || cd.held_node > 0;
   nlohmann::json j;
   Extremes kin_lift, dyn_lift, torque, loss;
   double friction = 0.0, bounce_height = 0.0;
@@ -56,18 +54,30 @@ nlohmann::json flexible_run_summary(const kin::Mechanism& mech, const dynamics::
     j["connections"][mech.connections[c].name] = cj;
   }
   j["any_contact_separates"] = separates;
-  int seat_closes = 0;
-  double seating_velocity = 0.0;
-  for (const auto& ev : r.events)
-    if (ev.what.size() > 5 && ev.what.compare(ev.what.size() - 5, 5, " seat") == 0 && !ev.opens) {
-      if (seat_closes == 0) seating_velocity = ev.speed_m_per_s;
-      ++seat_closes;
+  // per seat: the first closing is the seating, every further one a bounce; the bounce height
+  // is the largest lift while the kinematic valve is seated
+  const std::size_t nseat = r.seat_names.size();
+  for (std::size_t k = 0; k < nseat; ++k) {
+    int closes = 0;
+    double seating = 0.0, max_force = 0.0;
+    for (const auto& ev : r.events)
+      if (ev.what == r.seat_names[k] + " seat" && !ev.opens) {
+        if (closes == 0) seating = ev.speed_m_per_s;
+        ++closes;
+      }
+    for (std::size_t i = 0; i < r.cam_deg.size(); ++i) max_force = std::max(max_force, r.seat_forces[i * nseat + k]);
+    nlohmann::json sj = {{"seating_velocity_m_per_s", closes > 0 ? nlohmann::json(seating) : nlohmann::json(nullptr)},
+                         {"bounce_count", std::max(0, closes - 1)},
+                         {"max_force_N", max_force},
+                         {"max_mean_pressure_MPa", max_force / r.seat_area[k]}};
+    if (k == 0) {
+      j["seating_velocity_m_per_s"] = sj["seating_velocity_m_per_s"];
+      j["bounce_count"] = sj["bounce_count"];
+      j["bounce_height_" + lift_unit] = bounce_height;
     }
-  if (has_seat) {
-    j["seating_velocity_m_per_s"] = seat_closes > 0 ? nlohmann::json(seating_velocity) : nlohmann::json(nullptr);
-    j["bounce_count"] = std::max(0, seat_closes - 1);
-    j["bounce_height_" + lift_unit] = bounce_height;
+    j["seats"][r.seat_names[k]] = sj;
   }
+  j["lash_kinks_cam_deg"] = r.kink_deg;
   for (std::size_t s = 0; s < nch; ++s) {
     double surge = 0.0, coil = 0.0;
     for (std::size_t i = 0; i < r.cam_deg.size(); ++i) {
@@ -100,6 +110,11 @@ nlohmann::json flexible_run_summary(const kin::Mechanism& mech, const dynamics::
   j["periodic_steady_state"] = r.periodic;
   if (r.periodic_difference >= 0) j["periodic_difference"] = r.periodic_difference;
   j["train_frequency_Hz"] = r.train_frequency_hz;
+  double min_lift = 0.0, min_at = 0.0;
+  for (std::size_t i = 0; i < r.cam_deg.size(); ++i)
+    if (r.lift[i] < min_lift) min_lift = r.lift[i], min_at = r.cam_deg[i];
+  j["min_lift_" + lift_unit] = min_lift;
+  j["min_lift_at_cam_deg"] = min_at;
   return j;
 }
 

@@ -37,21 +37,24 @@ struct Sundials {
   Sundials() = default;
   Sundials(const Sundials&) = delete;
   Sundials& operator=(const Sundials&) = delete;
-  // CVODE BDF with a dense direct solver on y (filled by the caller, with atol), the
+  // CVODE BDF (with a dense direct solver unless the caller sets its own) on y (filled by the caller, with atol), the
   // callbacks' user data, root functions, a step budget and a maximum step [s]; errors go
   // into the caller's Status. False when any SUNDIALS call fails.
   bool create_bdf(CVRhsFn rhs, CVRootFn roots, int root_count, void* user_data, double relative_tolerance,
-                  long max_steps, double max_step_s) {
+                  long max_steps, double max_step_s, bool dense_solver = true) {
     const sunindextype n = N_VGetLength(y);
     use_fast_ops(y);
     use_fast_ops(atol);
     cvode = CVodeCreate(CV_BDF, ctx);
-    a = SUNDenseMatrix(n, n, ctx);
-    if (a) use_fast_ops(a);
-    ls = SUNLinSol_Dense(y, a, ctx);
-    return cvode && a && ls && CVodeInit(cvode, rhs, 0.0, y) == CV_SUCCESS &&
+    if (dense_solver) {
+      a = SUNDenseMatrix(n, n, ctx);
+      if (a) use_fast_ops(a);
+      ls = SUNLinSol_Dense(y, a, ctx);
+    }
+    return cvode && (!dense_solver || (a && ls)) && CVodeInit(cvode, rhs, 0.0, y) == CV_SUCCESS &&
            CVodeSVtolerances(cvode, relative_tolerance, atol) == CV_SUCCESS &&
-           CVodeSetUserData(cvode, user_data) == CV_SUCCESS && CVodeSetLinearSolver(cvode, ls, a) == CV_SUCCESS &&
+           CVodeSetUserData(cvode, user_data) == CV_SUCCESS &&
+           (!dense_solver || CVodeSetLinearSolver(cvode, ls, a) == CV_SUCCESS) &&
            CVodeSetMaxNumSteps(cvode, max_steps) == CV_SUCCESS && CVodeSetMaxStep(cvode, max_step_s) == CV_SUCCESS &&
            (root_count == 0 || (CVodeRootInit(cvode, root_count, roots) == CV_SUCCESS &&
                                 CVodeSetNoInactiveRootWarn(cvode) == CV_SUCCESS)) &&

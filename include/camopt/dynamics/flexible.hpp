@@ -1,12 +1,11 @@
 #pragma once
-// flexible lumped-parameter valvetrain dynamics (issue #7): component compliance,
-// nonlinear Hertz contacts with lash, damping and regularised Coulomb friction, a compliant
-// valve seat and multi-mass valve springs (surge, coil clash), integrated over several cam
-// revolutions with SUNDIALS CVODE (BDF) and root-finding; the last revolution is reported.
+// flexible lumped-parameter valvetrain dynamics: component compliance, one-sided contacts
+// with lash (Hertz line contact or a linear spring-damper), damping and regularised Coulomb
+// friction, a seat under every valve and multi-mass valve springs (surge, coil clash),
+// integrated over several cam revolutions with SUNDIALS CVODE (BDF) and root-finding.
 //
-// Generic scheme (docs/dynamics.md "Flexible model"): the state is the deviation dq of
-// every free node coordinate from the kinematic path (as in mode (b), compliant.hpp),
-// extended by
+// Generic scheme (docs/dynamics.md "Flexible model"): the state is the deviation dq of every
+// free node coordinate from the kinematic path, extended by
 //  - a far-end coordinate per compliant node (rotational `torsional_stiffness_Nm_per_rad`,
 //    translational `axial_stiffness_N_per_mm`): the body becomes two halves of its
 //    generalized mass joined by a spring-damper. The near end keeps the connections that
@@ -14,9 +13,10 @@
 //    takes every later connection (the driven side), the seat and the gas force;
 //  - the absolute displacements of the internal masses of every compression spring with
 //    `surge_masses` N > 0 (N + 1 equal segments, the spring's load law per segment).
-// Contact c: penetration delta = -(gap_kin + g_c . dq), force
-//     F = max(0, F_hertz(delta; L, E*, R*(theta)) + c_d d(delta)/dt)   (delta > 0)
-// with the line-contact law delta = a (ln(4 R*/a) - 1), a = F / (pi L E*) (hertz.hpp).
+// The kinematic path is smooth between the angles where a lash contact opens or closes; at
+// each of them the deviation's rate jumps by minus the path's, so the bodies' velocities are
+// continuous (the follower starts from rest when the lash closes).
+// Contact c: penetration delta = -(gap_kin + g_c . dq), force F = max(0, law(delta, delta')).
 #include <string>
 #include <vector>
 
@@ -43,14 +43,17 @@ struct FlexibleOptions {
   double spring_damping_ratio = 0.01;    // first surge mode of a multi-mass spring
   double friction_velocity_m_per_s = 0.01;  // regularised Coulomb: mu v / sqrt(v^2 + v0^2)
   double link_stiffness = 1e5;         // links [N/mm], gears [N mm/rad] (bilateral)
-  double seat_length_mm = 90.0;        // valve seat as a line contact: ring length (pi x 29 mm)
-  double seat_radius_mm = 5.0;         //   and reduced radius of its section
   double coil_clash_stiffness = 1e4;   // whole spring once a coil gap closes [N/mm]
   double reference_force = 500.0;      // damping from the tangent stiffness at this load [N]
   double table_step_deg = 0.25;        // kinematic path tabulated on this grid (one revolution)
   long max_steps = 2000000;            // steps plus contact events over the whole run
   bool restart_at_events = true;       // CVodeReInit at every contact / seat / coil event
-  bool analytic_jacobian = true;       // Newton matrix from K and D; false: CVODE's finite differences
+  bool analytic_jacobian = true;       // Newton matrix from K and D; false: CVODE's finite differences (dense)
+  // start from rest: the valve on its seat and every body at rest at the first angle (the
+  // engine starting at speed), and every revolution reported (start-up transients); false:
+  // the static start moving with the kinematic path, the last revolution reported
+  bool start_at_rest = false;
+  bool coil_displacements = false;     // record the displacement of every coil mass
   // periodic steady state: stop before `revolutions` once every state component at a
   // window's start repeats the previous window's within this many integration tolerances
   // (|dy| <= periodic_tolerance (rtol |y| + atol), CVODE's error weight); 0: never. The
@@ -73,15 +76,29 @@ struct FlexibleLayout {
   int size() const { return rows + elements + spring_masses; }
 };
 
+// one model constant as used by a run: its key, value and unit, and whether the design gave it
+struct FlexibleParameter {
+  std::string key;    // e.g. "connection.cam_roller.law", "spring.valve_spring.coil_damping_ratio"
+  std::string value;  // the number written shortest, or a name
+  std::string unit;
+  bool from_design = false;
+};
+
 struct FlexibleResult {
   FlexibleLayout layout;
+  std::vector<FlexibleParameter> parameters;  // every law, stiffness and damping used
   std::vector<double> cam_deg;        // output points (last revolution) [driver deg]
   std::vector<double> lift_kinematic; // output node, kinematic [mm or deg]
   std::vector<double> lift;           // output node far end, dynamic [mm or deg]
+  std::vector<double> velocity;       // its velocity [mm/s or deg/s]
+  std::vector<double> acceleration;   // its acceleration [mm/s^2 or deg/s^2]
   int connections = 0;
   std::vector<double> force;          // [point * connections + c] [N] (gear: N mm)
   std::vector<double> friction_power; // [point * connections + c] [W]
   std::vector<double> seat_force;     // [point] [N] summed over the seats
+  std::vector<std::string> seat_names;     // seated nodes
+  std::vector<double> seat_forces;    // [point * seats + s] [N]
+  std::vector<double> seat_area;      // per seat: face area [mm^2] (mean seat pressure)
   std::vector<double> cam_torque;     // [point] drive torque on the driver [N mm]
   std::vector<std::string> element_names;  // compliant nodes
   std::vector<double> deformation;    // [point * elements + e] far - near [mm or rad]
@@ -89,14 +106,16 @@ struct FlexibleResult {
   std::vector<int> chain_segments;
   std::vector<double> coil_force_top, coil_force_base;  // [point * chains + s] [N]
   std::vector<double> spring_static_load;               // [point * chains + s] load at the node travel [N]
+  std::vector<double> coil_displacement;  // [point * spring_masses + k] absolute [mm] (coil_displacements)
   std::vector<double> state;          // [point * size + i] extended coordinates
   std::vector<double> initial_state;  // [2 * size]: coordinates then rates at t = 0
   // energy bookkeeping from t = 0 (quadratures), at the output points [N mm]
   std::vector<double> drive_work, gas_work, viscous_loss, friction_loss, energy;
-  std::vector<FlexibleEvent> events;  // in the reported revolution
+  std::vector<FlexibleEvent> events;  // in the reported revolution (cam_deg within it)
   std::vector<double> contact_damping;  // per connection [N s/mm] (contacts: at reference_force)
   double train_frequency_hz = 0.0;      // first mode at peak lift, the component damping's reference
   double start_time_s = 0.0;          // time of the reported revolution's first point
+  std::vector<double> kink_deg;       // where a lash contact opens or closes on the kinematic path [deg]
   long steps = 0, rhs_evaluations = 0;  // rhs includes the finite-difference Jacobian's
   long jacobian_evaluations = 0;
   int revolutions_integrated = 0;     // windows integrated (periodic: the last one is not recorded)
@@ -120,6 +139,24 @@ Status run_flexible(const kin::Mechanism& mech, const Model& model, const std::v
 Status flexible_modes(const kin::Mechanism& mech, const Model& model, const std::vector<double>& controls,
                       double cam_deg, const FlexibleOptions& options, bool release_driver_contacts,
                       std::vector<double>& frequencies_hz);
+
+// the modes with their shapes and names: coordinates named "<node>" (a rigid node, or the near
+// end of a compliant one), "<node>.far", "<spring>.coil<j>" (j = 1 bottom .. N top)
+struct FlexibleModes {
+  std::vector<std::string> coordinates;
+  std::vector<std::string> units;        // "mm" or "rad"
+  std::vector<double> frequencies_hz;    // ascending
+  std::vector<double> shapes;            // [mode * coordinates + i], mass-normalised, largest entry positive
+  std::vector<double> static_state;      // the static equilibrium the modes are about
+};
+Status flexible_modes(const kin::Mechanism& mech, const Model& model, const std::vector<double>& controls,
+                      double cam_deg, const FlexibleOptions& options, bool release_driver_contacts,
+                      FlexibleModes& out);
+
+// every law, stiffness and damping the flexible model would use for this design (validate,
+// summaries); throws InputError for bad data
+std::vector<FlexibleParameter> flexible_parameters(const kin::Mechanism& mech, const Model& model,
+                                                   const std::vector<double>& controls, const FlexibleOptions& options);
 
 // the model at one cam angle, engine speed and state: generalized forces f(q, dq/dt) on the
 // extended rows and the Newton matrices K = -df/dq, D = -df/d(dq/dt) that CVODE's Newton

@@ -1,0 +1,520 @@
+// the flexible model's build: extended coordinates, force laws, seats, damping and the static
+// start (flexible_system.hpp)
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <numbers>
+
+#include "camopt/dynamics/hertz.hpp"
+#include "camopt/dynamics/rigid.hpp"
+#include "cvode_support.hpp"
+#include "flexible_system.hpp"
+
+namespace camopt::dynamics::detail {
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kMilli = 1e-3;           // kg mm/s^2 -> N; N s/m -> N s/mm
+constexpr double kSeatReach = 0.01;       // [mm] a seated valve's kinematic rest within this of its seat
+constexpr double kSteelE = 210e3, kSteelNu = 0.3;  // [N/mm^2], [-] a seat insert without a material
+
+const NodeSpec& node_spec(const DesignSpec& spec, const std::string& name) {
+  for (const NodeSpec& ns : spec.nodes)
+    if (ns.name == name) return ns;
+  CAMOPT_ASSERT(false);
+  return spec.nodes.front();
+}
+
+// the connections that solve a node in the kinematic plan (its drive side)
+std::vector<int> drive_side(const kin::Mechanism& mech, int node) {
+  const int v = mech.nodes[node].first_variable;
+  for (const kin::SolveStep& step : mech.plan)
+    if (std::find(step.unknowns.begin(), step.unknowns.end(), v) != step.unknowns.end()) {
+      std::vector<int> out;
+      for (int c : step.connections)
+        if (mech.connections[c].node_a == node || mech.connections[c].node_b == node) out.push_back(c);
+      return out;
+    }
+  return {};
+}
+
+// a contact or seat law from its design keys; hertz needs length and e_star set by the caller
+ForceLaw make_law(const ContactLawSpec& spec, const FlexibleOptions& opt, const std::string& who, const SourceRef& where) {
+  ForceLaw law;
+  law.law = spec.law;
+  law.damping_law = spec.damping_law;
+  law.scale = opt.contact_stiffness_scale;
+  const double alpha_default = hunt_crossley_alpha(spec.restitution.value_or(opt.contact_restitution),
+                                                   opt.restitution_speed_m_per_s * 1e3);
+  const std::optional<double> c = spec.damping_N_s_per_m ? std::optional<double>(*spec.damping_N_s_per_m * kMilli)
+                                                         : std::nullopt;  // [N s/mm]
+  if (spec.law == ContactLaw::linear) {
+    if (!spec.stiffness_N_per_mm)
+      throw InputError(where, who + ": law = \"linear\" needs stiffness_N_per_mm");
+    law.k = *spec.stiffness_N_per_mm;
+    law.c = c.value_or(0.0);
+    return law;
+  }
+  // hertz: a design damping c is matched at the reference load (dF/d rate = 1.5 alpha F)
+  law.alpha = c ? *c / (1.5 * opt.reference_force) : alpha_default;
+  law.c = c ? *c : 1.5 * alpha_default * opt.reference_force;
+  return law;
+}
+
+// E* of a seat: the valve's material (its side of a contact) against the insert's
+const MaterialSpec* find_material(const DesignSpec& spec, const std::string& name) {
+  for (const MaterialSpec& m : spec.materials)
+    if (m.name == name) return &m;
+  return nullptr;
+}
+double seat_modulus(const DesignSpec& spec, const std::string& node, const SeatSpec& seat) {
+  const MaterialSpec* valve = nullptr;
+  for (const ConnectionSpec& c : spec.connections) {
+    if (c.kind != ConnectionKind::contact) continue;
+    if (c.surface_a.node == node && !c.material_a.empty()) valve = find_material(spec, c.material_a);
+    if (c.surface_b.node == node && !c.material_b.empty()) valve = find_material(spec, c.material_b);
+    if (valve) break;
+  }
+  const MaterialSpec* insert = seat.material.empty() ? valve : find_material(spec, seat.material);
+  const double ev = valve ? valve->youngs_modulus_GPa * 1e3 : kSteelE, nv = valve ? valve->poisson_ratio : kSteelNu;
+  const double ei = insert ? insert->youngs_modulus_GPa * 1e3 : kSteelE, ni = insert ? insert->poisson_ratio : kSteelNu;
+  return contact_modulus(ev, nv, ei, ni);
+}
+
+void add_elements(System& s, const Model& model) {
+  const kin::Mechanism& mech = s.mech;
+  int next = s.R;
+  for (const NodeSpec& ns : mech.spec.nodes) {
+    const std::optional<double> stiffness =
+        ns.torsional_stiffness_Nm_per_rad ? std::optional<double>(*ns.torsional_stiffness_Nm_per_rad * 1e3)
+                                          : ns.axial_stiffness_N_per_mm;
+    if (!stiffness) continue;
+    const int n = mech.node_index(ns.name);
+    const kin::Node& node = mech.nodes[n];
+    if (node.kind == NodeKind::floating)
+      throw InputError(ns.where, "node '" + ns.name +
+                                     "': torsional_stiffness_Nm_per_rad on a floating node is not supported by the "
+                                     "flexible model (split it into two nodes joined by a connection)");
+    if (n == mech.driver_node || node.control >= 0) continue;  // a prescribed motion does not deform the train
+    Element e;
+    e.node = n;
+    e.near = model.row_of_variable[node.first_variable];
+    e.far = next++;
+    e.k = *stiffness;
+    e.zeta = ns.damping_ratio.value_or(s.opt.component_damping_ratio);
+    if (ns.damping_N_s_per_m) e.c = *ns.damping_N_s_per_m * kMilli, e.damping_given = true;
+    if (ns.damping_Nm_s_per_rad) e.c = *ns.damping_Nm_s_per_rad * 1e3, e.damping_given = true;
+    s.far_of_row[e.near] = e.far;
+    s.elements.push_back(e);
+  }
+  s.E = static_cast<int>(s.elements.size());
+}
+
+// every compression spring becomes a chain; its end mass goes to the node
+void add_chains(System& s, const Model& model) {
+  const kin::Mechanism& mech = s.mech;
+  std::vector<Spring> kept;
+  int next = s.R + s.E;
+  for (std::size_t i = 0; i < model.springs.size(); ++i) {
+    const Spring& sp = model.springs[i];
+    const SpringSpec& ss = mech.spec.springs[i];
+    if (sp.kind != SpringKind::compression || mech.nodes[sp.node].control >= 0) {
+      kept.push_back(sp);
+      continue;
+    }
+    Chain ch;
+    ch.name = sp.name;
+    ch.law = sp;
+    ch.node = sp.node;
+    ch.row = model.row_of_variable[mech.nodes[sp.node].first_variable];
+    ch.masses = ss.surge_masses;
+    ch.spring_damping = ss.damping_N_s_per_m.value_or(0.0) * kMilli;
+    const double spring_mass = ss.mass_kg.value_or(0.0);
+    if (ch.masses > 0) {
+      // internal masses m/(N+1), half a segment's mass at each end; the rigid model had m/3
+      s.flex.bodies[sp.node].mass += spring_mass / (2.0 * (ch.masses + 1)) - spring_mass / 3.0;
+      ch.mass = kMilli * spring_mass / (ch.masses + 1);
+      ch.first = next;
+      next += ch.masses;
+      ch.band = static_cast<int>(std::count_if(s.chains.begin(), s.chains.end(), [](const Chain& c) { return c.masses > 0; }));
+      // coil-to-coil: a damper between adjacent coil masses, or stiffness-proportional damping
+      // giving the first surge mode (fixed-fixed, w1 = pi sqrt(k/m)) the ratio: c = 2 zeta k / w1
+      if (ss.coil_damping_N_s_per_m) {
+        ch.coil_damping = *ss.coil_damping_N_s_per_m * kMilli / (ch.masses + 1.0);
+      } else {
+        const double rate = sp.stiffness(0.0);
+        const double w1 = kPi * std::sqrt(rate / (kMilli * spring_mass));
+        ch.coil_damping = 2.0 * ss.coil_damping_ratio.value_or(s.opt.spring_damping_ratio) * rate / w1;
+      }
+    }
+    ch.segment_damping = ch.spring_damping + ch.coil_damping;
+    if (ss.installed_length_mm && ss.solid_length_mm) ch.solid_travel = *ss.installed_length_mm - *ss.solid_length_mm;
+    ch.table_index = static_cast<int>(s.chains.size());
+    s.chains.push_back(ch);
+  }
+  s.flex.springs = kept;
+  s.N = next;
+}
+
+// the output node (a translational valve) and every node with a seat table
+void add_seats(System& s) {
+  const kin::Mechanism& mech = s.mech;
+  const DesignSpec& spec = mech.spec;
+  for (int n = 0; n < static_cast<int>(mech.nodes.size()); ++n) {
+    const kin::Node& node = mech.nodes[n];
+    if (node.kind != NodeKind::translational || n == mech.driver_node) continue;
+    const NodeSpec& ns = node_spec(spec, node.name);
+    const bool output = n == mech.output_node;
+    if (!ns.seat.enabled || (!output && !ns.seat.given)) continue;
+    const int r = node.control >= 0 ? -1 : s.flex.row_of_variable[node.first_variable];
+    if (r < 0) {
+      if (ns.seat.given) throw InputError(ns.seat.where, "node '" + node.name + "': seat: a node set by a control has no seat");
+      continue;
+    }
+    Seat st;
+    st.node = n;
+    st.near = r;
+    st.row = s.far_of_row[r] >= 0 ? s.far_of_row[r] : r;
+    st.table_index = static_cast<int>(s.seats.size());
+    const SeatSpec& sp = ns.seat;
+    st.law = make_law(sp.law, s.opt, "node '" + node.name + "': seat", sp.where.line ? sp.where : ns.where);
+    if (sp.law.law == ContactLaw::hertz) {
+      st.law.length = kPi * sp.diameter_mm;
+      st.law.e_star = seat_modulus(spec, node.name, sp);
+      st.cos_angle = std::cos(sp.angle_deg * kPi / 180.0);
+      st.radius = sp.crown_radius_mm;
+    }
+    st.area = kPi * sp.diameter_mm * sp.width_mm;
+    s.seats.push_back(st);
+  }
+}
+
+void set_contact_laws(System& s) {
+  const kin::Mechanism& mech = s.mech;
+  s.laws.assign(s.C, ForceLaw{});
+  s.link_k.assign(s.C, 0.0);
+  s.link_c.assign(s.C, 0.0);
+  for (int c = 0; c < s.C; ++c) {
+    const ConnectionSpec* cs = nullptr;
+    for (const ConnectionSpec& x : mech.spec.connections)
+      if (x.name == mech.connections[c].name) cs = &x;
+    CAMOPT_ASSERT(cs != nullptr);
+    const ContactData& cd = s.flex.contacts[c];
+    if (!cd.is_contact) {
+      const bool angular = cs->kind == ConnectionKind::gear || cs->kind == ConnectionKind::variable_gear;
+      s.link_k[c] = angular ? cs->stiffness_Nm_per_rad.value_or(s.opt.link_stiffness * 1e-3) * 1e3
+                            : cs->stiffness_N_per_mm.value_or(s.opt.link_stiffness);
+      continue;
+    }
+    const std::string who = "connection '" + mech.connections[c].name + "'";
+    if (cs->contact_law.law == ContactLaw::hertz && !cd.has_hertz)
+      throw InputError(cs->where, who + ": the flexible model's hertz law needs materials and width_mm "
+                                        "(or law = \"linear\" with stiffness_N_per_mm)");
+    s.laws[c] = make_law(cs->contact_law, s.opt, who, cs->where);
+    s.laws[c].length = cd.width;
+    s.laws[c].e_star = cd.e_star;
+    if (cd.held_node > 0) s.lash.push_back(c);
+  }
+}
+
+// the seats' opening direction from the path and their reach: a valve opens one way from its seat
+void check_seats(System& s) {
+  for (Seat& st : s.seats) {
+    double lo = 0.0, hi = 0.0, at_lo = 0.0;
+    for (std::size_t i = 0; i < s.row_angle.size(); ++i) {
+      const double d = s.table[i * s.L.size + s.L.seat + st.table_index];
+      if (d < lo) lo = d, at_lo = s.row_angle[i];
+      hi = std::max(hi, d);
+    }
+    double low = lo;
+    st.sign = 1.0;
+    if (-lo > hi) st.sign = -1.0, low = -hi;
+    double rest = 1e300, at_rest = 0.0;  // closest approach to the seat
+    for (std::size_t i = 0; i < s.row_angle.size(); ++i) {
+      const double d = st.sign * s.table[i * s.L.size + s.L.seat + st.table_index];
+      if (d < rest) rest = d, at_rest = s.row_angle[i];
+    }
+    const std::string name = s.mech.nodes[st.node].name;
+    const NodeSpec& ns = node_spec(s.mech.spec, name);
+    const SourceRef& where = ns.seat.given ? ns.seat.where : ns.where;
+    if (rest > kSeatReach)
+      throw InputError(where, "node '" + name + "': seat: the valve never reaches its seat (closest " +
+                                  format_number(rest) + " mm at cam " + format_number(at_rest * 180.0 / kPi) +
+                                  " deg; it must return within " + format_number(kSeatReach) +
+                                  " mm of its rest displacement)");
+    if (low < -kSeatReach)
+      throw InputError(where, "node '" + name + "': seat: the kinematic motion passes " + format_number(-low) +
+                                  " mm through the seat at cam " + format_number(at_lo * 180.0 / kPi) +
+                                  " deg (at most " + format_number(kSeatReach) + " mm)");
+  }
+}
+
+// first natural frequency [rad/s] of the train at the output's kinematic peak: every contact
+// closed at its tangent stiffness under reference_force, links stiff, the springs lumped on
+// their nodes (surge masses left out), seats open. 0 when none is positive.
+double train_frequency(System& s) {
+  std::size_t peak = 0;
+  for (std::size_t i = 1; i < s.row_angle.size(); ++i)
+    if (std::abs(s.table[i * s.L.size + s.L.out]) > std::abs(s.table[peak * s.L.size + s.L.out])) peak = i;
+  for (int k = 0; k < static_cast<int>(s.pieces.size()); ++k)
+    if (static_cast<int>(peak) >= s.pieces[k].first && static_cast<int>(peak) < s.pieces[k].first + s.pieces[k].count)
+      s.active_piece = k;
+  s.evaluated_theta = std::nan("");
+  s.evaluate_angle(s.row_angle[peak]);
+  const int n = s.core();
+  Eigen::MatrixXd k = Eigen::MatrixXd::Zero(n, n);
+  for (int r = 0; r < s.R; ++r) k(r, r) += s.path[s.L.spring_k + r];
+  for (const Element& e : s.elements) {
+    k(e.near, e.near) += e.k;
+    k(e.far, e.far) += e.k;
+    k(e.near, e.far) -= e.k;
+    k(e.far, e.near) -= e.k;
+  }
+  for (int c = 0; c < s.C; ++c) {
+    const ContactData& cd = s.flex.contacts[c];
+    const ForceLaw& law = s.laws[c];
+    const double kc = !cd.is_contact              ? s.link_k[c]
+                      : law.law == ContactLaw::linear ? law.k
+                                                      : law.scale * line_contact_tangent_stiffness(
+                                                                        s.opt.reference_force, law.length, law.e_star,
+                                                                        s.reduced_radius(c));
+    for (int i = 0; i < s.R; ++i)
+      for (int j = 0; j < s.R; ++j) k(s.row_map[c][i], s.row_map[c][j]) += kc * s.gn(i, c) * s.gn(j, c);
+  }
+  for (const Chain& ch : s.chains) k(ch.row, ch.row) += ch.law.stiffness(s.path[s.L.xs + ch.table_index]);
+  s.mass_matrix(s.m);
+  const Eigen::MatrixXd m = s.m.core;
+  s.evaluated_theta = std::nan("");
+  s.active_piece = 0;
+  Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(0.5 * (k + k.transpose()), m);
+  if (eig.info() != Eigen::Success || !(eig.eigenvalues().minCoeff() > 0.0)) return 0.0;
+  return std::sqrt(eig.eigenvalues().minCoeff());
+}
+
+// damping of links (a ratio of their local mode) and components (Rayleigh on the train's
+// first mode: c = 2 zeta k / w1 gives it the ratio zeta; Clough & Penzien, Dynamics of
+// Structures, 2nd ed., sec. 12-5)
+void set_damping(System& s, const std::vector<double>& link_ratio) {
+  s.evaluated_theta = std::nan("");
+  s.evaluate(0.0);
+  s.mass_matrix(s.m);
+  const Eigen::MatrixXd m_inv = s.m.core.inverse();
+  for (int c = 0; c < s.C; ++c) {
+    if (s.flex.contacts[c].is_contact) continue;
+    Eigen::VectorXd g = Eigen::VectorXd::Zero(s.core());
+    for (int r = 0; r < s.R; ++r) g(s.row_map[c][r]) += s.gn(r, c);
+    const double inv_mass = g.dot(m_inv * g);
+    const double m_c = inv_mass > 0 ? 1.0 / inv_mass : 0.0;
+    s.link_c[c] = 2.0 * link_ratio[c] * std::sqrt(s.link_k[c] * m_c);
+  }
+  const double w1 = train_frequency(s);
+  s.train_frequency_hz = w1 / (2.0 * kPi);
+  s.evaluated_theta = std::nan("");
+  s.evaluate(0.0);
+  s.mass_matrix(s.m);
+  for (Element& e : s.elements) {
+    if (e.damping_given) continue;
+    // without a train mode: the ratio of the two halves' own mode (reduced mass M/4)
+    e.c = w1 > 0.0 ? 2.0 * e.zeta * e.k / w1 : 2.0 * e.zeta * std::sqrt(e.k * 0.5 * s.m.core(e.near, e.near));
+  }
+}
+
+}  // namespace
+
+Status build_system(System& s, const Model& model, const std::vector<double>& controls, double theta_first) {
+  const kin::Mechanism& mech = s.mech;
+  s.flex = model;
+  s.R = static_cast<int>(model.free_variables.size());
+  s.C = static_cast<int>(mech.connections.size());
+  CAMOPT_ASSERT(s.R == s.C);
+  s.far_of_row.assign(s.R, -1);
+  add_elements(s, model);
+  add_chains(s, model);
+  add_seats(s);
+  set_contact_laws(s);
+  std::vector<double> link_ratio(s.C, s.opt.contact_damping_ratio);
+  for (int c = 0; c < s.C; ++c)
+    for (const ConnectionSpec& cs : mech.spec.connections)
+      if (cs.name == mech.connections[c].name && cs.damping_ratio) link_ratio[c] = *cs.damping_ratio;
+  // connection row maps: the far end takes the connections not on a node's drive side
+  s.row_map.assign(s.C, std::vector<int>(s.R));
+  for (int c = 0; c < s.C; ++c)
+    for (int r = 0; r < s.R; ++r) s.row_map[c][r] = r;
+  for (const Element& e : s.elements) {
+    const std::vector<int> drive = drive_side(mech, e.node);
+    for (int c = 0; c < s.C; ++c) {
+      const auto& conn = mech.connections[c];
+      if ((conn.node_a == e.node || conn.node_b == e.node) && std::find(drive.begin(), drive.end(), c) == drive.end())
+        s.row_map[c][e.near] = e.far;
+    }
+  }
+  s.L = Layout(s.R, s.C, static_cast<int>(s.chains.size()), static_cast<int>(s.seats.size()));
+  const Status st = tabulate_path(s, controls, theta_first);
+  if (!st.ok()) return st;
+  check_seats(s);
+  // working storage
+  s.theta0 = theta_first;
+  s.frozen.assign(s.C, 0);
+  s.frozen_force.assign(s.C, 0.0);
+  s.hertz_start.assign(s.C, 0.0);
+  s.fr.connection.assign(s.C, 0.0);
+  s.fr.mu_eff.assign(s.C, 0.0);
+  s.fr.friction_power.assign(s.C, 0.0);
+  s.fr.seat.assign(s.seats.size(), 0.0);
+  s.fr.coil_top.assign(s.chains.size(), 0.0);
+  s.fr.coil_base.assign(s.chains.size(), 0.0);
+  s.fr.static_load.assign(s.chains.size(), 0.0);
+  for (Structured* a : {&s.m, &s.jk, &s.jd}) a->resize(s.core(), s.chains);
+  s.mass_lu.a.resize(s.core(), s.chains);
+  set_damping(s, link_ratio);
+  // roots
+  for (int c = 0; c < s.C; ++c)
+    if (s.flex.contacts[c].is_contact) s.root_list.push_back({0, c, 0});
+  for (int i = 0; i < static_cast<int>(s.seats.size()); ++i) s.root_list.push_back({1, i, 0});
+  for (std::size_t i = 0; i < s.chains.size(); ++i)
+    if (s.chains[i].solid_travel >= 0)
+      for (int j = 1; j <= s.chains[i].masses + 1; ++j) s.root_list.push_back({2, static_cast<int>(i), j});
+  // output
+  const kin::Node& on = mech.nodes[mech.output_node];
+  s.output_angle = on.kind != NodeKind::translational;
+  if (on.first_variable >= 0 && s.flex.row_of_variable[on.first_variable] >= 0) {
+    const int r = s.flex.row_of_variable[on.first_variable];
+    s.output_row = s.far_of_row[r] >= 0 ? s.far_of_row[r] : r;
+  }
+  s.acc.setZero(s.N);
+  s.evaluated_theta = std::nan("");
+  s.factored_theta = std::nan("");
+  return Status::success();
+}
+
+namespace {
+
+// the approach of a seat under an axial load [mm]
+double seat_approach(const Seat& st, double load) {
+  if (!(load > 0.0)) return 0.0;
+  if (st.law.law == ContactLaw::linear) return load / st.law.k;
+  const double normal = load / st.cos_angle;
+  return line_contact_approach(normal / st.law.scale, st.law.length, st.law.e_star, st.radius) / st.cos_angle;
+}
+double contact_approach(const System& s, int c, double load) {
+  if (!(load > 0.0)) return 0.0;
+  const ForceLaw& law = s.laws[c];
+  if (law.law == ContactLaw::linear) return load / law.k;
+  return line_contact_approach(load / law.scale, law.length, law.e_star, s.reduced_radius(c));
+}
+
+// every connection carries its mode (a) force: contacts at the approach of that force, a
+// contact open behind its lash puts its held node on its seat at the mode (a) seat reaction
+Eigen::VectorXd initial_deviation(System& s, const Eigen::VectorXd& lambda0, const Eigen::VectorXd& seat0,
+                                  const std::vector<char>& open0) {
+  s.evaluate(0.0);
+  const int nc = s.core();
+  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(nc, nc);
+  Eigen::VectorXd b = Eigen::VectorXd::Zero(nc);
+  const double w2 = s.omega * s.omega;
+  std::vector<int> seat_of_contact(s.C, -1);
+  int eq = 0;
+  for (int c = 0; c < s.C; ++c, ++eq) {
+    if (open0[c]) {
+      const int held = s.flex.contacts[c].held_node;
+      for (int i = 0; i < static_cast<int>(s.seats.size()); ++i)
+        if (s.seats[i].node == held) seat_of_contact[c] = i;
+      if (seat_of_contact[c] >= 0) {  // on the seat: displacement + x = -sign approach
+        const Seat& st = s.seats[seat_of_contact[c]];
+        a(eq, st.row) = 1.0;
+        b(eq) = -st.sign * seat_approach(st, std::abs(seat0(c))) - s.path[s.L.seat + st.table_index];
+      } else {  // held at its kinematic rest
+        a(eq, s.flex.row_of_variable[s.mech.nodes[held].first_variable]) = 1.0;
+      }
+      continue;
+    }
+    for (int r = 0; r < s.R; ++r) a(eq, s.row_map[c][r]) += s.gn(r, c);
+    if (s.flex.contacts[c].is_contact) b(eq) = -s.path[s.L.gap + c] - contact_approach(s, c, lambda0(c));
+    else b(eq) = -lambda0(c) / s.link_k[c];
+  }
+  for (const Element& e : s.elements) {
+    // far-end balance: the element carries half the inertia, the gas and the far connections
+    double load = -0.5 * s.path[s.L.inertia + e.near] * w2 - s.path[s.L.gas + e.near];
+    for (int c = 0; c < s.C; ++c) {
+      if (open0[c]) {
+        if (seat_of_contact[c] >= 0 && s.seats[seat_of_contact[c]].row == e.far)
+          load += s.seats[seat_of_contact[c]].sign * std::abs(seat0(c));
+        continue;
+      }
+      if (s.row_map[c][e.near] == e.far) load += lambda0(c) * s.gn(e.near, c);
+    }
+    a(eq, e.far) = e.k;  // k (x_far - x_near) = load
+    a(eq, e.near) = -e.k;
+    b(eq) = load;
+    ++eq;
+  }
+  CAMOPT_ASSERT(eq == nc);
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(s.N);
+  x.head(nc) = a.partialPivLu().solve(b);
+  for (const Chain& ch : s.chains)  // a uniform compression
+    for (int j = 1; j <= ch.masses; ++j)
+      x(ch.first + j - 1) = j / (ch.masses + 1.0) * (s.path[s.L.xs + ch.table_index] + x(ch.row));
+  return x;
+}
+
+}  // namespace
+
+double polish_static(System& s, Eigen::VectorXd& x, const Eigen::VectorXd& v, int iterations) {
+  s.forces(x.data(), v.data());
+  double residual = s.fr.f.norm();
+  StructuredLU lu;
+  lu.a.resize(s.core(), s.chains);
+  Eigen::VectorXd dx(s.N), trial(s.N);
+  for (int it = 0; it < iterations && residual > 0.0; ++it) {
+    s.newton_matrices(x.data(), v.data(), s.jk, s.jd, true);
+    lu.a.copy_from(s.jk);
+    if (!lu.factor(s.chains)) break;
+    dx = s.fr.f;
+    lu.solve(dx.data());
+    if (!dx.allFinite()) break;
+    // backtracking on the force residual
+    double step = 1.0, next = residual;
+    for (int half = 0; half < 8; ++half, step *= 0.5) {
+      trial = x + step * dx;
+      s.forces(trial.data(), v.data());
+      next = s.fr.f.norm();
+      if (next < residual) break;
+    }
+    if (!(next < residual)) break;
+    x = trial;
+    residual = next;
+  }
+  s.forces(x.data(), v.data());
+  return s.fr.f.norm();
+}
+
+Status static_start(System& s, const Model& model, const std::vector<double>& controls, double theta,
+                    Eigen::VectorXd& x0, Eigen::VectorXd& v0) {
+  {
+    const Status st = build_system(s, model, controls, theta);
+    if (!st.ok()) return st;
+  }
+  // mode (a) of the full model at the first angle
+  RigidWorkspace ws0(s.mech, model);
+  ws0.kin.set_controls(controls);
+  const Status st0 = solve_rigid(s.mech, model, ws0, theta);
+  if (!st0.ok()) return st0;
+  const double w2 = s.omega * s.omega;
+  Eigen::VectorXd lambda0 = Eigen::VectorXd::Zero(s.C), seat0 = Eigen::VectorXd::Zero(s.C);
+  std::vector<char> open0(s.C, 0);
+  for (int c = 0; c < s.C; ++c) {
+    lambda0(c) = ws0.force(c, 0) * w2;
+    seat0(c) = ws0.seat(c, 0) * w2;
+    for (int j = 1; j < ws0.cases(); ++j) lambda0(c) += ws0.force(c, j), seat0(c) += ws0.seat(c, j);
+    open0[c] = s.flex.contacts[c].is_contact && ws0.kin.contacts[c].open;
+  }
+  x0 = initial_deviation(s, lambda0, seat0, open0);
+  v0 = Eigen::VectorXd::Zero(s.N);
+  for (const Chain& ch : s.chains)
+    for (int j = 1; j <= ch.masses; ++j)
+      v0(ch.first + j - 1) = j / (ch.masses + 1.0) * s.path[s.L.xs1 + ch.table_index] * s.omega;
+  polish_static(s, x0, v0, 30);
+  return Status::success();
+}
+
+}  // namespace camopt::dynamics::detail

@@ -1,0 +1,313 @@
+// the flexible model's forces, Newton matrices, mass and energy (flexible_system.hpp)
+#include <algorithm>
+
+#include "camopt/dynamics/hertz.hpp"
+#include "flexible_system.hpp"
+
+namespace camopt::dynamics::detail {
+
+ForceLaw::Value ForceLaw::evaluate(double pen, double rate, double radius, double& start) const {
+  Value v;
+  if (!(pen > 0.0)) return v;
+  if (law == ContactLaw::linear) {
+    // one-sided spring-damper: F = max(0, k d + c d')
+    v.elastic = k * pen;
+    v.elastic_tangent = k;
+    const double f = k * pen + c * rate;
+    if (f > 0.0) v.force = f, v.d_pen = k, v.d_rate = c;
+    return v;
+  }
+  v.elastic = scale * line_contact_force(pen, length, e_star, radius, start);
+  v.elastic_tangent = scale * line_contact_tangent_stiffness(v.elastic / scale, length, e_star, radius);
+  if (damping_law == ContactDampingLaw::hunt_crossley) {
+    // F = max(0, F_e (1 + 3/2 alpha d')) (Hunt & Crossley 1975)
+    const double f = v.elastic * (1.0 + 1.5 * alpha * rate);
+    if (f > 0.0) v.force = f, v.d_pen = v.elastic_tangent * (1.0 + 1.5 * alpha * rate), v.d_rate = 1.5 * alpha * v.elastic;
+  } else {
+    // F = max(0, F_e + c d')
+    const double f = v.elastic + c * rate;
+    if (f > 0.0) v.force = f, v.d_pen = v.elastic_tangent, v.d_rate = c;
+  }
+  return v;
+}
+
+double ForceLaw::energy(double pen, double radius, double& start) const {
+  if (!(pen > 0.0)) return 0.0;
+  if (law == ContactLaw::linear) return 0.5 * k * pen * pen;
+  const double f = line_contact_force(pen, length, e_star, radius, start);
+  return scale * line_contact_energy(f, length, e_star, radius);
+}
+
+double ForceLaw::damping_at(double force) const {
+  if (law == ContactLaw::hertz && damping_law == ContactDampingLaw::hunt_crossley) return 1.5 * alpha * force;
+  return c;
+}
+
+ForceLaw::Value System::seat_force(const Seat& s, double pen, double rate) const {
+  // a conical seat: the normal approach is cos(angle) x the axial one, the axial force cos x the normal one
+  const double ca = s.cos_angle;
+  ForceLaw::Value n = s.law.evaluate(ca * pen, ca * rate, s.radius, s.start);
+  n.force *= ca;
+  n.elastic *= ca;
+  n.d_pen *= ca * ca;
+  n.d_rate *= ca * ca;
+  n.elastic_tangent *= ca * ca;
+  return n;
+}
+
+void System::forces(const double* q, const double* qd) {
+  Eigen::VectorXd& f = fr.f;
+  f.setZero(N);
+  const double w2 = omega * omega;
+  fr.viscous_power = fr.friction_total = fr.gas_power = 0.0;
+  // inertia of the kinematic motion, gas and the springs left in the path
+  for (int r = 0; r < R; ++r) {
+    const int far = far_of_row[r];
+    const double inertia = path[L.inertia + r] * w2, gas = path[L.gas + r];
+    const double applied = path[L.other + r] + path[L.spring_k + r] * q[r];
+    if (far < 0) {
+      f(r) = -inertia - gas - applied;
+      fr.gas_power -= gas * (kinematic_rate(r) + qd[r]);
+    } else {
+      f(r) = -0.5 * inertia - applied;
+      f(far) = -0.5 * inertia - gas;
+      fr.gas_power -= gas * (kinematic_rate(far) + qd[far]);
+    }
+  }
+  for (const Element& e : elements) {
+    const double rate = qd[e.far] - qd[e.near];
+    const double fe = e.k * (q[e.far] - q[e.near]) + e.c * rate;
+    f(e.near) += fe;
+    f(e.far) -= fe;
+    fr.viscous_power += e.c * rate * rate;
+  }
+  fr.torque = path[L.load_drv];
+  for (int c = 0; c < C; ++c) {
+    double fc = 0.0, mu = 0.0;
+    const ContactData& cd = flex.contacts[c];
+    if (frozen[c]) {
+      fc = frozen_force[c];
+    } else if (cd.is_contact) {
+      const double pen = penetration(c, q);
+      if (pen > 0.0) {
+        const double rate = penetration_rate(c, qd);
+        const ForceLaw::Value v = laws[c].evaluate(pen, rate, reduced_radius(c), hertz_start[c]);
+        fc = v.force;
+        fr.viscous_power += (fc - v.elastic) * rate;
+      }
+    } else {
+      const double rate = normal_dot(c, qd);
+      fc = -link_k[c] * normal_dot(c, q) - link_c[c] * rate;
+      fr.viscous_power += link_c[c] * rate * rate;
+    }
+    fr.friction_power[c] = 0.0;
+    if (cd.is_contact && fc > 0.0 && cd.friction > 0.0 && !cd.rolling) {
+      // sliding of a over b [mm/s]: kinematic plus the deviation's (g_t . dq' = -(v_a - v_b).t)
+      double sliding = path[L.slide + c] * omega;
+      for (int r = 0; r < R; ++r) sliding -= gt(r, c) * qd[row_map[c][r]];
+      const double v0 = opt.friction_velocity_m_per_s * 1e3;
+      mu = cd.friction * sliding / std::sqrt(sliding * sliding + v0 * v0);
+      fr.friction_power[c] = mu * fc * sliding;
+      fr.friction_total += fr.friction_power[c];
+    }
+    fr.connection[c] = fc;
+    fr.mu_eff[c] = mu;
+    if (fc != 0.0) {
+      for (int r = 0; r < R; ++r) f(row_map[c][r]) += fc * (gn(r, c) + mu * gt(r, c));
+      fr.torque -= fc * (path[L.gn_drv + c] + mu * path[L.gt_drv + c]);
+    }
+  }
+  for (std::size_t i = 0; i < seats.size(); ++i) {
+    const Seat& st = seats[i];
+    fr.seat[i] = 0.0;
+    const double pen = seat_penetration(st, q);
+    if (pen > 0.0) {
+      const double rate = seat_rate(st, qd);
+      const ForceLaw::Value v = seat_force(st, pen, rate);
+      fr.viscous_power += (v.force - v.elastic) * rate;
+      f(st.row) += st.sign * v.force;
+      fr.seat[i] = v.force;
+    }
+  }
+  fr.drive_power = fr.torque * omega;
+  for (std::size_t s = 0; s < chains.size(); ++s) {
+    const Chain& ch = chains[s];
+    const double n1 = ch.masses + 1.0;
+    for (int j = 1; j <= ch.masses + 1; ++j) {
+      const double d = n1 * (chain_u(ch, j, q) - chain_u(ch, j - 1, q));  // whole-spring travel
+      const double dd = n1 * (chain_ud(ch, j, qd) - chain_ud(ch, j - 1, qd));
+      double fs = ch.law.load(d) + ch.segment_damping * dd;
+      fr.viscous_power += ch.segment_damping * dd * dd / n1;
+      if (ch.solid_travel >= 0 && d > ch.solid_travel) fs += opt.coil_clash_stiffness * (d - ch.solid_travel);
+      // segment j pushes u_j down and u_{j-1} up
+      if (j <= ch.masses) f(ch.first + j - 1) -= fs;
+      else f(ch.row) -= fs, fr.coil_top[s] = fs;
+      if (j >= 2) f(ch.first + j - 2) += fs;
+      else fr.coil_base[s] = fs;
+    }
+    fr.static_load[s] = ch.law.load(chain_x(ch, q));
+  }
+}
+
+namespace {
+
+// segment j of a chain (j = 1 .. masses + 1: between u_{j-1} and u_j) with coefficient v
+void add_segment(Structured& a, const Chain& ch, int j, double v) {
+  const bool top = j == ch.masses + 1, bottom = j == 1;
+  if (top) a.core(ch.row, ch.row) += v;
+  if (ch.masses == 0) return;
+  Band& b = a.bands[ch.band];
+  if (top) {
+    b.diag[ch.masses - 1] += v;
+    b.couple -= v;
+    return;
+  }
+  b.diag[j - 1] += v;
+  if (!bottom) {
+    b.diag[j - 2] += v;
+    b.off[j - 2] -= v;
+  }
+}
+
+}  // namespace
+
+void System::newton_matrices(const double* q, const double* qd, Structured& k, Structured& d, bool statics) const {
+  k.set_zero();
+  d.set_zero();
+  for (int r = 0; r < R; ++r) k.core(r, r) += path[L.spring_k + r];
+  auto add_pair = [](Eigen::MatrixXd& a, int i, int j, double v) {
+    a(i, i) += v;
+    a(j, j) += v;
+    a(i, j) -= v;
+    a(j, i) -= v;
+  };
+  for (const Element& e : elements) {
+    add_pair(k.core, e.near, e.far, e.k);
+    add_pair(d.core, e.near, e.far, e.c);
+  }
+  // w g_left g_right^T on the connection's rows (0: g_n, 1: g_t)
+  auto add_outer = [&](Eigen::MatrixXd& a, int c, double w, int left, int right) {
+    if (w == 0.0) return;
+    for (int i = 0; i < R; ++i)
+      for (int j = 0; j < R; ++j)
+        a(row_map[c][i], row_map[c][j]) += w * (left ? gt(i, c) : gn(i, c)) * (right ? gt(j, c) : gn(j, c));
+  };
+  for (int c = 0; c < C; ++c) {
+    if (frozen[c]) continue;
+    const ContactData& cd = flex.contacts[c];
+    if (!cd.is_contact) {
+      add_outer(k.core, c, link_k[c], 0, 0);
+      add_outer(d.core, c, link_c[c], 0, 0);
+      continue;
+    }
+    const double pen = penetration(c, q);
+    if (!(pen > 0.0)) continue;
+    const double rate = statics ? 0.0 : penetration_rate(c, qd);
+    const ForceLaw::Value v = laws[c].evaluate(pen, rate, reduced_radius(c), hertz_start[c]);
+    if (statics) {
+      add_outer(k.core, c, v.elastic_tangent, 0, 0);
+      continue;
+    }
+    add_outer(k.core, c, v.d_pen, 0, 0);
+    add_outer(d.core, c, v.d_rate, 0, 0);
+    // friction mu(v) F g_t with v = v_kin - g_t . dq': dmu/dv = mu_c v0^2 / (v^2 + v0^2)^1.5
+    if (v.force > 0.0 && cd.friction > 0.0 && !cd.rolling) {
+      double sliding = path[L.slide + c] * omega;
+      for (int r = 0; r < R; ++r) sliding -= gt(r, c) * qd[row_map[c][r]];
+      const double v0 = opt.friction_velocity_m_per_s * 1e3, root = std::sqrt(sliding * sliding + v0 * v0);
+      const double mu = cd.friction * sliding / root, dmu = cd.friction * v0 * v0 / (root * root * root);
+      add_outer(k.core, c, v.d_pen * mu, 1, 0);
+      add_outer(d.core, c, v.d_rate * mu, 1, 0);
+      add_outer(d.core, c, v.force * dmu, 1, 1);
+    }
+  }
+  for (const Seat& st : seats) {
+    const double pen = seat_penetration(st, q);
+    if (!(pen > 0.0)) continue;
+    const ForceLaw::Value v = seat_force(st, pen, statics ? 0.0 : seat_rate(st, qd));
+    k.core(st.row, st.row) += statics ? v.elastic_tangent : v.d_pen;
+    if (!statics) d.core(st.row, st.row) += v.d_rate;
+  }
+  for (const Chain& ch : chains) {
+    const double n1 = ch.masses + 1.0;
+    for (int j = 1; j <= ch.masses + 1; ++j) {
+      const double dj = n1 * (chain_u(ch, j, q) - chain_u(ch, j - 1, q));
+      double ks = n1 * ch.law.stiffness(dj);
+      if (ch.solid_travel >= 0 && dj > ch.solid_travel) ks += n1 * opt.coil_clash_stiffness;
+      add_segment(k, ch, j, ks);
+      add_segment(d, ch, j, n1 * ch.segment_damping);
+    }
+  }
+}
+
+void System::mass_matrix(Structured& out) const {
+  out.set_zero();
+  for (int r = 0; r < R; ++r)
+    for (int j = 0; j < R; ++j) out.core(r, j) = path[L.mass + r + R * j];
+  for (const Element& e : elements) {
+    const double half = 0.5 * out.core(e.near, e.near);
+    out.core(e.near, e.near) = half;
+    out.core(e.far, e.far) = half;
+  }
+  for (const Chain& ch : chains)
+    if (ch.masses > 0) std::fill(out.bands[ch.band].diag.begin(), out.bands[ch.band].diag.end(), ch.mass);
+}
+
+// the mass matrix depends on the cam angle only: factored once per angle (CVODE's Newton
+// iterations call the right-hand side repeatedly at one time)
+void System::factor_mass() {
+  if (factored_theta == evaluated_theta) return;
+  mass_matrix(m);
+  mass_lu.a.copy_from(m);
+  mass_lu.factor(chains);
+  factored_theta = evaluated_theta;
+}
+
+void System::accelerations(const double* q, const double* qd) {
+  forces(q, qd);
+  factor_mass();
+  acc = fr.f;
+  mass_lu.solve(acc.data());
+}
+
+double System::energy(const double* q, const double* qd) const {
+  Eigen::VectorXd vel(N), mv(N);
+  for (int j = 0; j < N; ++j) vel(j) = kinematic_rate(j) + qd[j];
+  Structured mm;
+  mm.resize(core(), chains);
+  mass_matrix(mm);
+  mm.multiply(chains, vel.data(), mv.data());
+  double e = 0.5 * vel.dot(mv);
+  for (const Element& el : elements) e += 0.5 * el.k * std::pow(q[el.far] - q[el.near], 2);
+  for (int c = 0; c < C; ++c) {
+    if (flex.contacts[c].is_contact) e += laws[c].energy(penetration(c, q), reduced_radius(c), hertz_start[c]);
+    else e += 0.5 * link_k[c] * std::pow(normal_dot(c, q), 2);
+  }
+  for (const Seat& st : seats) e += st.law.energy(st.cos_angle * seat_penetration(st, q), st.radius, st.start);
+  for (const Chain& ch : chains) {
+    const double n1 = ch.masses + 1.0;
+    for (int j = 1; j <= ch.masses + 1; ++j) {
+      const double d = n1 * (chain_u(ch, j, q) - chain_u(ch, j - 1, q));
+      e += ch.law.energy(d) / n1;
+      if (ch.solid_travel >= 0 && d > ch.solid_travel)
+        e += 0.5 * opt.coil_clash_stiffness * std::pow(d - ch.solid_travel, 2) / n1;
+    }
+  }
+  return e;
+}
+
+double System::root_value(const Root& rt, const double* q) const {
+  if (rt.kind == 0) return penetration(rt.index, q);
+  if (rt.kind == 1) return seat_penetration(seats[rt.index], q);
+  const Chain& ch = chains[rt.index];
+  const double d = (ch.masses + 1.0) * (chain_u(ch, rt.segment, q) - chain_u(ch, rt.segment - 1, q));
+  return d - ch.solid_travel;  // > 0: the coils touch
+}
+
+std::string System::root_name(const Root& rt) const {
+  if (rt.kind == 0) return mech.connections[rt.index].name;
+  if (rt.kind == 1) return mech.nodes[seats[rt.index].node].name + " seat";
+  return chains[rt.index].name + " coil " + std::to_string(rt.segment);
+}
+
+}  // namespace camopt::dynamics::detail
