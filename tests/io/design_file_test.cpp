@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "camopt/core/error.hpp"
+#include "camopt/io/design_rewrite.hpp"
 #include "temp_dir.hpp"
 
 namespace fs = std::filesystem;
@@ -760,4 +761,82 @@ TEST_CASE("design error: spring damping and surge masses", "[io][design][flexibl
                               "rate_Nmm_per_deg = 5\ndamping_N_s_per_m = 1\n";
   check_error(torsion, "damping_N_s_per_m",
               "spring[0]: key 'damping_N_s_per_m' is not allowed for type = \"torsion\"");
+}
+
+namespace {
+
+void check_same_law(const camopt::ContactLawSpec& a, const camopt::ContactLawSpec& b) {
+  CHECK(a.law == b.law);
+  CHECK(a.damping_law == b.damping_law);
+  CHECK(a.stiffness_N_per_mm == b.stiffness_N_per_mm);
+  CHECK(a.damping_N_s_per_m == b.damping_N_s_per_m);
+  CHECK(a.restitution == b.restitution);
+}
+
+}  // namespace
+
+TEST_CASE("a design rewritten with a new profile file keeps the flexible-model keys", "[io][design][flexible]") {
+  // camopt synthesize writes DIR/design.toml with design_with_profile_file
+  const TempDir dir;
+  const std::string original = kFlexible + R"([[profile]]
+name = "lobe"
+form = "circle"
+disc_radius_mm = 20
+)";
+  const std::string design = dir.write("design.toml", original);
+  const std::string table = dir.write("profile.csv", "angle_deg,radius_mm\n0,20\n60,21\n120,24\n180,25\n240,24\n300,21\n");
+  const std::string rewritten = io::design_with_profile_file(design, "lobe", table);
+  INFO(rewritten);
+  const camopt::DesignSpec a = io::parse_design(original, "design.toml", dir.path().string());
+  const camopt::DesignSpec b = io::parse_design(rewritten, "rewritten.toml", dir.path().string());
+
+  REQUIRE(b.profiles.size() == 1);
+  CHECK(b.profiles[0].form == camopt::ProfileForm::polar);
+  CHECK(b.profiles[0].source_file == table);
+
+  REQUIRE(a.nodes.size() == b.nodes.size());
+  for (std::size_t i = 0; i < a.nodes.size(); ++i) {
+    INFO("node " << a.nodes[i].name);
+    CHECK(a.nodes[i].damping_N_s_per_m == b.nodes[i].damping_N_s_per_m);
+    CHECK(a.nodes[i].damping_Nm_s_per_rad == b.nodes[i].damping_Nm_s_per_rad);
+    CHECK(a.nodes[i].damping_ratio == b.nodes[i].damping_ratio);
+    const camopt::SeatSpec& sa = a.nodes[i].seat;
+    const camopt::SeatSpec& sb = b.nodes[i].seat;
+    CHECK(sa.enabled == sb.enabled);
+    CHECK(sa.given == sb.given);
+    CHECK(sa.diameter_mm == sb.diameter_mm);
+    CHECK(sa.angle_deg == sb.angle_deg);
+    CHECK(sa.width_mm == sb.width_mm);
+    CHECK(sa.crown_radius_mm == sb.crown_radius_mm);
+    CHECK(sa.material == sb.material);
+    check_same_law(sa.law, sb.law);
+  }
+  CHECK(b.nodes[1].seat.given);
+  CHECK(b.nodes[3].seat.law.law == camopt::ContactLaw::linear);
+
+  REQUIRE(a.connections.size() == b.connections.size());
+  for (std::size_t i = 0; i < a.connections.size(); ++i) {
+    INFO("connection " << a.connections[i].name);
+    check_same_law(a.connections[i].contact_law, b.connections[i].contact_law);
+    CHECK(a.connections[i].stiffness_N_per_mm == b.connections[i].stiffness_N_per_mm);
+    CHECK(a.connections[i].stiffness_Nm_per_rad == b.connections[i].stiffness_Nm_per_rad);
+    CHECK(a.connections[i].damping_ratio == b.connections[i].damping_ratio);
+  }
+  CHECK(b.connections[1].contact_law.law == camopt::ContactLaw::linear);
+
+  REQUIRE(a.springs.size() == b.springs.size());
+  for (std::size_t i = 0; i < a.springs.size(); ++i) {
+    INFO("spring " << a.springs[i].name);
+    CHECK(a.springs[i].surge_masses == b.springs[i].surge_masses);
+    CHECK(a.springs[i].damping_N_s_per_m == b.springs[i].damping_N_s_per_m);
+    CHECK(a.springs[i].coil_damping_ratio == b.springs[i].coil_damping_ratio);
+    CHECK(a.springs[i].coil_damping_N_s_per_m == b.springs[i].coil_damping_N_s_per_m);
+  }
+
+  // seat = false survives as well
+  const std::string open = dir.write("open.toml", kBase + "seat = false\n[[profile]]\nname = \"lobe\"\nform = \"circle\"\n"
+                                                  "disc_radius_mm = 20\n");
+  const camopt::DesignSpec c =
+      io::parse_design(io::design_with_profile_file(open, "lobe", table), "open.toml", dir.path().string());
+  CHECK_FALSE(c.nodes[1].seat.enabled);
 }
