@@ -105,6 +105,62 @@ void check_unique(const std::vector<Spec>& specs, const Spec& spec, const Table&
                          " at line " + std::to_string(other.where.line) + ")");
 }
 
+// the value of `key` as messages quote it: value 3, value "linear", boolean true
+std::string value_text(const Table& t, std::string_view key) {
+  const toml::node& node = t.require(key);
+  if (node.is_number()) return "value " + format_number(*node.value<double>());
+  if (const auto* s = node.as_string()) return "value " + quote(s->get());
+  return describe(node);
+}
+
+// keys of a contact force law: on a contact connection and in a valve seat table
+const Keys kContactLawKeys = {"law", "stiffness_N_per_mm", "damping_N_s_per_m", "damping_law", "restitution"};
+
+// law = "hertz" (the default) or "linear"
+ContactLaw contact_law_of(const Table& t) {
+  if (!t.has("law")) return ContactLaw::hertz;
+  return t.choice<ContactLaw>("law", {{"hertz", ContactLaw::hertz}, {"linear", ContactLaw::linear}});
+}
+
+// law, stiffness_N_per_mm, damping_N_s_per_m, damping_law, restitution (docs/design-format.md,
+// "Contact force law"); the table's other keys are its caller's
+ContactLawSpec read_contact_law(const Table& t) {
+  ContactLawSpec law;
+  law.law = contact_law_of(t);
+  if (law.law == ContactLaw::linear) {
+    if (!t.has("stiffness_N_per_mm"))
+      t.fail("law", "value \"linear\" needs 'stiffness_N_per_mm' (the linear law's stiffness k in F = k d + c d')");
+    law.stiffness_N_per_mm = t.number("stiffness_N_per_mm", gt(0.0));
+    if (t.has("damping_law"))
+      t.fail("damping_law", value_text(t, "damping_law") +
+                                " is not allowed with law = \"linear\" (damping_law chooses the hertz law's "
+                                "damping; the linear law's damping is linear)");
+    if (t.has("restitution"))
+      t.fail("restitution", value_text(t, "restitution") +
+                                " is not allowed with law = \"linear\" (restitution sets the hertz law's "
+                                "Hunt-Crossley damping; give damping_N_s_per_m)");
+  } else {
+    if (t.has("stiffness_N_per_mm"))
+      t.fail("stiffness_N_per_mm", value_text(t, "stiffness_N_per_mm") +
+                                       " is not allowed with law = \"hertz\" (the hertz stiffness follows from "
+                                       "the materials and the geometry; stiffness_N_per_mm is for law = \"linear\")");
+    if (t.has("damping_law"))
+      law.damping_law = t.choice<ContactDampingLaw>(
+          "damping_law", {{"hunt_crossley", ContactDampingLaw::hunt_crossley}, {"linear", ContactDampingLaw::linear}});
+    law.restitution = t.optional_number("restitution", gt(0.0) & le(1.0));
+    if (law.restitution && law.damping_law != ContactDampingLaw::hunt_crossley)
+      t.fail("restitution", value_text(t, "restitution") +
+                                " is not allowed with damping_law = \"linear\" (restitution sets the "
+                                "Hunt-Crossley damping; give damping_N_s_per_m)");
+    if (law.restitution && t.has("damping_N_s_per_m"))
+      t.fail("restitution", value_text(t, "restitution") +
+                                " is not allowed together with damping_N_s_per_m (both set the damping "
+                                "coefficient; give one of them)");
+  }
+  law.damping_N_s_per_m = t.optional_number("damping_N_s_per_m", ge(0.0));
+  return law;
+}
+
 const Keys kRootKeys = {"schema", "design", "driver", "control", "node", "profile",
                         "connection", "material", "spring", "gas_force"};
 
@@ -155,6 +211,7 @@ class Parser {
     spec.name = t.string("name");
     spec.description = t.text_or("description", "");
     spec.output_node = t.string("output_node");
+    output_node_ = spec.output_node;
     refer(Reference::To::node, t, "output_node");
   }
 
@@ -191,12 +248,18 @@ class Parser {
                                          {"translational", NodeKind::translational},
                                          {"floating", NodeKind::floating}});
     const Keys common = {"name", "type", "mass_kg", "inertia_kg_mm2", "cg_mm", "damping_ratio"};
-    const Keys rotational = {"pivot_mm", "pivot_motion", "control", "rest_deg", "torsional_stiffness_Nm_per_rad"};
-    const Keys translational = {"origin_mm", "direction", "control", "rest_mm", "axial_stiffness_N_per_mm"};
-    const Keys floating = {"torsional_stiffness_Nm_per_rad"};
+    const Keys rotational = {"pivot_mm", "pivot_motion", "control", "rest_deg", "torsional_stiffness_Nm_per_rad",
+                             "damping_Nm_s_per_rad"};
+    const Keys translational = {"origin_mm", "direction", "control", "rest_mm", "axial_stiffness_N_per_mm",
+                                "damping_N_s_per_m", "seat"};
+    const Keys floating = {"torsional_stiffness_Nm_per_rad", "damping_Nm_s_per_rad"};
     const Keys& own = n.kind == NodeKind::rotational      ? rotational
                       : n.kind == NodeKind::translational ? translational
                                                           : floating;
+    // a valve seat stops a valve's travel: only a node with a line of travel can have one
+    if (n.kind != NodeKind::translational && t.has("seat"))
+      t.fail("seat", value_text(t, "seat") + " is not allowed: a valve seat needs a translational node (node " +
+                         quote(n.name) + " is " + to_string(n.kind) + ")");
     t.allow(concat(common, own), concat(rotational, translational),
             std::string("type = ") + quote(to_string(n.kind)));
 
@@ -228,8 +291,61 @@ class Parser {
     n.torsional_stiffness_Nm_per_rad = t.optional_number("torsional_stiffness_Nm_per_rad", gt(0.0));
     n.axial_stiffness_N_per_mm = t.optional_number("axial_stiffness_N_per_mm", gt(0.0));
     n.damping_ratio = t.optional_number("damping_ratio", ge(0.0));
+    // a damper across the node's compliance: given directly, or as damping_ratio
+    const auto damper = [&](std::string_view key, std::string_view stiffness_key) -> std::optional<double> {
+      const std::optional<double> value = t.optional_number(key, ge(0.0));
+      if (!value) return value;
+      if (n.damping_ratio)
+        t.fail(key, value_text(t, key) + " is not allowed together with damping_ratio (both set the damper of " +
+                        "the node's compliance; give one of them)");
+      if (!t.has(stiffness_key))
+        t.fail(key, value_text(t, key) + " needs '" + std::string(stiffness_key) +
+                        "' (the damper acts across the node's compliance; a rigid node has none)");
+      return value;
+    };
+    if (n.kind == NodeKind::translational) {
+      n.damping_N_s_per_m = damper("damping_N_s_per_m", "axial_stiffness_N_per_mm");
+      if (t.has("seat")) n.seat = parse_seat(t, n.name);
+    } else {
+      n.damping_Nm_s_per_rad = damper("damping_Nm_s_per_rad", "torsional_stiffness_Nm_per_rad");
+    }
     n.where = t.where();
     return n;
+  }
+
+  // seat = false, or seat = { ... } on a translational node
+  SeatSpec parse_seat(const Table& node, const std::string& node_name) {
+    SeatSpec seat;
+    seat.where = node.where("seat");
+    const toml::node& value = node.require("seat");
+    if (value.is_boolean()) {
+      if (value.as_boolean()->get())
+        node.fail("seat", "boolean true: give a seat table (seat = {} for the default seat) or false for none");
+      if (node_name != output_node_)
+        node.fail("seat", "boolean false is allowed only on the output node (design.output_node = " +
+                              quote(output_node_) + "), for a mechanism that is not a valvetrain; other nodes " +
+                              "have no seat unless a seat table is given");
+      seat.enabled = false;
+      return seat;
+    }
+    if (!value.is_table()) node.fail("seat", "expected false or a seat table, got " + describe(value));
+
+    const Table t = node.table("seat");
+    const Keys geometry = {"diameter_mm", "angle_deg", "width_mm"};
+    const Keys hertz_only = {"crown_radius_mm", "material"};  // the hertz law's section and E*
+    const bool hertz = contact_law_of(t) == ContactLaw::hertz;
+    t.allow(concat(concat(geometry, hertz ? hertz_only : Keys{}), kContactLawKeys), hertz_only, "law = \"linear\"");
+    seat.law = read_contact_law(t);
+    seat.diameter_mm = t.number_or("diameter_mm", seat.diameter_mm, gt(0.0));
+    seat.angle_deg = t.number_or("angle_deg", seat.angle_deg, gt(0.0) & lt(90.0));
+    seat.width_mm = t.number_or("width_mm", seat.width_mm, gt(0.0));
+    seat.crown_radius_mm = t.number_or("crown_radius_mm", seat.crown_radius_mm, gt(0.0));
+    if (t.has("material")) {
+      seat.material = t.string("material");
+      refer(Reference::To::material, t, "material");
+    }
+    seat.given = true;
+    return seat;
   }
 
   ProfileSpec parse_profile(const Table& t) {
@@ -370,11 +486,15 @@ class Parser {
                                                {"rack_pinion", ConnectionKind::rack_pinion},
                                                {"contact", ConnectionKind::contact}});
     const Keys common = {"name", "type"};
-    const Keys link = {"a", "b", "length_mm"};
-    const Keys gear = {"nodes", "ratio"};
-    const Keys variable_gear = {"nodes", "ratio_table"};
-    const Keys rack_pinion = {"nodes", "pitch_radius_mm"};
-    const Keys contact = {"a", "b", "lash_mm", "materials", "width_mm", "friction_coefficient", "damping_N_s_per_m"};
+    // flexible model: bilateral stiffness of links and gears, and the damping of its mode
+    const Keys linear_compliance = {"stiffness_N_per_mm", "damping_ratio"};
+    const Keys angular_compliance = {"stiffness_Nm_per_rad", "damping_ratio"};
+    const Keys link = concat({"a", "b", "length_mm"}, linear_compliance);
+    const Keys gear = concat({"nodes", "ratio"}, angular_compliance);
+    const Keys variable_gear = concat({"nodes", "ratio_table"}, angular_compliance);
+    const Keys rack_pinion = concat({"nodes", "pitch_radius_mm"}, linear_compliance);
+    const Keys contact =
+        concat({"a", "b", "lash_mm", "materials", "width_mm", "friction_coefficient"}, kContactLawKeys);
     const Keys* own = &link;
     switch (c.kind) {
       case ConnectionKind::link:
@@ -439,8 +559,13 @@ class Parser {
         }
         c.width_mm = t.optional_number("width_mm", gt(0.0));
         c.friction_coefficient = t.optional_number("friction_coefficient", ge(0.0));
-        c.contact_law.damping_N_s_per_m = t.optional_number("damping_N_s_per_m", ge(0.0));
+        c.contact_law = read_contact_law(t);
         break;
+    }
+    if (c.kind != ConnectionKind::contact) {
+      c.stiffness_N_per_mm = t.optional_number("stiffness_N_per_mm", gt(0.0));
+      c.stiffness_Nm_per_rad = t.optional_number("stiffness_Nm_per_rad", gt(0.0));
+      c.damping_ratio = t.optional_number("damping_ratio", ge(0.0));
     }
     c.where = t.where();
     return c;
@@ -453,7 +578,8 @@ class Parser {
     const Keys common = {"name", "type", "node", "mass_kg", "surge_masses", "installed_length_mm",
                          "solid_length_mm", "wire_diameter_mm", "mean_coil_diameter_mm", "active_coils",
                          "shear_modulus_GPa"};
-    const Keys compression = {"rate_N_per_mm", "preload_N", "table"};
+    const Keys compression = {"rate_N_per_mm", "preload_N", "table", "damping_N_s_per_m", "coil_damping_ratio",
+                              "coil_damping_N_s_per_m"};
     const Keys torsion = {"rate_Nmm_per_deg", "preload_Nmm"};
     const bool is_compression = s.kind == SpringKind::compression;
     t.allow(concat(common, is_compression ? compression : torsion), concat(compression, torsion),
@@ -486,9 +612,29 @@ class Parser {
     }
 
     s.mass_kg = t.optional_number("mass_kg", gt(0.0));
-    s.surge_masses = static_cast<int>(t.integer_or("surge_masses", 0, ge(0.0) & le(1000.0)));
+    const long long surge_masses = t.integer_or("surge_masses", 0, ge(0.0));
+    if (surge_masses > kMaxSurgeMasses)
+      t.fail("surge_masses", "value " + std::to_string(surge_masses) + " must be <= " +
+                                 std::to_string(kMaxSurgeMasses) + " (kMaxSurgeMasses: every surge mass adds a " +
+                                 "coordinate to the flexible model, whose Newton solve is dense, so its cost " +
+                                 "grows with the cube of the count)");
+    s.surge_masses = static_cast<int>(surge_masses);
     if (s.surge_masses > 0 && !s.mass_kg)
       t.fail("surge_masses", "value " + std::to_string(s.surge_masses) + " needs 'mass_kg' (the spring mass to distribute)");
+    if (is_compression) {
+      s.damping_N_s_per_m = t.optional_number("damping_N_s_per_m", ge(0.0));
+      // coil-to-coil damping of the multi-mass chain: as the first surge mode's ratio or directly
+      s.coil_damping_ratio = t.optional_number("coil_damping_ratio", ge(0.0));
+      s.coil_damping_N_s_per_m = t.optional_number("coil_damping_N_s_per_m", ge(0.0));
+      if (s.coil_damping_ratio && s.coil_damping_N_s_per_m)
+        t.fail("coil_damping_N_s_per_m", value_text(t, "coil_damping_N_s_per_m") +
+                                             " is not allowed together with coil_damping_ratio (both set the "
+                                             "damper between the coil masses; give one of them)");
+      for (const std::string_view key : {"coil_damping_ratio", "coil_damping_N_s_per_m"})
+        if (t.has(key) && s.surge_masses == 0)
+          t.fail(key, value_text(t, key) + " needs 'surge_masses' > 0 (coil damping acts between the " +
+                          "spring's coil masses; a massless spring has none)");
+    }
     s.installed_length_mm = t.optional_number("installed_length_mm", gt(0.0));
     s.solid_length_mm = t.optional_number(
         "solid_length_mm", s.installed_length_mm ? gt(0.0) & lt(*s.installed_length_mm, "installed_length_mm") : gt(0.0));
@@ -550,6 +696,7 @@ class Parser {
   }
 
   const Context& context_;
+  std::string output_node_;  // design.output_node (read before the nodes)
   std::vector<Reference> references_;
 };
 
