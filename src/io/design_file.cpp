@@ -615,9 +615,9 @@ class Parser {
     const long long surge_masses = t.integer_or("surge_masses", 0, ge(0.0));
     if (surge_masses > kMaxSurgeMasses)
       t.fail("surge_masses", "value " + std::to_string(surge_masses) + " must be <= " +
-                                 std::to_string(kMaxSurgeMasses) + " (kMaxSurgeMasses: every surge mass adds a " +
-                                 "coordinate to the flexible model, whose Newton solve is dense, so its cost " +
-                                 "grows with the cube of the count)");
+                                 std::to_string(kMaxSurgeMasses) + " (every surge mass adds a coordinate to the " +
+                                 "flexible model: its cost grows with the count, and 500 masses resolve surge " +
+                                 "modes far above any engine order)");
     s.surge_masses = static_cast<int>(surge_masses);
     if (s.surge_masses > 0 && !s.mass_kg)
       t.fail("surge_masses", "value " + std::to_string(s.surge_masses) + " needs 'mass_kg' (the spring mass to distribute)");
