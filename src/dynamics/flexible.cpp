@@ -411,16 +411,19 @@ Status Run::integrate(double start_deg, double stop_deg, double step_deg) {
       s_.evaluate(tout);
       read_state(s_, su_.y, q_, qd_);
       if (!q_.allFinite() || !qd_.allFinite()) return failure("non-finite state", t_);
+      const std::string off = s_.off_path(q_.data());
+      if (!off.empty()) return failure(off, t_);
       if (i == 0) {
         if (!all && periodic_check()) {
           out_.periodic = true;
-          return Status::success();
+          break;
         }
         out_.start_time_s = all && rev > 0 ? out_.start_time_s : window_t0_;
         ++out_.revolutions_integrated;
       }
       record(all ? rev * per_window + i : i, deg + (all ? 360.0 * rev : 0.0), tout);
     }
+    if (out_.periodic) break;
     // the events of this window up to its last point belong to it
     if (!all) out_.events = window_events_;
   }

@@ -514,6 +514,10 @@ Status static_start(System& s, const Model& model, const std::vector<double>& co
     for (int j = 1; j <= ch.masses; ++j)
       v0(ch.first + j - 1) = j / (ch.masses + 1.0) * s.path[s.L.xs1 + ch.table_index] * s.omega;
   polish_static(s, x0, v0, 30);
+  const std::string off = s.off_path(x0.data());
+  if (!off.empty())
+    return {StatusCode::no_convergence, "the flexible model's static start finds no equilibrium: " + off,
+            "cam " + format_number(theta * 180.0 / kPi) + " deg"};
   return Status::success();
 }
 

@@ -235,6 +235,9 @@ class System {
   void factor_mass();
   void accelerations(const double* q, const double* qd);
   double energy(const double* q, const double* qd) const;  // kinetic (true motion) + elastic [N mm]
+  // "" while every node stays near its kinematic path (the contacts' linearised geometry
+  // holds), else what left it: node, coordinate and deviation
+  std::string off_path(const double* q) const;
   double root_value(const Root& rt, const double* q) const;
   std::string root_name(const Root& rt) const;
 };

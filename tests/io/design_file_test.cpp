@@ -754,7 +754,7 @@ TEST_CASE("design error: spring damping and surge masses", "[io][design][flexibl
   check_error(spring + "mass_kg = 0.03\nsurge_masses = 4\ncoil_damping_N_s_per_m = -1\n", "-1",
               "spring[0].coil_damping_N_s_per_m: value -1 must be >= 0");
   check_error(spring + "mass_kg = 0.03\nsurge_masses = 501\n", "501",
-              "spring[0].surge_masses: value 501 must be <= 500 (kMaxSurgeMasses: every surge mass adds a "
+              "spring[0].surge_masses: value 501 must be <= 500 (every surge mass adds a "
               "coordinate to the flexible model");
   check_error(spring + "mass_kg = 0.03\nsurge_masses = -1\n", "-1", "spring[0].surge_masses: value -1 must be >= 0");
   const std::string torsion = kBase + "[[spring]]\nname = \"t\"\ntype = \"torsion\"\nnode = \"cam\"\n" +
