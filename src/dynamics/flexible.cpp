@@ -19,6 +19,9 @@ namespace {
 using detail::System;
 constexpr double kPi = std::numbers::pi;
 constexpr double kDeg = kPi / 180.0;
+// a root this close to a kink (in revolutions) is at the kink: the contact that the lash
+// closes touches exactly there, and CVODE returns the root before the stop time
+constexpr double kKinkTime = 1e-9;
 
 void read_state(const System& s, N_Vector y, Eigen::VectorXd& q, Eigen::VectorXd& qd) {
   const double* yv = N_VGetArrayPointer(y);
@@ -86,7 +89,7 @@ int root_callback(sunrealtype t, N_Vector y, sunrealtype* gout, void* data) {
   try {
     s->evaluate(t);
     const double* yv = N_VGetArrayPointer(y);
-    for (std::size_t i = 0; i < s->root_list.size(); ++i) gout[i] = s->root_value(s->root_list[i], yv);
+    for (std::size_t i = 0; i < s->root_list.size(); ++i) gout[i] = s->root_value(s->root_list[i], yv, yv + s->N);
     return 0;
   } catch (...) {
     return -1;
@@ -168,7 +171,7 @@ class Run {
   Status advance(double tout);
   Status on_roots(double t);
   Status on_kink(double t);
-  void set_stop_time(double t);
+  void set_stop_time();
   void record(std::size_t i, double deg, double tout);
   bool periodic_check();
   Status failure(const std::string& what, double t);
@@ -181,6 +184,7 @@ class Run {
   std::unique_ptr<_generic_SUNLinearSolver, int (*)(SUNLinearSolver)> ls_{nullptr, SUNLinSolFree};
   std::unique_ptr<_generic_SUNMatrix, void (*)(SUNMatrix)> jac_{nullptr, SUNMatDestroy};
   double first_deg_ = 0.0, rpm_ = 0.0, t_ = 0.0, window_t0_ = 0.0, report_deg0_ = 0.0;
+  double last_kink_t_ = -1e-12, next_kink_t_ = 1e300;  // [s] (the start is past no kink)
   long steps_total_ = 0, events_total_ = 0;
   std::vector<int> found_;
   std::vector<double> window_start_state_;
@@ -224,7 +228,7 @@ Status Run::setup(double first_deg, double rpm, const Eigen::VectorXd& x0, const
         CVodeSetJacFn(su_.cvode, jacobian_callback) != CV_SUCCESS)
       return {StatusCode::integrator_failure, "CVODE setup failed (Jacobian)", ""};
   }
-  set_stop_time(0.0);
+  set_stop_time();
   return Status::success();
 }
 
@@ -237,18 +241,19 @@ Status Run::failure(const std::string& what, double t) {
                     detail::format_number(rpm_) + " rpm, state [x; dx/dt] = [" + state + "]"};
 }
 
-// the next kink after t: CVODE must not step across it (the path's rates jump there)
-void Run::set_stop_time(double t) {
+// the next kink after the last one passed: CVODE must not step across it (the path's rates
+// jump there)
+void Run::set_stop_time() {
   if (s_.kinks.empty()) return;
   const double period = 2.0 * kPi / s_.omega;
-  double next = 1e300;
+  next_kink_t_ = 1e300;
   for (double k : s_.kinks) {
     double tk = (k - s_.theta0) / s_.omega;
-    tk -= period * std::floor((tk - t) / period);
-    if (tk <= t + 1e-12 * period) tk += period;
-    next = std::min(next, tk);
+    tk -= period * std::floor((tk - last_kink_t_) / period);
+    if (tk <= last_kink_t_ + kKinkTime * period) tk += period;
+    next_kink_t_ = std::min(next_kink_t_, tk);
   }
-  CVodeSetStopTime(su_.cvode, next);
+  CVodeSetStopTime(su_.cvode, next_kink_t_);
 }
 
 // a kink: the piece after it becomes the active one and the deviation's rate jumps by minus
@@ -294,13 +299,17 @@ Status Run::advance(double tout) {
   while (t_ < tout) {
     const int flag = CVode(su_.cvode, tout, su_.y, &t_, CV_NORMAL);
     if (flag < 0) return failure("CVODE failed: " + detail::cvode_flag_name(flag), t_);
-    const bool root = flag == CV_ROOT_RETURN, kink = flag == CV_TSTOP_RETURN;
+    const bool root = flag == CV_ROOT_RETURN;
+    const bool kink = next_kink_t_ - t_ <= kKinkTime * 2.0 * kPi / s_.omega;
     if (!root && !kink) continue;
     if (root) {
       const Status st = on_roots(t_);
       if (!st.ok()) return st;
     }
-    if (kink) on_kink(t_);
+    if (kink) {
+      on_kink(t_);
+      last_kink_t_ = next_kink_t_;
+    }
     if (kink || opt_.restart_at_events) {
       steps_total_ += detail::steps_since_restart(su_.cvode);
       long jacobians = 0;
@@ -310,7 +319,7 @@ Status Run::advance(double tout) {
       if (CVodeGetQuad(su_.cvode, &tq, su_.quad) != CV_SUCCESS || CVodeReInit(su_.cvode, t_, su_.y) != CV_SUCCESS ||
           CVodeQuadReInit(su_.cvode, su_.quad) != CV_SUCCESS)
         return failure("CVodeReInit failed", t_);
-      set_stop_time(t_);
+      set_stop_time();
     }
   }
   // the budget holds between events too (CVODE's own limit is per output interval)

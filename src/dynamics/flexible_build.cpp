@@ -382,6 +382,7 @@ Status build_system(System& s, const Model& model, const std::vector<double>& co
     s.output_row = s.far_of_row[r] >= 0 ? s.far_of_row[r] : r;
   }
   s.acc.setZero(s.N);
+  s.active_piece = s.piece_of(theta_first);
   s.evaluated_theta = std::nan("");
   s.factored_theta = std::nan("");
   return Status::success();

@@ -17,6 +17,7 @@ ForceLaw::Value ForceLaw::evaluate(double pen, double rate, double radius, doubl
     v.elastic = k * pen;
     v.elastic_tangent = k;
     const double f = k * pen + c * rate;
+    v.unclamped = f;
     if (f > 0.0) v.force = f, v.d_pen = k, v.d_rate = c;
     return v;
   }
@@ -25,10 +26,12 @@ ForceLaw::Value ForceLaw::evaluate(double pen, double rate, double radius, doubl
   if (damping_law == ContactDampingLaw::hunt_crossley) {
     // F = max(0, F_e (1 + 3/2 alpha d')) (Hunt & Crossley 1975)
     const double f = v.elastic * (1.0 + 1.5 * alpha * rate);
+    v.unclamped = f;
     if (f > 0.0) v.force = f, v.d_pen = v.elastic_tangent * (1.0 + 1.5 * alpha * rate), v.d_rate = 1.5 * alpha * v.elastic;
   } else {
     // F = max(0, F_e + c d')
     const double f = v.elastic + c * rate;
+    v.unclamped = f;
     if (f > 0.0) v.force = f, v.d_pen = v.elastic_tangent, v.d_rate = c;
   }
   return v;
@@ -55,6 +58,7 @@ ForceLaw::Value System::seat_force(const Seat& s, double pen, double rate) const
   n.d_pen *= ca * ca;
   n.d_rate *= ca * ca;
   n.elastic_tangent *= ca * ca;
+  n.unclamped *= ca;
   return n;
 }
 
@@ -321,9 +325,20 @@ std::string System::off_path(const double* q) const {
   return {};
 }
 
-double System::root_value(const Root& rt, const double* q) const {
-  if (rt.kind == 0) return penetration(rt.index, q);
-  if (rt.kind == 1) return seat_penetration(seats[rt.index], q);
+double System::root_value(const Root& rt, const double* q, const double* qd) const {
+  if (rt.kind == 0) {
+    const double pen = penetration(rt.index, q);
+    if (!(pen > 0.0)) return pen;
+    const double f =
+        laws[rt.index].evaluate(pen, penetration_rate(rt.index, qd), reduced_radius(rt.index), hertz_start[rt.index]).unclamped;
+    return std::min(pen, f);
+  }
+  if (rt.kind == 1) {
+    const Seat& st = seats[rt.index];
+    const double pen = seat_penetration(st, q);
+    if (!(pen > 0.0)) return pen;
+    return std::min(pen, seat_force(st, pen, seat_rate(st, qd)).unclamped);
+  }
   const Chain& ch = chains[rt.index];
   const double d = (ch.masses + 1.0) * (chain_u(ch, rt.segment, q) - chain_u(ch, rt.segment - 1, q));
   return d - ch.solid_travel;  // > 0: the coils touch

@@ -53,6 +53,7 @@ struct ForceLaw {
     double force = 0.0, elastic = 0.0;  // [N]
     double d_pen = 0.0, d_rate = 0.0;   // dF/d(penetration) [N/mm], dF/d(rate) [N s/mm]
     double elastic_tangent = 0.0;       // dF_elastic/d(penetration) [N/mm]
+    double unclamped = 0.0;             // the law before max(0, .): < 0 while the bodies part [N]
   };
   // force at penetration pen [mm] and its rate [mm/s]; radius: hertz reduced radius [mm];
   // start: the hertz Newton's warm start (load length)
@@ -238,7 +239,10 @@ class System {
   // "" while every node stays near its kinematic path (the contacts' linearised geometry
   // holds), else what left it: node, coordinate and deviation
   std::string off_path(const double* q) const;
-  double root_value(const Root& rt, const double* q) const;
+  // contacts and seats: min(penetration, unclamped force), > 0 exactly while the pair carries
+  // a force (it closes when the penetration or the force becomes positive, opens when the
+  // force falls to zero); coils: the coil overlap
+  double root_value(const Root& rt, const double* q, const double* qd) const;
   std::string root_name(const Root& rt) const;
 };
 
