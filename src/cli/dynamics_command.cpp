@@ -595,6 +595,10 @@ void run_flexible_model(const DynamicsOptions& o) {
     j["rpm"] = run.rpm;
     j["control_" + su.control_unit] = su.control_values[run.position];
     j.update(flexible_run_summary(mech, model, r));
+    if (r.gap_error_mm > 0.01)
+      info("dynamics (flexible): warning: at " + shortest_number(run.rpm) + " rpm contact '" + r.gap_error_contact +
+           "' carries force " + shortest_number(r.gap_error_mm) + " mm off its linearised gap (cam " +
+           shortest_number(r.gap_error_at_cam_deg) + " deg): the bodies have left their kinematic path far");
     if (!r.periodic && !o.flexible.start_at_rest)
       info("dynamics (flexible): warning: no periodic steady state at " + shortest_number(run.rpm) + " rpm after " +
            std::to_string(r.revolutions_integrated) + " revolutions (start-state difference " +

@@ -78,6 +78,9 @@ nlohmann::json flexible_run_summary(const kin::Mechanism& mech, const dynamics::
     j["seats"][r.seat_names[k]] = sj;
   }
   j["lash_kinks_cam_deg"] = r.kink_deg;
+  j["gap_linearisation_error_mm"] = r.gap_error_mm;
+  if (!r.gap_error_contact.empty())
+    j["gap_linearisation_error_at"] = {{"contact", r.gap_error_contact}, {"cam_deg", r.gap_error_at_cam_deg}};
   for (std::size_t s = 0; s < nch; ++s) {
     double surge = 0.0, coil = 0.0;
     for (std::size_t i = 0; i < r.cam_deg.size(); ++i) {

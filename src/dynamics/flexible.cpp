@@ -172,7 +172,7 @@ class Run {
   Status on_roots(double t);
   Status on_kink(double t);
   void set_stop_time();
-  void record(std::size_t i, double deg, double tout);
+  Status record(std::size_t i, double deg, double tout);
   bool periodic_check();
   Status failure(const std::string& what, double t);
   double cam_deg(double t) const { return first_deg_ + t * s_.omega / kDeg; }
@@ -345,8 +345,17 @@ bool Run::periodic_check() {
   return periodic;
 }
 
-void Run::record(std::size_t i, double deg, double tout) {
+Status Run::record(std::size_t i, double deg, double tout) {
   s_.accelerations(q_.data(), qd_.data());
+  // the linearised contact geometry's error: past the limit the result is no result
+  int contact = -1;
+  const double error = s_.gap_error(q_.data(), contact);
+  if (error > out_.gap_error_mm) {
+    out_.gap_error_mm = error;
+    out_.gap_error_at_cam_deg = deg;
+    out_.gap_error_contact = s_.mech.connections[contact].name;
+  }
+  if (error > opt_.max_gap_error_mm) return failure(s_.gap_error_message(error, contact), t_);
   const int C = s_.C, N = s_.N;
   const std::size_t nch = s_.chains.size(), ne = s_.elements.size(), nseat = s_.seats.size();
   const double scale = s_.output_angle ? 1.0 / kDeg : 1.0;
@@ -383,6 +392,7 @@ void Run::record(std::size_t i, double deg, double tout) {
   out_.viscous_loss[i] = NV_Ith_S(su_.quad, 2);
   out_.friction_loss[i] = NV_Ith_S(su_.quad, 3);
   out_.energy[i] = s_.energy(q_.data(), qd_.data());
+  return Status::success();
 }
 
 // revolution by revolution; each records its window over the last one's (every window when
@@ -420,8 +430,6 @@ Status Run::integrate(double start_deg, double stop_deg, double step_deg) {
       s_.evaluate(tout);
       read_state(s_, su_.y, q_, qd_);
       if (!q_.allFinite() || !qd_.allFinite()) return failure("non-finite state", t_);
-      const std::string off = s_.off_path(q_.data());
-      if (!off.empty()) return failure(off, t_);
       if (i == 0) {
         if (!all && periodic_check()) {
           out_.periodic = true;
@@ -430,7 +438,8 @@ Status Run::integrate(double start_deg, double stop_deg, double step_deg) {
         out_.start_time_s = all && rev > 0 ? out_.start_time_s : window_t0_;
         ++out_.revolutions_integrated;
       }
-      record(all ? rev * per_window + i : i, deg + (all ? 360.0 * rev : 0.0), tout);
+      st = record(all ? rev * per_window + i : i, deg + (all ? 360.0 * rev : 0.0), tout);
+      if (!st.ok()) return st;
     }
     if (out_.periodic) break;
     // the events of this window up to its last point belong to it

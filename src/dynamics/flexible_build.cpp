@@ -515,9 +515,12 @@ Status static_start(System& s, const Model& model, const std::vector<double>& co
     for (int j = 1; j <= ch.masses; ++j)
       v0(ch.first + j - 1) = j / (ch.masses + 1.0) * s.path[s.L.xs1 + ch.table_index] * s.omega;
   polish_static(s, x0, v0, 30);
-  const std::string off = s.off_path(x0.data());
-  if (!off.empty())
-    return {StatusCode::no_convergence, "the flexible model's static start finds no equilibrium: " + off,
+  s.forces(x0.data(), v0.data());
+  int contact = -1;
+  const double error = s.gap_error(x0.data(), contact);
+  if (error > s.opt.max_gap_error_mm)
+    return {StatusCode::no_convergence, "the flexible model's static start finds no equilibrium: " +
+                                            s.gap_error_message(error, contact),
             "cam " + format_number(theta * 180.0 / kPi) + " deg"};
   return Status::success();
 }

@@ -303,26 +303,24 @@ double System::energy(const double* q, const double* qd) const {
   return e;
 }
 
-std::string System::off_path(const double* q) const {
-  constexpr double kMaxTravel = 5.0, kMaxAngle = 0.2;  // [mm], [rad]
-  for (int e = 0; e < core(); ++e) {
-    const int r = e < R ? e : elements[e - R].near;
-    const int var = flex.free_variables[r];
-    int node = 0;
-    for (int n = 0; n < static_cast<int>(mech.nodes.size()); ++n)
-      if (mech.nodes[n].first_variable >= 0 && var >= mech.nodes[n].first_variable &&
-          var < mech.nodes[n].first_variable + (mech.nodes[n].kind == NodeKind::floating ? 3 : 1))
-        node = n;
-    const kin::Node& nd = mech.nodes[node];
-    const bool angle = nd.kind == NodeKind::rotational || (nd.kind == NodeKind::floating && var - nd.first_variable == 2);
-    if (std::abs(q[e]) > (angle ? kMaxAngle : kMaxTravel))
-      return "node '" + nd.name + "'" + (e >= R ? " (far end)" : "") + " leaves its kinematic path by " +
-             format_number(angle ? q[e] * 180.0 / std::numbers::pi : q[e]) + (angle ? " deg" : " mm") +
-             " (limit " + (angle ? std::string("11.5 deg") : std::string("5 mm")) +
-             "): the contacts' linearised geometry no longer holds; a body that no spring or closed contact holds "
-             "floats off (add a return spring), or the train is far past its separation speed";
+double System::gap_error(const double* q, int& contact) const {
+  double worst = 0.0;
+  contact = -1;
+  for (int c = 0; c < C; ++c) {
+    if (!flex.contacts[c].is_contact || !(fr.connection[c] > 0.0)) continue;
+    double slide = 0.0;
+    for (int r = 0; r < R; ++r) slide += gt(r, c) * q[row_map[c][r]];
+    const double error = 0.5 * slide * slide * std::abs(path[L.curv2 + c]);
+    if (error > worst) worst = error, contact = c;
   }
-  return {};
+  return worst;
+}
+
+std::string System::gap_error_message(double error, int contact) const {
+  return "contact '" + mech.connections[contact].name + "' carries force with its bodies slid so far from their " +
+         "kinematic contact point that its linearised gap is off by " + format_number(error) +
+         " mm: a body that no spring or closed contact holds floats off (add a return spring), or the train is " +
+         "far past its separation speed";
 }
 
 double System::root_value(const Root& rt, const double* q, const double* qd) const {

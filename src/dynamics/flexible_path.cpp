@@ -26,7 +26,8 @@ Layout::Layout(int r, int c, int s, int v) : R(r), C(c), S(s), V(v) {
   gt = gn + R * C;          // R x C: tangent gradient (friction)
   gap = gt + R * C;         // C: kinematic gap (lash)
   curv = gap + C;           // C: curvature sum 1/R* [1/mm]
-  slide = curv + C;         // C: sliding of a over b per rad [mm/rad]
+  curv2 = curv + C;         // C: 1 / (R_a + R_b) [1/mm]: the gap's growth s^2 / (2 (R_a + R_b)) with sliding s
+  slide = curv2 + C;        // C: sliding of a over b per rad [mm/rad]
   gn_drv = slide + C;       // C: d gap / d driver
   gt_drv = gn_drv + C;      // C: tangent gradient on the driver
   load_drv = gt_drv + C;    // 1: driver load (inertia per omega^2 excluded: constant speed)
@@ -81,6 +82,8 @@ void fill_row(const System& s, const RigidWorkspace& ws, double* row) {
     const kin::ContactState& cs = ws.kin.contacts[c];
     row[L.gap + c] = cs.gap;
     row[L.curv + c] = cs.curvature_a + cs.curvature_b;
+    if (cs.curvature_a != 0.0 && cs.curvature_b != 0.0)
+      row[L.curv2 + c] = 1.0 / (1.0 / cs.curvature_a + 1.0 / cs.curvature_b);
     row[L.slide + c] = cs.sliding;
   }
   for (int j = 1; j < ws.cases(); ++j) row[L.load_drv] += ws.loads(dv, j);

@@ -80,7 +80,7 @@ struct Seat {
 // the path table's columns (free rows R, connections C, chains S, seats V)
 struct Layout {
   int R = 0, C = 0, S = 0, V = 0;
-  int inertia = 0, gas = 0, other = 0, spring_k = 0, vel = 0, gn = 0, gt = 0, gap = 0, curv = 0, slide = 0,
+  int inertia = 0, gas = 0, other = 0, spring_k = 0, vel = 0, gn = 0, gt = 0, gap = 0, curv = 0, curv2 = 0, slide = 0,
       gn_drv = 0, gt_drv = 0, load_drv = 0, mass = 0, xs = 0, xs1 = 0, seat = 0, out = 0, out1 = 0, out2 = 0,
       size = 0;
   Layout() = default;
@@ -236,9 +236,10 @@ class System {
   void factor_mass();
   void accelerations(const double* q, const double* qd);
   double energy(const double* q, const double* qd) const;  // kinetic (true motion) + elastic [N mm]
-  // "" while every node stays near its kinematic path (the contacts' linearised geometry
-  // holds), else what left it: node, coordinate and deviation
-  std::string off_path(const double* q) const;
+  // the largest error of a loaded contact's linearised gap (after forces) [mm], and its
+  // contact: sliding s from the kinematic contact point leaves out s^2 / (2 (R_a + R_b))
+  double gap_error(const double* q, int& contact) const;
+  std::string gap_error_message(double error, int contact) const;
   // contacts and seats: min(penetration, unclamped force), > 0 exactly while the pair carries
   // a force (it closes when the penetration or the force becomes positive, opens when the
   // force falls to zero); coils: the coil overlap

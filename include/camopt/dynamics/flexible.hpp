@@ -54,6 +54,10 @@ struct FlexibleOptions {
   // the static start moving with the kinematic path, the last revolution reported
   bool start_at_rest = false;
   bool coil_displacements = false;     // record the displacement of every coil mass
+  // the contacts' geometry is linearised about the kinematic path: a loaded contact whose
+  // bodies have slid s from it has its gap off by s^2 / (2 (R_a + R_b)); past this the run
+  // stops (a floating body, or far past the separation speed) [mm]
+  double max_gap_error_mm = 0.1;
   // periodic steady state: stop before `revolutions` once every state component at a
   // window's start repeats the previous window's within this many integration tolerances
   // (|dy| <= periodic_tolerance (rtol |y| + atol), CVODE's error weight); 0: never. The
@@ -116,6 +120,9 @@ struct FlexibleResult {
   double train_frequency_hz = 0.0;      // first mode at peak lift, the component damping's reference
   double start_time_s = 0.0;          // time of the reported revolution's first point
   std::vector<double> kink_deg;       // where a lash contact opens or closes on the kinematic path [deg]
+  double gap_error_mm = 0.0;          // largest linearised-gap error of a loaded contact at the output points
+  double gap_error_at_cam_deg = 0.0;
+  std::string gap_error_contact;
   long steps = 0, rhs_evaluations = 0;  // rhs includes the finite-difference Jacobian's
   long jacobian_evaluations = 0;
   int revolutions_integrated = 0;     // windows integrated (periodic: the last one is not recorded)
