@@ -2,12 +2,37 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
+#include "camopt/dynamics/flexible.hpp"
+#include "camopt/dynamics/model.hpp"
 #include "camopt/io/design_file.hpp"
 #include "camopt/kinematics/drawing_check.hpp"
 #include "camopt/kinematics/mechanism.hpp"
 #include "cli_common.hpp"
 
 namespace camopt::cli {
+
+namespace {
+
+// the flexible model's laws, stiffnesses and damping, each marked when it is a default; a
+// design without the dynamics data (masses) has none
+std::string describe_flexible(const kin::Mechanism& mech) {
+  dynamics::Model model;
+  try {
+    model = dynamics::compile_dynamics(mech);
+  } catch (const InputError& e) {
+    return "flexible model: not available (" + std::string(e.what()) + ")\n";
+  }
+  std::vector<double> controls;
+  for (const ControlSpec& c : mech.spec.controls) controls.push_back(c.default_value);
+  const auto parameters = dynamics::flexible_parameters(mech, model, controls, dynamics::FlexibleOptions{});
+  if (parameters.empty()) return "flexible model: not available (its kinematic path does not assemble)\n";
+  std::string out = "flexible model (docs/dynamics.md; [default] = not in the design):\n";
+  for (const auto& p : parameters)
+    out += "  " + p.key + " = " + p.value + (p.unit.empty() ? "" : " " + p.unit) + (p.from_design ? "" : "  [default]") + "\n";
+  return out;
+}
+
+}  // namespace
 
 void setup_validate(CLI::App& app) {
   auto files = std::make_shared<std::vector<std::string>>();
@@ -18,7 +43,8 @@ void setup_validate(CLI::App& app) {
     for (const auto& f : *files) {
       const DesignSpec spec = io::load_design(f);
       const kin::Mechanism mech = kin::compile(spec);
-      if (!global_options().quiet) std::cout << f << ": ok\n" << kin::describe(mech);
+      const std::string flexible = describe_flexible(mech);  // throws for bad flexible-model data
+      if (!global_options().quiet) std::cout << f << ": ok\n" << kin::describe(mech) << flexible;
       for (const auto& note : kin::check_drawing(mech)) info(f + ": warning: " + note);
       if (!global_options().quiet) std::cout << "\n";
     }

@@ -129,8 +129,9 @@ std::vector<FlexibleParameter> describe(const System& s) {
     if (s.flex.contacts[c].is_contact) {
       law(key, s.laws[c], cs->contact_law);
     } else {
-      add(key + ".stiffness", s.link_k[c], "N/mm or N mm/rad", cs->stiffness_N_per_mm || cs->stiffness_Nm_per_rad);
-      add(key + ".damping", s.link_c[c], "N s/mm or N mm s/rad", cs->damping_ratio.has_value());
+      const bool angular = cs->kind == ConnectionKind::gear || cs->kind == ConnectionKind::variable_gear;
+      add(key + ".stiffness", s.link_k[c], angular ? "N mm/rad" : "N/mm", cs->stiffness_N_per_mm || cs->stiffness_Nm_per_rad);
+      add(key + ".damping", s.link_c[c], angular ? "N mm s/rad" : "N s/mm", cs->damping_ratio.has_value());
     }
   }
   for (const detail::Seat& st : s.seats) {
@@ -146,8 +147,9 @@ std::vector<FlexibleParameter> describe(const System& s) {
   }
   for (const detail::Element& e : s.elements) {
     const std::string key = "node." + s.mech.nodes[e.node].name;
-    add(key + ".stiffness", e.k, "N/mm or N mm/rad", true);
-    add(key + ".damping", e.c, "N s/mm or N mm s/rad", e.damping_given);
+    const bool angular = s.mech.nodes[e.node].kind == NodeKind::rotational;
+    add(key + ".stiffness", e.k, angular ? "N mm/rad" : "N/mm", true);
+    add(key + ".damping", e.c, angular ? "N mm s/rad" : "N s/mm", e.damping_given);
     if (!e.damping_given) add(key + ".damping_ratio", e.zeta, "-", e.zeta != s.opt.component_damping_ratio);
   }
   for (const detail::Chain& ch : s.chains) {
@@ -156,7 +158,7 @@ std::vector<FlexibleParameter> describe(const System& s) {
     add(key + ".damping", ch.spring_damping * 1e3, "N s/m", ch.spring_damping > 0);
     if (ch.masses > 0) add(key + ".coil_damping", ch.coil_damping * 1e3 * (ch.masses + 1), "N s/m per segment", false);
   }
-  add("train_frequency", s.train_frequency_hz, "Hz", false);
+  add("train_frequency", s.train_frequency_hz, "Hz", true);  // derived: the component damping's reference
   return p;
 }
 
