@@ -2,11 +2,14 @@
 // (rpm, control, cam angle), the summary's fields, bad input and the flexible stub.
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <map>
+#include <sstream>
 #include <nlohmann/json.hpp>
 #include <regex>
 #include <string>
 
 #include "cli/cli_support.hpp"
+#include "kinematics/kinematics_test_support.hpp"
 
 using namespace camopt::test;
 
@@ -111,4 +114,82 @@ TEST_CASE("camopt dynamics --contacts compliant integrates mode (b) and lists it
   // 2000 rpm is well below this design's separation speed (3728 rpm): the contact stays closed
   CHECK(j["results"][0]["events"].empty());
   CHECK(j["results"][0]["connections"]["cam_tappet"]["min_force_N"].get<double>() > 0.0);
+}
+
+namespace {
+// the columns of a CSV by name
+std::map<std::string, std::vector<double>> columns_of(const std::string& csv) {
+  const auto lines = split_lines(csv);
+  std::vector<std::string> names;
+  std::stringstream head(lines[0]);
+  for (std::string n; std::getline(head, n, ',');) names.push_back(n);
+  std::map<std::string, std::vector<double>> out;
+  for (std::size_t i = 1; i < lines.size(); ++i) {
+    std::stringstream row(lines[i]);
+    std::size_t k = 0;
+    for (std::string v; std::getline(row, v, ','); ++k) out[names[k]].push_back(std::stod(v));
+  }
+  return out;
+}
+}  // namespace
+
+TEST_CASE("camopt dynamics --model flexible: valve velocity and acceleration are the lift's derivatives, every "
+          "default is in the summary", "[dynamics][cli]") {
+  TempDir tmp;
+  const fs::path out = tmp / "out";
+  // the eccentric's path is smooth (a tabulated lobe's acceleration can change by 300 m/s^2
+  // within 0.5 deg, finer than the flexible model's 0.25 deg path table)
+  const auto r = run_camopt({"dynamics", (source_dir() / "designs/eccentric_flat_follower.toml").string(), "--model",
+                             "flexible", "--rpm", "3000", "--step", "0.02", "--revolutions", "2", "--out",
+                             out.string()});
+  INFO(r.command << "\n" << r.all());
+  REQUIRE(r.exit_code == cli_ok);
+  auto c = columns_of(read_file(out / "dynamics.csv"));
+  for (const char* name : {"vel_m_per_s", "acc_m_per_s2", "spring_return_spring_static_N", "seat_force_N"})
+    REQUIRE(c.count(name) == 1);
+  // central differences of the lift (0.02 deg at 1500 cam rpm: 2.2 us) against the columns,
+  // away from the seat (its impacts make the force jump)
+  const double dt = 0.02 * camopt::kin_test::deg / (1500 * 2 * camopt::kin_test::pi / 60);
+  const auto& lift = c["lift_mm"];
+  double worst_v = 0, worst_a = 0, peak_v = 0, peak_a = 0;
+  for (std::size_t i = 1; i + 1 < lift.size(); ++i) {
+    if (c["seat_force_N"][i] > 0 || c["lift_kinematic_mm"][i] < 0.5) continue;
+    const double v = (lift[i + 1] - lift[i - 1]) / (2 * dt) * 1e-3;
+    const double a = (c["vel_m_per_s"][i + 1] - c["vel_m_per_s"][i - 1]) / (2 * dt);
+    worst_v = std::max(worst_v, std::abs(v - c["vel_m_per_s"][i]));
+    worst_a = std::max(worst_a, std::abs(a - c["acc_m_per_s2"][i]));
+    peak_v = std::max(peak_v, std::abs(c["vel_m_per_s"][i]));
+    peak_a = std::max(peak_a, std::abs(c["acc_m_per_s2"][i]));
+  }
+  INFO("velocity error " << worst_v << " of " << peak_v << " m/s, acceleration error " << worst_a << " of " << peak_a);
+  CHECK(peak_v > 0.5);
+  CHECK(worst_v < 2e-3 * peak_v);
+  CHECK(worst_a < 2e-2 * peak_a);
+  const auto j = nlohmann::json::parse(read_file(out / "summary.json"));
+  const auto& res = j["results"][0];
+  CHECK(res["seats"]["follower"]["seating_velocity_m_per_s"].is_number());
+  CHECK(res["seats"]["follower"]["max_force_N"].get<double>() > 0.0);
+  CHECK(res.contains("gap_linearisation_error_mm"));
+  CHECK(res.contains("periodic_steady_state"));
+  bool seat_default = false;
+  for (const auto& p : j["model_parameters"])
+    if (p["key"] == "node.follower.seat.diameter") seat_default = p["value"] == "29" && p["from_design"] == false;
+  CHECK(seat_default);
+}
+
+TEST_CASE("camopt dynamics --model flexible: a seat the valve cannot reach is an input error naming the node",
+          "[dynamics][cli]") {
+  TempDir tmp;
+  std::string text = read_file(source_dir() / "designs/eccentric_flat_follower.toml");
+  // the follower held 0.5 mm below its drawing: it never comes down to its seat there
+  text = std::regex_replace(text, std::regex("(\\[\\[node\\]\\]\\nname = \"follower\")"), "$1\nrest_mm = -0.5");
+  const fs::path design = tmp / "unreachable_seat.toml";
+  write_text(design, text);
+  const fs::path out = tmp / "out";
+  const auto r = run_camopt({"dynamics", design.string(), "--model", "flexible", "--rpm", "3000", "--out", out.string()});
+  INFO(r.command << "\n" << r.all());
+  CHECK(r.exit_code == cli_input_error);
+  CHECK(has(r.err, "unreachable_seat.toml:"));
+  CHECK(has(r.err, "node 'follower': seat: the valve never reaches its seat"));
+  CHECK((!fs::exists(out) || fs::is_empty(out)));
 }
