@@ -17,6 +17,7 @@
 #include "camopt/kinematics/drawing_check.hpp"
 #include "cli_common.hpp"
 #include "flexible_summary.hpp"
+#include "modes_command.hpp"
 #include "range_option.hpp"
 
 namespace camopt::cli {
@@ -627,12 +628,16 @@ void run_flexible_model(const DynamicsOptions& o) {
 void setup_dynamics(CLI::App& app) {
   auto opts = std::make_shared<DynamicsOptions>();
   auto* cmd = app.add_subcommand("dynamics", "valvetrain dynamics: contact forces, cam torque, Hertz stress, spring "
-                                             "margin and separation speed (rigid), valve motion, bounce and surge (flexible)");
+                                             "margin and separation speed (rigid), valve motion, bounce and surge (flexible), "
+                                             "natural frequencies and mode shapes (modes)");
   cmd->add_option("design", opts->design, "design file (TOML)")->required();
-  cmd->add_option("--model", opts->model, "rigid or flexible")->check(CLI::IsMember({"rigid", "flexible"}));
-  cmd->add_option("--rpm", opts->rpm, "engine speed [rpm, crankshaft]: a value, a list a,b,c or START:STOP:COUNT")
-      ->required();
-  cmd->add_option("--out", opts->out_dir, "output directory (dynamics.csv, summary.json)")->required();
+  cmd->add_option("--model", opts->model,
+                  "rigid, flexible, or modes (natural frequencies and mode shapes of the flexible model, no speed)")
+      ->check(CLI::IsMember({"rigid", "flexible", "modes"}));
+  cmd->add_option("--rpm", opts->rpm,
+                  "engine speed [rpm, crankshaft]: a value, a list a,b,c or START:STOP:COUNT (required, except "
+                  "with --model modes)");
+  cmd->add_option("--out", opts->out_dir, "output directory (dynamics.csv or modes.csv, summary.json)")->required();
   cmd->add_option("--control", opts->control,
                   "control positions of the design's first control [deg or mm]: a value, a list or START:STOP:COUNT");
   cmd->add_option("--step", opts->step_deg, "cam angle step [cam deg] (default: the design's driver.step_deg)")
@@ -655,7 +660,14 @@ void setup_dynamics(CLI::App& app) {
   cmd->add_option("--atol", opts->flexible.absolute_tolerance,
                   "flexible: CVODE absolute tolerance on deviations [mm or rad] (default 1e-7)")
       ->check(CLI::Range(1e-16, 1.0));
-  cmd->callback([opts] {
+  auto modes = std::make_shared<ModesOptions>();
+  add_modes_options(*cmd, *modes);
+  cmd->callback([opts, modes] {
+    if (opts->model == "modes") {
+      run_modes({opts->design, opts->out_dir, opts->control, opts->rpm, opts->flexible, *modes});
+      return;
+    }
+    if (opts->rpm.empty()) throw CLI::RequiredError("--rpm");
     opts->flexible.start_at_rest = opts->start == "rest";
     if (opts->model == "flexible") {
       run_flexible_model(*opts);
