@@ -150,7 +150,8 @@ void run_modes(const ModesRequest& rq) {
 
   // ---- modes.csv: one row per (control, cam angle, mode) ----
   std::vector<std::string> header = {control_key, "cam_deg", "mode", "frequency_Hz"};
-  for (std::size_t i = 0; i < n; ++i) header.push_back(coordinates[i] + "_" + units[i]);
+  // mass-normalised shapes (x^T M x = 1, M in kg and kg mm^2): [mm or rad] per sqrt(kg)
+  for (std::size_t i = 0; i < n; ++i) header.push_back(coordinates[i] + "_" + units[i] + "_per_sqrt_kg");
   std::vector<std::vector<double>> cols(header.size());
   for (const Point& pt : points)
     for (std::size_t k = 0; k < pt.modes.frequencies_hz.size(); ++k) {

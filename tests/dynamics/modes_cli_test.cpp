@@ -263,8 +263,8 @@ TEST_CASE("camopt dynamics --model modes: spring alone, mass-normalised shapes (
 
   // modes.csv: one row per mode, a shape column per coordinate with its unit
   const camopt::io::CsvTable csv = camopt::io::parse_csv(read_file(out / "modes.csv"), "modes.csv");
-  std::vector<std::string> expected = {"control_deg", "cam_deg", "mode", "frequency_Hz", "tappet_mm"};
-  for (int c = 1; c <= n; ++c) expected.push_back("valve_spring.coil" + std::to_string(c) + "_mm");
+  std::vector<std::string> expected = {"control_deg", "cam_deg", "mode", "frequency_Hz", "tappet_mm_per_sqrt_kg"};
+  for (int c = 1; c <= n; ++c) expected.push_back("valve_spring.coil" + std::to_string(c) + "_mm_per_sqrt_kg");
   CHECK(csv.columns == expected);
   REQUIRE(csv.rows() == static_cast<std::size_t>(n + 1));
   for (std::size_t row = 0; row < csv.rows(); ++row) {
@@ -367,7 +367,8 @@ TEST_CASE("camopt dynamics --model modes --release-cam: the Cam Design Handbook 
   // lifter, pushrod (both ends), rocker, valve
   REQUIRE(f.size() == 5u);
   const auto header = split_lines(read_file(out / "modes.csv"))[0];
-  CHECK(header == "control_deg,cam_deg,mode,frequency_Hz,lifter_mm,pushrod_mm,rocker_rad,valve_mm,pushrod.far_mm");
+  CHECK(header == "control_deg,cam_deg,mode,frequency_Hz,lifter_mm_per_sqrt_kg,pushrod_mm_per_sqrt_kg,rocker_rad_per_sqrt_kg,"
+                  "valve_mm_per_sqrt_kg,pushrod.far_mm_per_sqrt_kg");
   INFO("modes " << f[0] << ", " << f[1] << ", " << f[2] << " Hz");
   // two-mass model from the same data: m1 = m_l + m_pr/2 (cam released), K1 = K_pr,
   // m2 = m_pr/2 + (J + (m_vs + m_cs/3) l_vs^2) / l_pr^2, K2 = K_cs (l_vs/l_pr)^2 [kg, N/mm -> t, N/mm]
