@@ -7,7 +7,7 @@
 //    0.25 deg) and tighter ones: run time, max contact-force error over the cycle and error
 //    of the peak forces against a tight run (rtol 1e-10, table 0.05 deg), relative to the
 //    peak force;
-//  - the flexible model (issue #7): time per cycle against tolerance (rtol 1e-3 .. 1e-8) with
+//  - the flexible model: time per cycle against tolerance (rtol 1e-3 .. 1e-8) with
 //    the error of the valve lift, of the contact forces and of the peak contact force against
 //    rtol 1e-10 / atol 1e-12, steps, RHS and Jacobian evaluations; one setting also without
 //    a CVODE restart at each contact event.

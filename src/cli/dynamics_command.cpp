@@ -1,4 +1,4 @@
-// camopt dynamics: rigid (issue #6) and flexible (issue #7) valvetrain dynamics.
+// camopt dynamics: rigid and flexible valvetrain dynamics.
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <charconv>
@@ -486,7 +486,7 @@ void run_compliant_contacts(const DynamicsOptions& o) {
        std::to_string(seconds * 1e3) + " ms -> " + o.out_dir + "/dynamics.csv, summary.json");
 }
 
-// the flexible model (issue #7): one CVODE run per (rpm, control), the last revolution reported
+// the flexible model: one CVODE run per (rpm, control), the last revolution reported
 void run_flexible_model(const DynamicsOptions& o) {
   const Setup su = make_setup(o);
   const kin::Mechanism& mech = su.mech;

@@ -1,4 +1,4 @@
-// camopt lift: a target valve lift from the lift-law library (issue #4, item 2), written
+// camopt lift: a target valve lift from the lift-law library, written
 // as a one-cycle table for `camopt synthesize`.
 #include <CLI/CLI.hpp>
 #include <cmath>

@@ -1,4 +1,4 @@
-// camopt optimize: constrained cam optimisation with Ipopt / NLopt (issue #5).
+// camopt optimize: constrained cam optimisation with Ipopt / NLopt.
 #include <CLI/CLI.hpp>
 #include <cmath>
 #include <memory>

@@ -1,4 +1,4 @@
-// camopt synthesize: envelope-theory cam synthesis from a target valve lift (issue #4).
+// camopt synthesize: envelope-theory cam synthesis from a target valve lift.
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cmath>

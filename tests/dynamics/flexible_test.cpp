@@ -1,4 +1,4 @@
-// flexible model (issue #7): multi-mass spring surge frequencies against the lumped and
+// flexible model: multi-mass spring surge frequencies against the lumped and
 // continuous closed forms, the handbook pushrod valve gear (Cam Design Handbook ch. 11,
 // shared/data/real/published_valvetrain_specs CDH11), a single-mass follower against an
 // RK4 integration written here, the power balance, and the low-speed limit (mode a).

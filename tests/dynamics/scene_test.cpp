@@ -1,4 +1,4 @@
-// scene-driven computation (issue #8): the rigid model carries no spring masses (a spring's
+// scene-driven computation: the rigid model carries no spring masses (a spring's
 // mass enters as m/3 on its node whatever its surge setting; only the flexible model makes
 // surge masses), and a kinematics run never builds the dynamics model (it runs on a design
 // whose dynamics data would be rejected).

@@ -389,7 +389,7 @@ TEST_CASE("synthesis: real measured intake lifts (ICESym) on the finger follower
 // at control 0 / 30 deg.
 TEST_CASE("synthesis: round trip within 1e-6 mm on every bundled design, across the control range",
           "[synthesis][envelope][designs]") {
-  constexpr double kBundledRoundTrip = 1e-6;  // [mm] (issue #4, accuracy)
+  constexpr double kBundledRoundTrip = 1e-6;  // [mm]
   struct Case {
     const char* design;
     const char* cam;
