@@ -32,8 +32,8 @@ struct PathLayout {
     gap = g_force + rows * nc;        // nc: kinematic gap (lash)
     held = gap + nc;                  // nc: held node displacement from rest
     mass = held + nc;                 // rows x rows
-    spring_k = mass + rows * rows;    // rows: spring stiffness on the row
-    size = spring_k + rows;
+    spring_k = mass + rows * rows;    // rows x rows: spring stiffness d(load)/dq
+    size = spring_k + rows * rows;
   }
 };
 
@@ -110,7 +110,10 @@ struct Problem {
 
   // generalized force on the free rows and the accelerations
   void accelerations(const Eigen::VectorXd& q, const Eigen::VectorXd& v) {
-    for (int r = 0; r < rows; ++r) f(r) = -path[lay.load + r] - path[lay.spring_k + r] * q(r);
+    for (int r = 0; r < rows; ++r) {
+      f(r) = -path[lay.load + r];
+      for (int j = 0; j < rows; ++j) f(r) -= path[lay.spring_k + r + rows * j] * q(j);
+    }
     for (int c = 0; c < nc; ++c) {
       const double fc = force(c, q, v);
       if (fc != 0.0)
@@ -212,11 +215,8 @@ Status run_compliant(const kin::Mechanism& mech, const Model& model, const std::
       }
       for (int j = 0; j < p.rows; ++j) row[p.lay.mass + r + p.rows * j] = ws.mass(r, j);
     }
-    for (const Spring& sp : model.springs) {
-      const int v = mech.nodes[sp.node].first_variable;
-      const int r = model.row_of_variable[v];
-      if (r >= 0) row[p.lay.spring_k + r] += sp.stiffness(ws.kin.vars[v].value());
-    }
+    for (int r = 0; r < p.rows; ++r)
+      for (int j = 0; j < p.rows; ++j) row[p.lay.spring_k + r + p.rows * j] = ws.spring_stiffness(r, j);
     for (int c = 0; c < p.nc; ++c) {
       if (!model.contacts[c].is_contact) continue;
       row[p.lay.gap + c] = ws.kin.contacts[c].gap;

@@ -263,7 +263,8 @@ double train_frequency(System& s) {
   s.evaluate_angle(s.row_angle[peak]);
   const int n = s.core();
   Eigen::MatrixXd k = Eigen::MatrixXd::Zero(n, n);
-  for (int r = 0; r < s.R; ++r) k(r, r) += s.path[s.L.spring_k + r];
+  for (int r = 0; r < s.R; ++r)
+    for (int j = 0; j < s.R; ++j) k(r, j) += s.path[s.L.spring_k + r + s.R * j];
   for (const Element& e : s.elements) {
     k(e.near, e.near) += e.k;
     k(e.far, e.far) += e.k;

@@ -71,7 +71,8 @@ void System::forces(const double* q, const double* qd) {
   for (int r = 0; r < R; ++r) {
     const int far = far_of_row[r];
     const double inertia = path[L.inertia + r] * w2, gas = path[L.gas + r];
-    const double applied = path[L.other + r] + path[L.spring_k + r] * q[r];
+    double applied = path[L.other + r];
+    for (int j = 0; j < R; ++j) applied += path[L.spring_k + r + R * j] * q[j];
     if (far < 0) {
       f(r) = -inertia - gas - applied;
       fr.gas_power -= gas * (kinematic_rate(r) + qd[r]);
@@ -181,7 +182,8 @@ void add_segment(Structured& a, const Chain& ch, int j, double v) {
 void System::newton_matrices(const double* q, const double* qd, Structured& k, Structured& d, bool statics) const {
   k.set_zero();
   d.set_zero();
-  for (int r = 0; r < R; ++r) k.core(r, r) += path[L.spring_k + r];
+  for (int r = 0; r < R; ++r)
+    for (int j = 0; j < R; ++j) k.core(r, j) += path[L.spring_k + r + R * j];
   auto add_pair = [](Eigen::MatrixXd& a, int i, int j, double v) {
     a(i, i) += v;
     a(j, j) += v;

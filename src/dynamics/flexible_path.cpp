@@ -20,8 +20,8 @@ constexpr double kPieceSlack = 1e-7;  // [rad] an angle this close to a piece be
 Layout::Layout(int r, int c, int s, int v) : R(r), C(c), S(s), V(v) {
   gas = inertia + R;        // R: gas load on the row [N or N mm]
   other = gas + R;          // R: remaining springs (torsion, ...)
-  spring_k = other + R;     // R: their stiffness on the row
-  vel = spring_k + R;       // R: dq/dtheta
+  spring_k = other + R;     // R x R (column-major): their stiffness d(load)/dq
+  vel = spring_k + R * R;   // R: dq/dtheta
   gn = vel + R;             // R x C (column-major): gap gradient (links: length)
   gt = gn + R * C;          // R x C: tangent gradient (friction)
   gap = gt + R * C;         // C: kinematic gap (lash)
@@ -69,11 +69,8 @@ void fill_row(const System& s, const RigidWorkspace& ws, double* row) {
     }
     for (int j = 0; j < s.R; ++j) row[L.mass + r + s.R * j] = ws.mass(r, j);
   }
-  for (const Spring& sp : s.flex.springs) {
-    const int v = mech.nodes[sp.node].first_variable;
-    const int r = s.flex.row_of_variable[v];
-    if (r >= 0) row[L.spring_k + r] += sp.stiffness(ws.kin.vars[v].value());
-  }
+  for (int r = 0; r < s.R; ++r)
+    for (int j = 0; j < s.R; ++j) row[L.spring_k + r + s.R * j] = ws.spring_stiffness(r, j);
   for (int c = 0; c < s.C; ++c) {
     const bool contact = s.flex.contacts[c].is_contact;
     row[L.gn_drv + c] = contact ? ws.g_normal(dv, c) : ws.g(dv, c);

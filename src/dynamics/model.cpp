@@ -147,9 +147,21 @@ Model compile_dynamics(const kin::Mechanism& mech) {
     if (s.node <= 0) throw InputError(ss.where, who + ": node '" + ss.node + "' does not exist");
     const NodeKind kind = mech.nodes[s.node].kind;
     if (ss.kind == SpringKind::compression) {
-      if (kind != NodeKind::translational)
-        throw InputError(ss.where, who + ": a compression spring needs a translational node ('" + ss.node + "' is " +
-                                       to_string(kind) + ")");
+      if (kind != NodeKind::translational && kind != NodeKind::floating)
+        throw InputError(ss.where, who + ": a compression spring needs a translational or floating node ('" + ss.node +
+                                       "' is " + to_string(kind) + ")");
+      if (kind == NodeKind::floating) {
+        if (!ss.point_mm || !ss.direction)
+          throw InputError(ss.where, who + ": on the floating node '" + ss.node +
+                                         "' it needs point_mm and direction (the point it pushes and its line)");
+        if (ss.surge_masses > 0)
+          throw InputError(ss.where, who + ": surge_masses on a floating node's spring is not supported");
+        s.on_point = true;
+        s.point = {(*ss.point_mm)[0], (*ss.point_mm)[1]};
+        s.direction = Eigen::Vector2d((*ss.direction)[0], (*ss.direction)[1]).normalized();
+      } else if (ss.point_mm || ss.direction) {
+        throw InputError(ss.where, who + ": point_mm and direction are for a spring on a floating node");
+      }
       if (!ss.table_displacement_mm.empty() || !ss.table_force_N.empty()) {
         require_table(ss.where, who + ": table", ss.table_displacement_mm, ss.table_force_N, 2);
         for (std::size_t i = 1; i < ss.table_force_N.size(); ++i)

@@ -48,6 +48,7 @@ RigidWorkspace::RigidWorkspace(const kin::Mechanism& mech, const Model& model) :
   g_tangent.setZero(nv, nc);
   seat.setZero(nc, cases_);
   mass.setZero(rows, rows);
+  spring_stiffness.setZero(rows, rows);
   slide_sign.assign(nc, 0.0);
   loads.setZero(nv, cases_);
   system.setZero(rows, nc);
@@ -151,12 +152,43 @@ Status solve_rigid(const kin::Mechanism& mech, const Model& model, RigidWorkspac
     ws.gas_force += f;
     ws.loads(mech.nodes[gf.node].first_variable, 1) += f;
   }
+  ws.spring_stiffness.setZero();
   for (std::size_t s = 0; s < model.springs.size(); ++s) {
     const Spring& sp = model.springs[s];
     const int v = mech.nodes[sp.node].first_variable;
-    const double load = sp.load(vars[v].value());
+    if (!sp.on_point) {
+      const double load = sp.load(vars[v].value());
+      ws.spring_load(static_cast<Eigen::Index>(s)) = load;
+      ws.loads(v, 2 + static_cast<int>(s)) += load;
+      const int r = model.row_of_variable[v];
+      if (r >= 0) ws.spring_stiffness(r, r) += sp.stiffness(vars[v].value());
+      continue;
+    }
+    // a spring pushing a point of a floating body along its line: travel x = d . (p - p_drawing),
+    // generalized load x'(q) load, stiffness k x' x'^T + load x'' (x'' = d . d2p/dphi2 = -d . (p - ref))
+    const auto pj = node_pose(mech, sp.node, vars.data(), ws.kin.pivots.data()).apply(sp.point.x(), sp.point.y());
+    const Eigen::Vector2d p(pj.x.value(), pj.y.value());
+    const double x = sp.direction.dot(p - sp.point), load = sp.load(x), k = sp.stiffness(x);
     ws.spring_load(static_cast<Eigen::Index>(s)) = load;
-    ws.loads(v, 2 + static_cast<int>(s)) += load;
+    Eigen::Vector2d dp[3];
+    const int n = point_partials(mech, ws.kin, sp.node, p, dp);
+    double g[3];
+    for (int i = 0; i < n; ++i) {
+      g[i] = sp.direction.dot(dp[i]);
+      ws.loads(v + i, 2 + static_cast<int>(s)) += load * g[i];
+    }
+    for (int i = 0; i < n; ++i) {
+      const int ri = model.row_of_variable[v + i];
+      if (ri < 0) continue;
+      for (int j = 0; j < n; ++j) {
+        const int rj = model.row_of_variable[v + j];
+        if (rj >= 0) ws.spring_stiffness(ri, rj) += k * g[i] * g[j];
+      }
+    }
+    if (n == 3 && model.row_of_variable[v + 2] >= 0) {
+      const Eigen::Vector2d second(-dp[2].y(), dp[2].x());  // z x (z x (p - ref)) = -(p - ref)
+      ws.spring_stiffness(model.row_of_variable[v + 2], model.row_of_variable[v + 2]) += load * sp.direction.dot(second);
+    }
   }
 
   // connection gradients g_c and the force direction on body b
@@ -268,7 +300,7 @@ Status solve_rigid(const kin::Mechanism& mech, const Model& model, RigidWorkspac
   }
   for (std::size_t s = 0; s < model.springs.size(); ++s) {
     const Spring& sp = model.springs[s];
-    if (sp.kind != SpringKind::compression) continue;
+    if (sp.kind != SpringKind::compression || sp.on_point) continue;
     const Eigen::Vector2d f = -ws.spring_load(static_cast<Eigen::Index>(s)) * mech.nodes[sp.node].direction;
     ws.reaction(2 * sp.node, 2 + static_cast<int>(s)) -= f.x();
     ws.reaction(2 * sp.node + 1, 2 + static_cast<int>(s)) -= f.y();

@@ -79,6 +79,7 @@ struct Reference {
   std::optional<NodeKind> kind;    // a node of this kind is required ...
   std::string role;                // ... by this role ("a compression spring")
   bool free_node = false;          // the node must not be set by a control
+  std::optional<NodeKind> also;    // a second kind that is accepted
 };
 
 template <class Spec>
@@ -203,7 +204,7 @@ class Parser {
   }
   void refer(Reference::To to, std::string name, SourceRef where, std::optional<NodeKind> kind = {},
              std::string role = {}) {
-    references_.push_back({to, std::move(name), std::move(where), kind, std::move(role), false});
+    references_.push_back({to, std::move(name), std::move(where), kind, std::move(role), false, std::nullopt});
   }
 
   void parse_header(const Table& t, DesignSpec& spec) {
@@ -579,7 +580,7 @@ class Parser {
                          "solid_length_mm", "wire_diameter_mm", "mean_coil_diameter_mm", "active_coils",
                          "shear_modulus_GPa"};
     const Keys compression = {"rate_N_per_mm", "preload_N", "table", "damping_N_s_per_m", "coil_damping_ratio",
-                              "coil_damping_N_s_per_m"};
+                              "coil_damping_N_s_per_m", "point_mm", "direction"};
     const Keys torsion = {"rate_Nmm_per_deg", "preload_Nmm"};
     const bool is_compression = s.kind == SpringKind::compression;
     t.allow(concat(common, is_compression ? compression : torsion), concat(compression, torsion),
@@ -588,6 +589,12 @@ class Parser {
     s.node = t.string("node");
     refer(Reference::To::node, t, "node", is_compression ? NodeKind::translational : NodeKind::rotational,
           is_compression ? "a compression spring" : "a torsion spring");
+    // a compression spring on a floating body: the point it pushes and the line it acts along
+    if (is_compression) {
+      references_.back().also = NodeKind::floating;
+      s.point_mm = t.optional_vec2("point_mm");
+      if (t.has("direction")) s.direction = t.direction_or("direction", {0.0, 1.0});
+    }
     if (!is_compression) {
       s.rate_Nmm_per_deg = t.number("rate_Nmm_per_deg", gt(0.0));
       s.preload_Nmm = t.number_or("preload_Nmm", 0.0);
@@ -670,9 +677,10 @@ class Parser {
           if (r.name == "ground" && !r.kind && !r.free_node) break;
           const NodeSpec* node = find_named(spec.nodes, r.name);
           if (!node) unknown(r, "node", names_of(spec.nodes) + "; or 'ground' for the fixed frame");
-          if (r.kind && node->kind != *r.kind)
+          if (r.kind && node->kind != *r.kind && !(r.also && node->kind == *r.also))
             throw InputError(r.where, "node " + quote(r.name) + " is " + to_string(node->kind) + "; " + r.role +
-                                          " needs a " + to_string(*r.kind) + " node");
+                                          " needs a " + to_string(*r.kind) +
+                                          (r.also ? std::string(" or ") + to_string(*r.also) : std::string()) + " node");
           if (r.free_node && node->control)
             throw InputError(r.where, "node " + quote(r.name) + " is set by control " + quote(*node->control) +
                                           " and cannot also be the driver");

@@ -167,6 +167,9 @@ struct SpringSpec {
   // mass-elastic data (flexible model; mass also adds 1/3 to the node in rigid mode)
   std::optional<double> mass_kg;
   int surge_masses = 0;  // lumped masses for the surge model (0 = massless), at most kMaxSurgeMasses
+  // compression spring on a floating node: the point of the body it pushes (drawing) and its
+  // line of action; the spring compresses as the point moves along +direction
+  std::optional<Vec2> point_mm, direction;
   std::optional<double> damping_N_s_per_m;       // viscous damping between the spring's ends
   std::optional<double> coil_damping_ratio;      // coil-to-coil: ratio of the first surge mode
   std::optional<double> coil_damping_N_s_per_m;  // coil-to-coil: damper between adjacent coil masses

@@ -29,6 +29,10 @@ struct Spring {
   double rate = 0.0;     // compression [N/mm]; torsion [N mm/rad]
   double preload = 0.0;  // compression [N]; torsion [N mm]
   std::vector<double> table_x, table_f;  // progressive law [mm] -> [N] (empty: linear)
+  // on a floating node: the point it pushes (drawing) and its line of action (unit); the
+  // travel is direction . (point now - point in the drawing)
+  bool on_point = false;
+  Eigen::Vector2d point{0, 0}, direction{0, 1};
 
   // load at node displacement x [mm or rad]: force [N] or torque [N mm]
   double load(double x) const;

@@ -49,6 +49,7 @@ class RigidWorkspace {
   Eigen::MatrixXd seat;         // per connection: seat reaction of the held node while its
                                 // lash gap is open (generalized, on the held variable)
   Eigen::MatrixXd mass;         // free rows x free rows: generalized mass [N per (mm or rad)/s^2]
+  Eigen::MatrixXd spring_stiffness;  // free rows x free rows: d(spring loads)/dq [N/mm, N mm/rad]
   Eigen::MatrixXd g_normal;     // node variables x connections: gradient of a contact's gap
   Eigen::MatrixXd g_tangent;    // the same along the tangent z x n (friction)
   std::vector<double> slide_sign;  // per contact: sign of the sliding speed (friction direction)
