@@ -7,26 +7,34 @@
 //    0.25 deg) and tighter ones: run time, max contact-force error over the cycle and error
 //    of the peak forces against a tight run (rtol 1e-10, table 0.05 deg), relative to the
 //    peak force;
-//  - the flexible model: time per cycle against tolerance (rtol 1e-3 .. 1e-8) with
-//    the error of the valve lift, of the contact forces and of the peak contact force against
-//    rtol 1e-10 / atol 1e-12, steps, RHS and Jacobian evaluations; one setting also without
-//    a CVODE restart at each contact event.
-//    The time per cycle is the whole run (tabulation plus `revolutions` revolutions) divided
-//    by the revolutions integrated.
-// usage: bench_dynamics [--repeat N] [--csv FILE] [--flexible-only] [--single RTOL ATOL]
-//  --flexible-only: only the flexible table (its reference run included);
+//  - the flexible model: time per cycle (process CPU time, best of the repeats) against
+//    tolerance (rtol 1e-3 .. 1e-8) with the error of the valve lift, of the contact forces, of
+//    the peak contact force, of the event angles and of the seating velocity against rtol 1e-10 /
+//    atol 1e-12, steps, RHS and Jacobian evaluations, events; one setting also without a CVODE
+//    restart at each contact event. The time per cycle is the whole run (tabulation plus
+//    `revolutions` revolutions) divided by the revolutions integrated.
+//  - the flexible model against the spring's mass count: the direct-acting valve of the tests
+//    (eccentric disc on a flat tappet, 40 N/mm / 250 N spring of 45 g) at 6000 rpm with
+//    surge_masses 0 .. 500, default tolerances: CPU time per cycle, steps, ratio to 10 masses.
+// usage: bench_dynamics [--repeat N] [--csv FILE] [--flexible-only] [--single RTOL ATOL [--masses N]]
+//  --flexible-only: only the flexible tables (the tolerance table's reference run included);
+//    with --csv the file's other sections (modes a and b) are kept and the flexible rows replaced;
 //  --single RTOL ATOL: one flexible run at these tolerances and its counters, no reference,
-//    no timing repeat (for a profiler: valgrind --tool=callgrind ... --single 1e-6 1e-7).
+//    no timing repeat (for a profiler: valgrind --tool=callgrind ... --single 1e-6 1e-7);
+//    with --masses N the direct-acting valve with N surge masses instead of the CVVL.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <ctime>
 #include <fstream>
 #include <functional>
+#include <limits>
+#include <numbers>
 #include <string>
 #include <vector>
+
+#include <time.h>  // clock_gettime (process CPU time)
 
 #include "bench_support.hpp"
 #include "camopt/dynamics/compliant.hpp"
@@ -67,6 +75,128 @@ Peaks peaks_of(const dynamics::RigidSweep& s, const dynamics::Model& model) {
   return p;
 }
 
+// best wall and best process CPU time of `repeat` runs of f [s] (taken separately: on a shared
+// machine the CPU time is what the run itself costs)
+struct Timing {
+  double wall = 1e300, cpu = 1e300;
+};
+double cpu_seconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+Timing best_of(const std::function<void()>& f, int repeat) {
+  Timing t;
+  for (int r = 0; r < std::max(repeat, 1); ++r) {
+    const double c0 = cpu_seconds();
+    const auto w0 = std::chrono::steady_clock::now();
+    f();
+    t.wall = std::min(t.wall, std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count());
+    t.cpu = std::min(t.cpu, cpu_seconds() - c0);
+  }
+  return t;
+}
+
+// the direct-acting valve of the dynamics tests (tests/dynamics/dynamics_test_support.hpp,
+// valve_with_spring_mass): eccentric disc (R 18, e 4, centre at -90 deg) on a flat tappet of
+// 70 g (steel line contact 8 mm wide, seat by default as the output node), valve spring
+// 40 N/mm, 250 N preload, 45 g in `surge_masses` internal masses
+DesignSpec direct_valve_with_spring_mass(int surge_masses) {
+  constexpr double kDiscRadius = 18, kEccentricity = 4;
+  const double h = kEccentricity * std::sin(-std::numbers::pi / 2) + kDiscRadius;  // face height at 0 deg
+  DesignSpec d;
+  d.name = "direct_valve";
+  d.driver.node = "cam";
+  d.output_node = "tappet";
+  NodeSpec cam;
+  cam.name = "cam";
+  cam.kind = NodeKind::rotational;
+  cam.pivot_mm = {0, 0};
+  NodeSpec tappet;
+  tappet.name = "tappet";
+  tappet.kind = NodeKind::translational;
+  tappet.origin_mm = {0, h};
+  tappet.direction = {0, 1};
+  tappet.mass_kg = 0.07;
+  d.nodes = {cam, tappet};
+  ProfileSpec disc;
+  disc.name = "disc";
+  disc.form = ProfileForm::eccentric;
+  disc.disc_radius_mm = kDiscRadius;
+  disc.eccentricity_mm = kEccentricity;
+  d.profiles = {disc};
+  ConnectionSpec k;
+  k.name = "cam_tappet";
+  k.kind = ConnectionKind::contact;
+  k.surface_a.node = "cam";
+  k.surface_a.shape = SurfaceShape::profile;
+  k.surface_a.profile = "disc";
+  k.surface_a.origin_mm = {0, 0};
+  k.surface_a.orientation_deg = -90;
+  k.surface_b.node = "tappet";
+  k.surface_b.shape = SurfaceShape::line;
+  k.surface_b.origin_mm = {0, h};
+  k.surface_b.normal = {0, -1};
+  k.material_a = k.material_b = "steel";
+  k.width_mm = 8;
+  d.connections = {k};
+  MaterialSpec steel;
+  steel.name = "steel";
+  steel.youngs_modulus_GPa = 210;
+  steel.poisson_ratio = 0.3;
+  d.materials = {steel};
+  SpringSpec s;
+  s.name = "valve_spring";
+  s.node = "tappet";
+  s.rate_N_per_mm = 40;
+  s.preload_N = 250;
+  s.mass_kg = 0.045;
+  s.surge_masses = surge_masses;
+  d.springs = {s};
+  return d;
+}
+
+// a run's events against the reference's: each event matched with the reference event of the
+// same contact / seat and direction nearest in angle (no such event: unmatched); the seating
+// velocity is that of the first seat closing of the reported revolution
+struct EventErrors {
+  double max_angle_deg = 0;  // largest |angle - matched reference angle|
+  int unmatched = 0;         // events with no reference event of the same kind
+  long count_difference = 0; // events - reference events
+  double seating_speed_error = std::numeric_limits<double>::quiet_NaN();  // [m/s]
+  double seating_speed = std::numeric_limits<double>::quiet_NaN();
+};
+const dynamics::FlexibleEvent* first_seat_closing(const dynamics::FlexibleResult& r) {
+  const dynamics::FlexibleEvent* first = nullptr;
+  for (const auto& e : r.events) {
+    const bool seat = e.what.size() > 5 && e.what.compare(e.what.size() - 5, 5, " seat") == 0;
+    if (seat && !e.opens && (!first || e.time_s < first->time_s)) first = &e;
+  }
+  return first;
+}
+EventErrors compare_events(const dynamics::FlexibleResult& r, const dynamics::FlexibleResult& ref) {
+  EventErrors out;
+  for (const auto& e : r.events) {
+    double nearest = std::numeric_limits<double>::infinity();
+    for (const auto& f : ref.events)
+      if (f.what == e.what && f.opens == e.opens) nearest = std::min(nearest, std::abs(e.cam_deg - f.cam_deg));
+    if (std::isfinite(nearest)) out.max_angle_deg = std::max(out.max_angle_deg, nearest);
+    else ++out.unmatched;
+  }
+  out.count_difference = static_cast<long>(r.events.size()) - static_cast<long>(ref.events.size());
+  const dynamics::FlexibleEvent *a = first_seat_closing(r), *b = first_seat_closing(ref);
+  if (a) out.seating_speed = a->speed_m_per_s;
+  if (a && b) out.seating_speed_error = std::abs(a->speed_m_per_s - b->speed_m_per_s);
+  return out;
+}
+
+// the sections of dynamics.csv the flexible part writes (--flexible-only keeps the others)
+bool flexible_row(const std::string& row) {
+  const std::string mode = row.substr(0, row.find(','));
+  return mode == "flexible" || mode == "flexible wall" || mode == "flexible cpu" || mode == "flexible masses" ||
+         mode == "rigid vs flexible";
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -75,6 +205,7 @@ int main(int argc, char** argv) {
   std::string csv_path;
   bool flexible_only = false, single = false;
   double single_rtol = 0, single_atol = 0;
+  int single_masses = -1;  // --masses N: the direct-acting valve instead of the CVVL
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--repeat") && i + 1 < argc) repeat = std::atoi(argv[++i]);
     else if (!std::strcmp(argv[i], "--csv") && i + 1 < argc) csv_path = argv[++i];
@@ -83,9 +214,12 @@ int main(int argc, char** argv) {
       single = true;
       single_rtol = std::atof(argv[++i]);
       single_atol = std::atof(argv[++i]);
+    } else if (!std::strcmp(argv[i], "--masses") && i + 1 < argc) {
+      single_masses = std::atoi(argv[++i]);
     } else {
       std::fprintf(stderr,
-                   "usage: bench_dynamics [--repeat N] [--csv FILE] [--flexible-only] [--single RTOL ATOL]\n");
+                   "usage: bench_dynamics [--repeat N] [--csv FILE] [--flexible-only] "
+                   "[--single RTOL ATOL [--masses N]]\n");
       return 2;
     }
   }
@@ -163,22 +297,37 @@ int main(int argc, char** argv) {
   }
   // ---- flexible ----
   constexpr int kRevolutions = 3;
-  auto run_flex = [&](double rtol, double atol, bool restart, dynamics::FlexibleResult& r) {
+  auto flex_options = [&](double rtol, double atol, bool restart) {
     dynamics::FlexibleOptions opt;
     opt.revolutions = kRevolutions;
     opt.relative_tolerance = rtol;
     opt.absolute_tolerance = atol;
     opt.restart_at_events = restart;
     opt.periodic_tolerance = 0;  // always the same 3 revolutions (the reference too)
-    check(dynamics::run_flexible(mech, model, controls, kRpm, 0, 360, 1, opt, r));
+    return opt;
+  };
+  auto run_flex = [&](double rtol, double atol, bool restart, dynamics::FlexibleResult& r) {
+    check(dynamics::run_flexible(mech, model, controls, kRpm, 0, 360, 1, flex_options(rtol, atol, restart), r));
+  };
+  // the direct-acting valve with n surge masses, compiled once per n
+  struct Valve {
+    kin::Mechanism mech;
+    dynamics::Model model;
+    explicit Valve(int n) : mech(kin::compile(direct_valve_with_spring_mass(n))), model(dynamics::compile_dynamics(mech)) {}
+    void run(const dynamics::FlexibleOptions& opt, dynamics::FlexibleResult& r) const {
+      check(dynamics::run_flexible(mech, model, {}, kRpm, 0, 360, 1, opt, r));
+    }
   };
   if (single) {
     dynamics::FlexibleResult r;
-    const std::clock_t c0 = std::clock();
-    run_flex(single_rtol, single_atol, true, r);
-    const double cpu = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC / kRevolutions;
-    std::printf("flexible rtol %g atol %g: %.2f CPU ms/cycle, steps %ld, rhs %ld, jac %ld, events %zu\n", single_rtol,
-                single_atol, cpu * 1e3, r.steps, r.rhs_evaluations, r.jacobian_evaluations, r.events.size());
+    const double c0 = cpu_seconds();
+    if (single_masses >= 0) Valve(single_masses).run(flex_options(single_rtol, single_atol, true), r);
+    else run_flex(single_rtol, single_atol, true, r);
+    const double cpu = (cpu_seconds() - c0) / kRevolutions;
+    std::printf("flexible %s rtol %g atol %g: %.2f CPU ms/cycle, steps %ld, rhs %ld, jac %ld, events %zu\n",
+                single_masses >= 0 ? ("direct-acting valve, " + std::to_string(single_masses) + " surge masses,").c_str()
+                                   : "CVVL",
+                single_rtol, single_atol, cpu * 1e3, r.steps, r.rhs_evaluations, r.jacobian_evaluations, r.events.size());
     return 0;
   }
   dynamics::FlexibleResult ref_flex;
@@ -187,11 +336,15 @@ int main(int argc, char** argv) {
     return *std::max_element(r.force.begin(), r.force.end());
   };
   const double ref_peak = peak_force(ref_flex);
-  std::printf("\nflexible model, same cycle after %d revolutions (the last reported), output every 1 cam deg;"
-              " reference rtol 1e-10 / atol 1e-12 (peak contact force %.1f N, %zu events, train mode %.0f Hz)\n",
-              kRevolutions, ref_peak, ref_flex.events.size(), ref_flex.train_frequency_hz);
-  std::printf("%-30s %-10s %-10s %-16s %-20s %-20s %-8s %-8s %-6s %-7s\n", "rtol / atol_mm / restart", "ms/cycle",
-              "cpu ms", "max lift err mm", "max force err/peak", "peak force err/peak", "steps", "rhs", "jac", "events");
+  const dynamics::FlexibleEvent* ref_seat = first_seat_closing(ref_flex);
+  std::printf("\nflexible model, CVVL control 0, %g rpm, the last of %d revolutions, output every 1 cam deg;"
+              " reference rtol 1e-10 / atol 1e-12 (peak contact force %.1f N, %zu events, first seating %.4f m/s"
+              " at %.2f deg, train mode %.0f Hz); times: process CPU, best of %d\n",
+              kRpm, kRevolutions, ref_peak, ref_flex.events.size(), ref_seat ? ref_seat->speed_m_per_s : -1.0,
+              ref_seat ? ref_seat->cam_deg : -1.0, ref_flex.train_frequency_hz, repeat);
+  std::printf("%-30s %-9s %-9s %-12s %-12s %-12s %-12s %-9s %-12s %-7s %-7s %-5s %-6s\n", "rtol / atol_mm / restart",
+              "cpu ms", "wall ms", "lift err mm", "force err/pk", "peak err/pk", "event deg", "events-ref",
+              "seat v err", "steps", "rhs", "jac", "events");
   struct FlexSetting {
     double rtol, atol;
     bool restart;
@@ -200,45 +353,91 @@ int main(int argc, char** argv) {
        std::vector<FlexSetting>{{1e-3, 1e-5, true}, {1e-4, 1e-6, true}, {1e-5, 1e-7, true}, {1e-6, 1e-7, true},
                                 {1e-6, 1e-8, true}, {1e-7, 1e-9, true}, {1e-8, 1e-10, true}, {1e-6, 1e-7, false}}) {
     dynamics::FlexibleResult r;
-    // wall and process CPU time (the machine is shared: CPU time is what the run itself costs)
-    double cpu = 1e300;
-    const double t = seconds_of([&] {
-                       const std::clock_t c0 = std::clock();
-                       run_flex(rtol, atol, restart, r);
-                       cpu = std::min(cpu, static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC);
-                     },
-                                repeat) /
-                     kRevolutions;
-    cpu /= kRevolutions;
+    Timing t = best_of([&] { run_flex(rtol, atol, restart, r); }, repeat);
+    t.cpu /= kRevolutions;
+    t.wall /= kRevolutions;
     double lift_err = 0, force_err = 0;
     for (std::size_t i = 0; i < r.lift.size(); ++i) lift_err = std::max(lift_err, std::abs(r.lift[i] - ref_flex.lift[i]));
     for (std::size_t i = 0; i < r.force.size(); ++i)
       force_err = std::max(force_err, std::abs(r.force[i] - ref_flex.force[i]) / ref_peak);
     const double peak_err = std::abs(peak_force(r) - ref_peak) / ref_peak;
+    const EventErrors ev = compare_events(r, ref_flex);
     const std::string setting = "rtol " + num(rtol) + " atol " + num(atol) + (restart ? " restart" : " no restart");
-    std::printf("%-30s %-10.2f %-10.2f %-16.3g %-20.3g %-20.3g %-8ld %-8ld %-6ld %-7zu\n", setting.c_str(), t * 1e3,
-                cpu * 1e3, lift_err,
-                force_err, peak_err, r.steps, r.rhs_evaluations, r.jacobian_evaluations, r.events.size());
-    rows.push_back("flexible cpu," + setting + "," + num(cpu * 1e3) + ",,,,");
-    rows.push_back("flexible," + setting + "," + num(t * 1e3) + ",max valve lift err mm," + num(lift_err) + "," +
-                   std::to_string(r.steps) + "," + std::to_string(r.rhs_evaluations));
-    rows.push_back("flexible," + setting + "," + num(t * 1e3) + ",max contact force err / peak," + num(force_err) +
-                   "," + std::to_string(r.steps) + "," + std::to_string(r.rhs_evaluations));
-    rows.push_back("flexible," + setting + "," + num(t * 1e3) + ",peak contact force err / peak," + num(peak_err) +
-                   "," + std::to_string(r.steps) + "," + std::to_string(r.rhs_evaluations));
+    const std::string event_deg = num(ev.max_angle_deg) + (ev.unmatched ? " (" + std::to_string(ev.unmatched) + " unm.)" : "");
+    std::printf("%-30s %-9.2f %-9.2f %-12.3g %-12.3g %-12.3g %-12s %-9ld %-12.3g %-7ld %-7ld %-5ld %-6zu\n",
+                setting.c_str(), t.cpu * 1e3, t.wall * 1e3, lift_err, force_err, peak_err, event_deg.c_str(),
+                ev.count_difference, ev.seating_speed_error, r.steps, r.rhs_evaluations, r.jacobian_evaluations,
+                r.events.size());
+    const std::string counters = "," + std::to_string(r.steps) + "," + std::to_string(r.rhs_evaluations);
+    const std::string head = "flexible," + setting + "," + num(t.cpu * 1e3) + ",";
+    rows.push_back("flexible wall," + setting + "," + num(t.wall * 1e3) + ",,,,");
+    rows.push_back(head + "max valve lift err mm," + num(lift_err) + counters);
+    rows.push_back(head + "max contact force err / peak," + num(force_err) + counters);
+    rows.push_back(head + "peak contact force err / peak," + num(peak_err) + counters);
+    rows.push_back(head + "max event angle err deg," + num(ev.max_angle_deg) + counters);
+    rows.push_back(head + "unmatched events," + std::to_string(ev.unmatched) + counters);
+    rows.push_back(head + "event count - reference," + std::to_string(ev.count_difference) + counters);
+    rows.push_back(head + "seating velocity err m/s," + num(ev.seating_speed_error) + counters);
+    rows.push_back(head + "jacobian evaluations," + std::to_string(r.jacobian_evaluations) + counters);
+    rows.push_back(head + "events," + std::to_string(r.events.size()) + counters);
   }
-  {  // rigid vs flexible cost of one cycle
+  {  // rigid vs flexible cost of one cycle (CPU)
     dynamics::RigidSweep s;
-    const double t_rigid = seconds_of([&] { check(dynamics::rigid_sweep(mech, model, controls, 0, 360, 1, s)); }, repeat);
+    const Timing t_rigid = best_of([&] { check(dynamics::rigid_sweep(mech, model, controls, 0, 360, 1, s)); }, repeat);
     dynamics::FlexibleResult r;
-    const double t_flex = seconds_of([&] { run_flex(1e-6, 1e-7, true, r); }, repeat) / kRevolutions;
-    std::printf("\nrigid (a) 1 deg: %.3f ms/cycle; flexible rtol 1e-6: %.3f ms/cycle (x %.0f)\n", t_rigid * 1e3,
-                t_flex * 1e3, t_flex / t_rigid);
-    rows.push_back("rigid vs flexible,rigid step 1 deg," + num(t_rigid * 1e3) + ",,,,");
+    const double t_flex = best_of([&] { run_flex(1e-6, 1e-7, true, r); }, repeat).cpu / kRevolutions;
+    std::printf("\nrigid (a) 1 deg: %.3f CPU ms/cycle; flexible rtol 1e-6: %.3f CPU ms/cycle (x %.0f)\n",
+                t_rigid.cpu * 1e3, t_flex * 1e3, t_flex / t_rigid.cpu);
+    rows.push_back("rigid vs flexible,rigid step 1 deg," + num(t_rigid.cpu * 1e3) + ",,,,");
     rows.push_back("rigid vs flexible,flexible rtol 1e-6," + num(t_flex * 1e3) + ",,," + std::to_string(r.steps) + "," +
                    std::to_string(r.rhs_evaluations));
   }
+  {  // time per cycle against the spring's mass count (default tolerances)
+    std::printf("\nflexible model, direct-acting valve (tests' valve_with_spring_mass), %g rpm, %d revolutions, "
+                "rtol 1e-6 / atol 1e-7; process CPU, best of %d\n",
+                kRpm, kRevolutions, repeat);
+    std::printf("%-14s %-8s %-12s %-10s %-8s %-8s %-6s %-7s %-14s\n", "surge_masses", "states", "cpu ms/cyc",
+                "wall ms", "steps", "rhs", "jac", "events", "ratio to N=10");
+    const dynamics::FlexibleOptions opt = flex_options(1e-6, 1e-7, true);
+    struct MassRow {
+      int n;
+      Timing t;
+      dynamics::FlexibleResult r;
+    };
+    std::vector<MassRow> mass_rows;
+    for (const int n : {0, 10, 50, 100, 200, 500}) {
+      const Valve valve(n);
+      MassRow row{n, {}, {}};
+      row.t = best_of([&] { valve.run(opt, row.r); }, repeat);
+      row.t.cpu /= kRevolutions;
+      row.t.wall /= kRevolutions;
+      mass_rows.push_back(std::move(row));
+    }
+    double cpu10 = 0;
+    for (const auto& m : mass_rows)
+      if (m.n == 10) cpu10 = m.t.cpu;
+    for (const auto& m : mass_rows) {
+      const double ratio = m.t.cpu / cpu10;
+      std::printf("%-14d %-8d %-12.3f %-10.3f %-8ld %-8ld %-6ld %-7zu %-14.2f\n", m.n, 2 * m.r.layout.size(),
+                  m.t.cpu * 1e3, m.t.wall * 1e3, m.r.steps, m.r.rhs_evaluations, m.r.jacobian_evaluations,
+                  m.r.events.size(), ratio);
+      const std::string setting = "direct valve surge_masses " + std::to_string(m.n);
+      rows.push_back("flexible masses," + setting + "," + num(m.t.cpu * 1e3) + ",cpu ratio to 10 masses," + num(ratio) +
+                     "," + std::to_string(m.r.steps) + "," + std::to_string(m.r.rhs_evaluations));
+      rows.push_back("flexible masses," + setting + "," + num(m.t.cpu * 1e3) + ",jacobian evaluations," +
+                     std::to_string(m.r.jacobian_evaluations) + "," + std::to_string(m.r.steps) + "," +
+                     std::to_string(m.r.rhs_evaluations));
+    }
+  }
   if (!csv_path.empty()) {
+    if (flexible_only) {  // keep the file's other sections, in their order, before the new flexible rows
+      std::ifstream in(csv_path);
+      std::vector<std::string> kept;
+      std::string line;
+      for (bool header = true; std::getline(in, line); header = false)
+        if (!header && !line.empty() && !flexible_row(line)) kept.push_back(line);
+      rows.insert(rows.begin() + 1, kept.begin(), kept.end());
+    }
     std::ofstream f(csv_path);
     for (const auto& row : rows) f << row << "\n";
   }
