@@ -52,7 +52,7 @@ int quadrature_callback(sunrealtype t, N_Vector y, N_Vector q_dot, void* data) {
   try {
     s->evaluate(t);
     const double* yv = N_VGetArrayPointer(y);
-    s->forces(yv, yv + s->N);
+    s->forces(yv, yv + s->N, true);
     double* qd = N_VGetArrayPointer(q_dot);
     qd[0] = s->fr.drive_power;
     qd[1] = s->fr.gas_power;

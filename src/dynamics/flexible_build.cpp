@@ -366,7 +366,9 @@ Status build_system(System& s, const Model& model, const std::vector<double>& co
   s.fr.coil_base.assign(s.chains.size(), 0.0);
   s.fr.static_load.assign(s.chains.size(), 0.0);
   for (Structured* a : {&s.m, &s.jk, &s.jd}) a->resize(s.core(), s.chains);
-  s.mass_lu.a.resize(s.core(), s.chains);
+  s.inv_coil_mass.resize(s.N - s.core());
+  for (const Chain& ch : s.chains)
+    for (int j = 0; j < ch.masses; ++j) s.inv_coil_mass(ch.first + j - s.core()) = 1.0 / ch.mass;
   set_damping(s, link_ratio);
   // roots
   for (int c = 0; c < s.C; ++c)

@@ -62,7 +62,7 @@ ForceLaw::Value System::seat_force(const Seat& s, double pen, double rate) const
   return n;
 }
 
-void System::forces(const double* q, const double* qd) {
+void System::forces(const double* q, const double* qd, bool powers_only) {
   Eigen::VectorXd& f = fr.f;
   f.setZero(N);
   const double w2 = omega * omega;
@@ -140,20 +140,28 @@ void System::forces(const double* q, const double* qd) {
   fr.drive_power = fr.torque * omega;
   for (std::size_t s = 0; s < chains.size(); ++s) {
     const Chain& ch = chains[s];
-    const double n1 = ch.masses + 1.0;
+    const double n1 = ch.masses + 1.0, cs = ch.segment_damping;
+    const bool linear = ch.law.table_x.empty();
+    const double preload = ch.law.preload, rate = ch.law.rate;
+    // segment j (1 .. masses + 1) between u_{j-1} and u_j pushes u_j down and u_{j-1} up
+    double u0 = 0.0, v0 = 0.0;
     for (int j = 1; j <= ch.masses + 1; ++j) {
-      const double d = n1 * (chain_u(ch, j, q) - chain_u(ch, j - 1, q));  // whole-spring travel
-      const double dd = n1 * (chain_ud(ch, j, qd) - chain_ud(ch, j - 1, qd));
-      double fs = ch.law.load(d) + ch.segment_damping * dd;
-      fr.viscous_power += ch.segment_damping * dd * dd / n1;
+      const bool top = j == ch.masses + 1;
+      const double u1 = top ? chain_x(ch, q) : q[ch.first + j - 1];
+      const double v1 = top ? chain_v(ch, qd) : qd[ch.first + j - 1];
+      const double d = n1 * (u1 - u0), dd = n1 * (v1 - v0);  // whole-spring travel and rate
+      fr.viscous_power += cs * dd * dd / n1;
+      u0 = u1;
+      v0 = v1;
+      if (powers_only) continue;
+      double fs = (linear ? preload + rate * d : ch.law.load(d)) + cs * dd;
       if (ch.solid_travel >= 0 && d > ch.solid_travel) fs += opt.coil_clash_stiffness * (d - ch.solid_travel);
-      // segment j pushes u_j down and u_{j-1} up
-      if (j <= ch.masses) f(ch.first + j - 1) -= fs;
+      if (!top) f(ch.first + j - 1) -= fs;
       else f(ch.row) -= fs, fr.coil_top[s] = fs;
       if (j >= 2) f(ch.first + j - 2) += fs;
       else fr.coil_base[s] = fs;
     }
-    fr.static_load[s] = ch.law.load(chain_x(ch, q));
+    if (!powers_only) fr.static_load[s] = ch.law.load(chain_x(ch, q));
   }
 }
 
@@ -267,16 +275,16 @@ void System::mass_matrix(Structured& out) const {
 void System::factor_mass() {
   if (factored_theta == evaluated_theta) return;
   mass_matrix(m);
-  mass_lu.a.copy_from(m);
-  mass_lu.factor(chains);
+  core_mass_lu.compute(m.core);
   factored_theta = evaluated_theta;
 }
 
 void System::accelerations(const double* q, const double* qd) {
   forces(q, qd);
   factor_mass();
-  acc = fr.f;
-  mass_lu.solve(acc.data());
+  const int nc = core();
+  acc.head(nc) = core_mass_lu.solve(fr.f.head(nc));
+  acc.tail(N - nc) = fr.f.tail(N - nc).cwiseProduct(inv_coil_mass);
 }
 
 double System::energy(const double* q, const double* qd) const {

@@ -159,7 +159,8 @@ class System {
 
   double omega = 0.0, theta0 = 0.0;       // cam speed [rad/s], angle at t = 0 [rad]
   Structured m;                           // extended mass (angle-dependent core)
-  StructuredLU mass_lu;
+  Eigen::PartialPivLU<Eigen::MatrixXd> core_mass_lu;  // the core's block; the coil masses are diagonal
+  Eigen::VectorXd inv_coil_mass;          // per coil mass row (after the core) [1 / (N per mm/s^2)]
   double factored_theta = std::nan("");
   // generalized forces and what derives from them at one state
   struct Forces {
@@ -228,7 +229,9 @@ class System {
   }
 
   // ---- forces and matrices (flexible_forces.cpp) ----
-  void forces(const double* q, const double* qd);
+  // the generalized forces and powers at (q, qd); powers_only: the work integrals' powers
+  // alone (the coil masses' forces are left out)
+  void forces(const double* q, const double* qd, bool powers_only = false);
   // K = -df/dq and D = -df/d(dq/dt) at (q, qd); statics: the tangent stiffness alone (no
   // rate terms, friction left out) for Newton statics and the modes
   void newton_matrices(const double* q, const double* qd, Structured& k, Structured& d, bool statics = false) const;
