@@ -67,14 +67,22 @@ double max_norm(N_Vector x) {
   for (sunindextype i = 0, n = size(x); i < n; ++i) m = std::max(m, std::abs(xd[i]));
   return m;
 }
+// four partial sums (the vector unit's width: the serial sum is a chain of dependent adds)
 double weighted_square_sum(N_Vector x, N_Vector w) {
   const double *xd = data(x), *wd = data(w);
-  double s = 0.0;
-  for (sunindextype i = 0, n = size(x); i < n; ++i) {
+  const sunindextype n = size(x);
+  double s[4] = {0.0, 0.0, 0.0, 0.0};
+  sunindextype i = 0;
+  for (; i + 4 <= n; i += 4)
+    for (int k = 0; k < 4; ++k) {
+      const double p = xd[i + k] * wd[i + k];
+      s[k] += p * p;
+    }
+  for (; i < n; ++i) {
     const double p = xd[i] * wd[i];
-    s += p * p;
+    s[0] += p * p;
   }
-  return s;
+  return (s[0] + s[1]) + (s[2] + s[3]);
 }
 double weighted_square_sum_mask(N_Vector x, N_Vector w, N_Vector id) {
   const double *xd = data(x), *wd = data(w), *idd = data(id);

@@ -37,10 +37,10 @@ int rhs_callback(sunrealtype t, N_Vector y, N_Vector ydot, void* data) {
     const double* yv = N_VGetArrayPointer(y);
     double* yd = N_VGetArrayPointer(ydot);
     s->accelerations(yv, yv + s->N);
-    for (int i = 0; i < s->N; ++i) yd[i] = yv[s->N + i], yd[s->N + i] = s->acc(i);
-    for (int i = 0; i < 2 * s->N; ++i)
-      if (!std::isfinite(yd[i])) return 1;  // recoverable: CVODE retries with a smaller step
-    return 0;
+    std::copy(yv + s->N, yv + 2 * s->N, yd);
+    std::copy(s->acc.data(), s->acc.data() + s->N, yd + s->N);
+    // recoverable: CVODE retries with a smaller step
+    return s->acc.allFinite() ? 0 : 1;
   } catch (...) {
     return -1;
   }

@@ -138,31 +138,59 @@ void System::forces(const double* q, const double* qd, bool powers_only) {
     }
   }
   fr.drive_power = fr.torque * omega;
-  for (std::size_t s = 0; s < chains.size(); ++s) {
-    const Chain& ch = chains[s];
-    const double n1 = ch.masses + 1.0, cs = ch.segment_damping;
-    const bool linear = ch.law.table_x.empty();
-    const double preload = ch.law.preload, rate = ch.law.rate;
-    // segment j (1 .. masses + 1) between u_{j-1} and u_j pushes u_j down and u_{j-1} up
-    double u0 = 0.0, v0 = 0.0;
-    for (int j = 1; j <= ch.masses + 1; ++j) {
-      const bool top = j == ch.masses + 1;
-      const double u1 = top ? chain_x(ch, q) : q[ch.first + j - 1];
-      const double v1 = top ? chain_v(ch, qd) : qd[ch.first + j - 1];
-      const double d = n1 * (u1 - u0), dd = n1 * (v1 - v0);  // whole-spring travel and rate
-      fr.viscous_power += cs * dd * dd / n1;
-      u0 = u1;
-      v0 = v1;
-      if (powers_only) continue;
-      double fs = (linear ? preload + rate * d : ch.law.load(d)) + cs * dd;
-      if (ch.solid_travel >= 0 && d > ch.solid_travel) fs += opt.coil_clash_stiffness * (d - ch.solid_travel);
-      if (!top) f(ch.first + j - 1) -= fs;
-      else f(ch.row) -= fs, fr.coil_top[s] = fs;
-      if (j >= 2) f(ch.first + j - 2) += fs;
-      else fr.coil_base[s] = fs;
+  for (std::size_t s = 0; s < chains.size(); ++s) chain_forces(s, q, qd, powers_only);
+}
+
+// one spring chain: segment j (1 .. masses + 1) between u_{j-1} and u_j (u_0 = 0 the seat end,
+// u_{masses+1} the node) carries the whole-spring law at (masses + 1) x its compression plus
+// the segment damping, and pushes u_j down and u_{j-1} up
+void System::chain_forces(std::size_t s, const double* q, const double* qd, bool powers_only) {
+  const Chain& ch = chains[s];
+  const int nm = ch.masses;
+  const double n1 = nm + 1.0, cs = ch.segment_damping;
+  const int first = nm > 0 ? ch.first : 0;  // the coil masses (none: unused)
+  const double* u = q + first;
+  const double* v = qd + first;
+  double* fo = fr.f.data() + first;
+  const double x_top = chain_x(ch, q), v_top = chain_v(ch, qd);
+  // viscous power: (N + 1) segments of damping (N + 1) cs at rate (v_j - v_{j-1})
+  const double v_first = nm > 0 ? v[0] : v_top, v_last = nm > 0 ? v[nm - 1] : 0.0;
+  double power = v_first * v_first + (nm > 0 ? (v_top - v_last) * (v_top - v_last) : 0.0);
+  for (int i = 0; i + 1 < nm; ++i) power += (v[i + 1] - v[i]) * (v[i + 1] - v[i]);
+  fr.viscous_power += cs * n1 * power;
+  if (powers_only) return;
+  const double clash = ch.solid_travel >= 0 ? ch.solid_travel : 1e300, kc = opt.coil_clash_stiffness;
+  auto segment = [&](double d, double dd) {
+    double f = ch.law.load(d) + cs * dd;
+    if (d > clash) f += kc * (d - clash);
+    return f;
+  };
+  // the seat-end segment, then the inner ones (between two coil masses): f[i] gets
+  // +F(above) - F(below)
+  const double u_first = nm > 0 ? u[0] : x_top;
+  double below = segment(n1 * u_first, n1 * v_first);
+  fr.coil_base[s] = below;
+  if (ch.law.table_x.empty()) {
+    // the linear law, branch-free: preload + rate d + cs d' + clash max(0, d - solid)
+    const double p0 = ch.law.preload, k = ch.law.rate * n1, c = cs * n1;
+    for (int i = 0; i + 1 < nm; ++i) {
+      const double d = u[i + 1] - u[i];
+      const double above = p0 + k * d + c * (v[i + 1] - v[i]) + kc * std::max(0.0, n1 * d - clash);
+      fo[i] += above - below;
+      below = above;
     }
-    if (!powers_only) fr.static_load[s] = ch.law.load(chain_x(ch, q));
+  } else {
+    for (int i = 0; i + 1 < nm; ++i) {
+      const double above = segment(n1 * (u[i + 1] - u[i]), n1 * (v[i + 1] - v[i]));
+      fo[i] += above - below;
+      below = above;
+    }
   }
+  const double top = nm > 0 ? segment(n1 * (x_top - u[nm - 1]), n1 * (v_top - v[nm - 1])) : below;
+  if (nm > 0) fo[nm - 1] += top - below;
+  fr.f(ch.row) -= top;
+  fr.coil_top[s] = top;
+  fr.static_load[s] = ch.law.load(x_top);
 }
 
 namespace {
@@ -290,10 +318,8 @@ void System::accelerations(const double* q, const double* qd) {
 double System::energy(const double* q, const double* qd) const {
   Eigen::VectorXd vel(N), mv(N);
   for (int j = 0; j < N; ++j) vel(j) = kinematic_rate(j) + qd[j];
-  Structured mm;
-  mm.resize(core(), chains);
-  mass_matrix(mm);
-  mm.multiply(chains, vel.data(), mv.data());
+  CAMOPT_ASSERT(factored_theta == evaluated_theta);  // m is the mass at this angle (after accelerations)
+  m.multiply(chains, vel.data(), mv.data());
   double e = 0.5 * vel.dot(mv);
   for (const Element& el : elements) e += 0.5 * el.k * std::pow(q[el.far] - q[el.near], 2);
   for (int c = 0; c < C; ++c) {
@@ -303,9 +329,10 @@ double System::energy(const double* q, const double* qd) const {
   for (const Seat& st : seats) e += st.law.energy(st.cos_angle * seat_penetration(st, q), st.radius, st.start);
   for (const Chain& ch : chains) {
     const double n1 = ch.masses + 1.0;
+    const bool linear = ch.law.table_x.empty();
     for (int j = 1; j <= ch.masses + 1; ++j) {
       const double d = n1 * (chain_u(ch, j, q) - chain_u(ch, j - 1, q));
-      e += ch.law.energy(d) / n1;
+      e += (linear ? d * (ch.law.preload + 0.5 * ch.law.rate * d) : ch.law.energy(d)) / n1;
       if (ch.solid_travel >= 0 && d > ch.solid_travel)
         e += 0.5 * opt.coil_clash_stiffness * std::pow(d - ch.solid_travel, 2) / n1;
     }

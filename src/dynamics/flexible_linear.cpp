@@ -55,6 +55,34 @@ void Structured::multiply(const std::vector<Chain>& chains, const double* x, dou
   }
 }
 
+void Structured::multiply_add(const std::vector<Chain>& chains, double a, const Structured& ma, const double* x,
+                              double b, const Structured& mb, const double* y, double* out) {
+  const int nc = static_cast<int>(ma.core.rows());
+  Eigen::Map<Eigen::VectorXd> oc(out, nc);
+  oc.noalias() = a * (ma.core * Eigen::Map<const Eigen::VectorXd>(x, nc));
+  oc.noalias() += b * (mb.core * Eigen::Map<const Eigen::VectorXd>(y, nc));
+  for (const Chain& ch : chains) {
+    if (ch.masses == 0) continue;
+    const Band& ba = ma.bands[ch.band];
+    const Band& bb = mb.bands[ch.band];
+    const int m = ch.masses, f = ch.first;
+    const double* xs = x + f;
+    const double* ys = y + f;
+    double* o = out + f;
+    // row i: diag x_i + off_{i-1} x_{i-1} + off_i x_{i+1} (no carried dependency)
+    o[0] = a * ba.diag[0] * xs[0] + b * bb.diag[0] * ys[0];
+    if (m > 1) o[0] += a * ba.off[0] * xs[1] + b * bb.off[0] * ys[1];
+    for (int i = 1; i + 1 < m; ++i)
+      o[i] = a * (ba.diag[i] * xs[i] + ba.off[i - 1] * xs[i - 1] + ba.off[i] * xs[i + 1]) +
+             b * (bb.diag[i] * ys[i] + bb.off[i - 1] * ys[i - 1] + bb.off[i] * ys[i + 1]);
+    if (m > 1)
+      o[m - 1] = a * (ba.diag[m - 1] * xs[m - 1] + ba.off[m - 2] * xs[m - 2]) +
+                 b * (bb.diag[m - 1] * ys[m - 1] + bb.off[m - 2] * ys[m - 2]);
+    o[m - 1] += a * ba.couple * x[ch.row] + b * bb.couple * y[ch.row];
+    out[ch.row] += a * ba.couple * xs[m - 1] + b * bb.couple * ys[m - 1];
+  }
+}
+
 Eigen::MatrixXd Structured::dense(const std::vector<Chain>& chains, int n) const {
   Eigen::MatrixXd a = Eigen::MatrixXd::Zero(n, n);
   const int nc = static_cast<int>(core.rows());
@@ -88,13 +116,16 @@ bool StructuredLU::factor(const std::vector<Chain>& c) {
     std::vector<double>& z = top_column[ch.band];
     p.resize(m);
     z.assign(m, 0.0);
-    p[0] = b.diag[0];
-    for (int i = 1; i < m; ++i) p[i] = b.diag[i] - b.off[i - 1] * b.off[i - 1] / p[i - 1];
-    for (int i = 0; i < m; ++i)
-      if (!(std::abs(p[i]) > 0.0) || !std::isfinite(p[i])) return false;
+    // p holds the reciprocal pivots
+    double pivot = b.diag[0];
+    for (int i = 0; i < m; ++i) {
+      if (i > 0) pivot = b.diag[i] - b.off[i - 1] * b.off[i - 1] * p[i - 1];
+      if (!(std::abs(pivot) > 0.0) || !std::isfinite(pivot)) return false;
+      p[i] = 1.0 / pivot;
+    }
     // A_ss z = e_top: forward (only the last entry is non-zero), then back substitution
-    z[m - 1] = 1.0 / p[m - 1];
-    for (int i = m - 2; i >= 0; --i) z[i] = -b.off[i] * z[i + 1] / p[i];
+    z[m - 1] = p[m - 1];
+    for (int i = m - 2; i >= 0; --i) z[i] = -b.off[i] * z[i + 1] * p[i];
     schur(ch.row, ch.row) -= b.couple * b.couple * z[m - 1];
   }
   lu.compute(schur);
@@ -111,9 +142,9 @@ void StructuredLU::solve(double* x) const {
     const std::vector<double>& p = pivots[ch.band];
     const int m = ch.masses, f = ch.first;
     double* y = x + f;
-    for (int i = 1; i < m; ++i) y[i] -= b.off[i - 1] / p[i - 1] * y[i - 1];
-    y[m - 1] /= p[m - 1];
-    for (int i = m - 2; i >= 0; --i) y[i] = (y[i] - b.off[i] * y[i + 1]) / p[i];
+    for (int i = 1; i < m; ++i) y[i] -= b.off[i - 1] * p[i - 1] * y[i - 1];
+    y[m - 1] *= p[m - 1];
+    for (int i = m - 2; i >= 0; --i) y[i] = (y[i] - b.off[i] * y[i + 1]) * p[i];
     x[ch.row] -= b.couple * y[m - 1];
   }
   Eigen::Map<Eigen::VectorXd> xc(x, nc);
@@ -201,9 +232,7 @@ int newton_solver_solve(SUNLinearSolver ls, SUNMatrix a, N_Vector x, N_Vector b,
   const double* bv = N_VGetArrayPointer(b);
   double* xv = N_VGetArrayPointer(x);
   // x_v: (beta^2 M - alpha beta D + alpha^2 K) x_v = beta M b_v + alpha K b_q
-  m.m.multiply(*m.chains, bv + n, s->rhs.data());
-  m.k.multiply(*m.chains, bv, s->tmp.data());
-  for (int i = 0; i < n; ++i) s->rhs[i] = s->beta * s->rhs[i] + s->alpha * s->tmp[i];
+  Structured::multiply_add(*m.chains, s->beta, m.m, bv + n, s->alpha, m.k, bv, s->rhs.data());
   s->lu.solve(s->rhs.data());
   // x_q = (b_q - alpha x_v) / beta
   for (int i = 0; i < n; ++i) {

@@ -112,6 +112,9 @@ struct Structured {
   void copy_from(const Structured& o);
   // y = A x on the extended coordinates
   void multiply(const std::vector<Chain>& chains, const double* x, double* y) const;
+  // out = a A x + b B y (one pass)
+  static void multiply_add(const std::vector<Chain>& chains, double a, const Structured& ma, const double* x, double b,
+                           const Structured& mb, const double* y, double* out);
   Eigen::MatrixXd dense(const std::vector<Chain>& chains, int n) const;
 };
 // LU of a Structured matrix: each chain's band (Thomas, bottom up) is eliminated into the
@@ -232,13 +235,15 @@ class System {
   // the generalized forces and powers at (q, qd); powers_only: the work integrals' powers
   // alone (the coil masses' forces are left out)
   void forces(const double* q, const double* qd, bool powers_only = false);
+  void chain_forces(std::size_t chain, const double* q, const double* qd, bool powers_only);
   // K = -df/dq and D = -df/d(dq/dt) at (q, qd); statics: the tangent stiffness alone (no
   // rate terms, friction left out) for Newton statics and the modes
   void newton_matrices(const double* q, const double* qd, Structured& k, Structured& d, bool statics = false) const;
   void mass_matrix(Structured& out) const;
   void factor_mass();
   void accelerations(const double* q, const double* qd);
-  double energy(const double* q, const double* qd) const;  // kinetic (true motion) + elastic [N mm]
+  // kinetic (true motion) + elastic [N mm], after accelerations at the same angle
+  double energy(const double* q, const double* qd) const;
   // the largest error of a loaded contact's linearised gap (after forces) [mm], and its
   // contact: sliding s from the kinematic contact point leaves out s^2 / (2 (R_a + R_b))
   double gap_error(const double* q, int& contact) const;
