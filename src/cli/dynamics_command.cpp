@@ -307,8 +307,9 @@ void run_rigid(const DynamicsOptions& o) {
             cj["max_hertz_at_cam_deg"] = hz.max_at;
           }
           cj["max_sliding_m_per_s"] = max_sliding;
-          cj["separates"] = std::isfinite(f.min) && f.min < 0.0;
-          separates |= std::isfinite(f.min) && f.min < 0.0;
+          const bool opens = !model.contacts[c].two_sided && std::isfinite(f.min) && f.min < 0.0;
+          cj["separates"] = opens;
+          separates |= opens;
         }
         j["connections"][conn.name] = cj;
       }

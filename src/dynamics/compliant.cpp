@@ -97,6 +97,7 @@ struct Problem {
   double force(int c, const Eigen::VectorXd& q, const Eigen::VectorXd& v) const {
     if (model.contacts[c].is_contact) {
       const double pen = penetration(c, q);
+      if (model.contacts[c].two_sided) return k[c] * pen - damping[c] * normal_dot(c, v);  // in a slot
       if (pen <= 0.0) return 0.0;
       return std::max(0.0, k[c] * pen - damping[c] * normal_dot(c, v));
     }

@@ -118,7 +118,8 @@ void add_chains(System& s, const Model& model) {
   for (std::size_t i = 0; i < model.springs.size(); ++i) {
     const Spring& sp = model.springs[i];
     const SpringSpec& ss = mech.spec.springs[i];
-    if (sp.kind != SpringKind::compression || mech.nodes[sp.node].control >= 0) {
+    // a valve spring becomes a chain; torsion springs and springs on floating bodies stay in the path
+    if (sp.kind != SpringKind::compression || sp.on_point || mech.nodes[sp.node].control >= 0) {
       kept.push_back(sp);
       continue;
     }
@@ -212,6 +213,7 @@ void set_contact_laws(System& s) {
                                         "(or law = \"linear\" with stiffness_N_per_mm)");
     s.laws[c] = make_law(cs->contact_law, s.opt, who, cs->where);
     s.laws[c].length = cd.width;
+    s.laws[c].two_sided = cd.two_sided;
     s.laws[c].e_star = cd.e_star;
     if (cd.held_node > 0) s.lash.push_back(c);
   }
@@ -372,7 +374,7 @@ Status build_system(System& s, const Model& model, const std::vector<double>& co
   set_damping(s, link_ratio);
   // roots
   for (int c = 0; c < s.C; ++c)
-    if (s.flex.contacts[c].is_contact) s.root_list.push_back({0, c, 0});
+    if (s.flex.contacts[c].is_contact && !s.flex.contacts[c].two_sided) s.root_list.push_back({0, c, 0});
   for (int i = 0; i < static_cast<int>(s.seats.size()); ++i) s.root_list.push_back({1, i, 0});
   for (std::size_t i = 0; i < s.chains.size(); ++i)
     if (s.chains[i].solid_travel >= 0)
@@ -401,6 +403,7 @@ double seat_approach(const Seat& st, double load) {
   return line_contact_approach(normal / st.law.scale, st.law.length, st.law.e_star, st.radius) / st.cos_angle;
 }
 double contact_approach(const System& s, int c, double load) {
+  if (s.laws[c].two_sided && load < 0.0) return -contact_approach(s, c, -load);  // the slot's other wall
   if (!(load > 0.0)) return 0.0;
   const ForceLaw& law = s.laws[c];
   if (law.law == ContactLaw::linear) return load / law.k;

@@ -11,6 +11,16 @@ namespace camopt::dynamics::detail {
 
 ForceLaw::Value ForceLaw::evaluate(double pen, double rate, double radius, double& start) const {
   Value v;
+  if (two_sided && pen < 0.0) {
+    // the slot's other wall: the same law in the mirrored penetration, force reversed
+    ForceLaw one = *this;
+    one.two_sided = false;
+    v = one.evaluate(-pen, -rate, radius, start);
+    v.force = -v.force;
+    v.elastic = -v.elastic;
+    v.unclamped = -v.unclamped;
+    return v;
+  }
   if (!(pen > 0.0)) return v;
   if (law == ContactLaw::linear) {
     // one-sided spring-damper: F = max(0, k d + c d')
@@ -38,6 +48,7 @@ ForceLaw::Value ForceLaw::evaluate(double pen, double rate, double radius, doubl
 }
 
 double ForceLaw::energy(double pen, double radius, double& start) const {
+  if (two_sided && pen < 0.0) pen = -pen;
   if (!(pen > 0.0)) return 0.0;
   if (law == ContactLaw::linear) return 0.5 * k * pen * pen;
   const double f = line_contact_force(pen, length, e_star, radius, start);
@@ -97,7 +108,7 @@ void System::forces(const double* q, const double* qd, bool powers_only) {
       fc = frozen_force[c];
     } else if (cd.is_contact) {
       const double pen = penetration(c, q);
-      if (pen > 0.0) {
+      if (pen > 0.0 || cd.two_sided) {
         const double rate = penetration_rate(c, qd);
         const ForceLaw::Value v = laws[c].evaluate(pen, rate, reduced_radius(c), hertz_start[c]);
         fc = v.force;
@@ -109,20 +120,21 @@ void System::forces(const double* q, const double* qd, bool powers_only) {
       fr.viscous_power += link_c[c] * rate * rate;
     }
     fr.friction_power[c] = 0.0;
-    if (cd.is_contact && fc > 0.0 && cd.friction > 0.0 && !cd.rolling) {
+    if (cd.is_contact && fc != 0.0 && cd.friction > 0.0 && !cd.rolling) {
       // sliding of a over b [mm/s]: kinematic plus the deviation's (g_t . dq' = -(v_a - v_b).t)
       double sliding = path[L.slide + c] * omega;
       for (int r = 0; r < R; ++r) sliding -= gt(r, c) * qd[row_map[c][r]];
       const double v0 = opt.friction_velocity_m_per_s * 1e3;
       mu = cd.friction * sliding / std::sqrt(sliding * sliding + v0 * v0);
-      fr.friction_power[c] = mu * fc * sliding;
+      fr.friction_power[c] = mu * std::abs(fc) * sliding;
       fr.friction_total += fr.friction_power[c];
     }
     fr.connection[c] = fc;
     fr.mu_eff[c] = mu;
     if (fc != 0.0) {
-      for (int r = 0; r < R; ++r) f(row_map[c][r]) += fc * (gn(r, c) + mu * gt(r, c));
-      fr.torque -= fc * (path[L.gn_drv + c] + mu * path[L.gt_drv + c]);
+      // friction mu |F| along the tangent, whichever wall carries the force
+      for (int r = 0; r < R; ++r) f(row_map[c][r]) += fc * gn(r, c) + std::abs(fc) * mu * gt(r, c);
+      fr.torque -= fc * path[L.gn_drv + c] + std::abs(fc) * mu * path[L.gt_drv + c];
     }
   }
   for (std::size_t i = 0; i < seats.size(); ++i) {
@@ -246,7 +258,7 @@ void System::newton_matrices(const double* q, const double* qd, Structured& k, S
       continue;
     }
     const double pen = penetration(c, q);
-    if (!(pen > 0.0)) continue;
+    if (!(pen > 0.0) && !cd.two_sided) continue;
     const double rate = statics ? 0.0 : penetration_rate(c, qd);
     const ForceLaw::Value v = laws[c].evaluate(pen, rate, reduced_radius(c), hertz_start[c]);
     if (statics) {
@@ -256,7 +268,7 @@ void System::newton_matrices(const double* q, const double* qd, Structured& k, S
     add_outer(k.core, c, v.d_pen, 0, 0);
     add_outer(d.core, c, v.d_rate, 0, 0);
     // friction mu(v) F g_t with v = v_kin - g_t . dq': dmu/dv = mu_c v0^2 / (v^2 + v0^2)^1.5
-    if (v.force > 0.0 && cd.friction > 0.0 && !cd.rolling) {
+    if (v.force != 0.0 && cd.friction > 0.0 && !cd.rolling && !cd.two_sided) {
       double sliding = path[L.slide + c] * omega;
       for (int r = 0; r < R; ++r) sliding -= gt(r, c) * qd[row_map[c][r]];
       const double v0 = opt.friction_velocity_m_per_s * 1e3, root = std::sqrt(sliding * sliding + v0 * v0);
@@ -344,7 +356,7 @@ double System::gap_error(const double* q, int& contact) const {
   double worst = 0.0;
   contact = -1;
   for (int c = 0; c < C; ++c) {
-    if (!flex.contacts[c].is_contact || !(fr.connection[c] > 0.0)) continue;
+    if (!flex.contacts[c].is_contact || fr.connection[c] == 0.0) continue;
     double slide = 0.0;
     for (int r = 0; r < R; ++r) slide += gt(r, c) * q[row_map[c][r]];
     const double error = 0.5 * slide * slide * std::abs(path[L.curv2 + c]);

@@ -49,6 +49,7 @@ struct ForceLaw {
   double alpha = 0.0;  // hunt-crossley [s/mm]
   double length = 0.0, e_star = 0.0;  // hertz line contact [mm], [N/mm^2]
   double scale = 1.0;  // contact_stiffness_scale (hertz)
+  bool two_sided = false;  // a roller in a slot: the other wall at -penetration pushes back
   struct Value {
     double force = 0.0, elastic = 0.0;  // [N]
     double d_pen = 0.0, d_rate = 0.0;   // dF/d(penetration) [N/mm], dF/d(rate) [N s/mm]

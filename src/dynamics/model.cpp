@@ -217,6 +217,7 @@ Model compile_dynamics(const kin::Mechanism& mech) {
     ContactData& d = model.contacts[ci];
     const std::string who = "connection '" + c.name + "'";
     d.is_contact = true;
+    d.two_sided = cs->two_sided;
     d.rolling = (c.surface_a.kind == kin::SurfaceKind::point && c.surface_a.roller) ||
                 (c.surface_b.kind == kin::SurfaceKind::point && c.surface_b.roller);
     if (cs->friction_coefficient) {

@@ -165,7 +165,8 @@ Status solve_rigid(const kin::Mechanism& mech, const Model& model, RigidWorkspac
       continue;
     }
     // a spring pushing a point of a floating body along its line: travel x = d . (p - p_drawing),
-    // generalized load x'(q) load, stiffness k x' x'^T + load x'' (x'' = d . d2p/dphi2 = -d . (p - ref))
+    // generalized load x'(q) load, stiffness k x' x'^T (the load's geometric term, like the
+    // contacts' in the flexible model, is left out: first order about the path)
     const auto pj = node_pose(mech, sp.node, vars.data(), ws.kin.pivots.data()).apply(sp.point.x(), sp.point.y());
     const Eigen::Vector2d p(pj.x.value(), pj.y.value());
     const double x = sp.direction.dot(p - sp.point), load = sp.load(x), k = sp.stiffness(x);
@@ -184,10 +185,6 @@ Status solve_rigid(const kin::Mechanism& mech, const Model& model, RigidWorkspac
         const int rj = model.row_of_variable[v + j];
         if (rj >= 0) ws.spring_stiffness(ri, rj) += k * g[i] * g[j];
       }
-    }
-    if (n == 3 && model.row_of_variable[v + 2] >= 0) {
-      const Eigen::Vector2d second(-dp[2].y(), dp[2].x());  // z x (z x (p - ref)) = -(p - ref)
-      ws.spring_stiffness(model.row_of_variable[v + 2], model.row_of_variable[v + 2]) += load * sp.direction.dot(second);
     }
   }
 
@@ -353,6 +350,7 @@ Status rigid_sweep(const kin::Mechanism& mech, const Model& model, const std::ve
 Separation separation_speed(const RigidSweep& sweep, const Model& model, int connection) {
   Separation sep;
   CAMOPT_ASSERT(model.contacts[connection].is_contact);
+  if (model.contacts[connection].two_sided) return sep;  // guided both ways: it never separates
   // split of the force at point i: at rest (springs, gas) and per (rad/s)^2 (inertia)
   auto split = [&](std::size_t i, double& at_rest, double& inertial) {
     const double* f = &sweep.force[(i * sweep.connections + connection) * sweep.cases];

@@ -495,7 +495,7 @@ class Parser {
     const Keys variable_gear = concat({"nodes", "ratio_table"}, angular_compliance);
     const Keys rack_pinion = concat({"nodes", "pitch_radius_mm"}, linear_compliance);
     const Keys contact =
-        concat({"a", "b", "lash_mm", "materials", "width_mm", "friction_coefficient"}, kContactLawKeys);
+        concat({"a", "b", "lash_mm", "materials", "width_mm", "friction_coefficient", "two_sided"}, kContactLawKeys);
     const Keys* own = &link;
     switch (c.kind) {
       case ConnectionKind::link:
@@ -550,6 +550,9 @@ class Parser {
       case ConnectionKind::contact:
         c.surface_a = parse_surface(t.table("a"));
         c.surface_b = parse_surface(t.table("b"));
+        c.two_sided = t.boolean_or("two_sided", false);
+        if (c.two_sided && t.has("lash_mm") && t.number("lash_mm") > 0.0)
+          t.fail("two_sided", "a two-sided contact (a roller in a slot) has no lash: remove lash_mm");
         c.lash_mm = t.number_or("lash_mm", 0.0, ge(0.0));
         if (t.has("materials")) {
           std::array<SourceRef, 2> where;

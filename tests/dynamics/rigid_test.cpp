@@ -14,6 +14,7 @@
 
 #include "camopt/dynamics/hertz.hpp"
 #include "camopt/dynamics/rigid.hpp"
+#include "camopt/kinematics/detail/geometry.hpp"
 #include "camopt/io/design_file.hpp"
 #include "kinematics/kinematics_test_support.hpp"
 
@@ -423,9 +424,16 @@ TEST_CASE("rigid (a): power balance, drive power = d(kinetic + spring energy)/dt
           de += 1e-3 * b.inertia * w * w * phi.c[1] * 2 * phi.c[2];
         }
       }
-      for (std::size_t k = 0; k < m.model.springs.size(); ++k)
-        de += ws.spring_load(static_cast<Eigen::Index>(k)) *
-              ws.kin.vars[m.mech.nodes[m.model.springs[k].node].first_variable].c[1];
+      for (std::size_t k = 0; k < m.model.springs.size(); ++k) {
+        const dynamics::Spring& sp = m.model.springs[k];
+        double rate = ws.kin.vars[m.mech.nodes[sp.node].first_variable].c[1];
+        if (sp.on_point) {  // a point of a floating body: its travel rate along the spring's line
+          const auto p = kin::detail::node_pose(m.mech, sp.node, ws.kin.vars.data(), ws.kin.pivots.data())
+                             .apply(sp.point.x(), sp.point.y());
+          rate = sp.direction.x() * p.x.c[1] + sp.direction.y() * p.y.c[1];
+        }
+        de += ws.spring_load(static_cast<Eigen::Index>(k)) * rate;
+      }
       // friction loss per rad: mu N |sliding|
       double loss = 0.0;
       for (std::size_t c = 0; c < m.mech.connections.size(); ++c) {

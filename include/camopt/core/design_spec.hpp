@@ -136,6 +136,7 @@ struct ConnectionSpec {
   std::optional<double> width_mm;     // contact line length for Hertz stress
   std::optional<double> friction_coefficient;
   ContactLawSpec contact_law;  // flexible model's force law
+  bool two_sided = false;      // a roller in a slot: guided both ways, the force may pull
   // link, crank_slider, rack_pinion [N/mm]; gear, variable_gear [N m/rad]: flexible model's
   // bilateral stiffness, and the damping ratio of its local mode
   std::optional<double> stiffness_N_per_mm, stiffness_Nm_per_rad;

@@ -62,6 +62,7 @@ struct ContactData {
   bool rolling = false;       // a free roller: no sliding, no friction
   double damping = -1.0;      // design damping [N s/mm]; < 0 when not given
   int held_node = -1;         // lash contact: the node held at rest while the gap is open
+  bool two_sided = false;     // a roller in a slot: the force may pull, the contact never opens
 };
 
 struct Model {
