@@ -211,6 +211,38 @@ void run_rigid(const DynamicsOptions& o) {
   }
   if (!model.gas_forces.empty())
     add_column("gas_force_N", [](const Sweep& s, std::size_t i, double, double, std::size_t) { return s.gas_force[i]; });
+  // per moving node and coordinate: the generalized force of each load on it [N or N m]:
+  // d'Alembert inertia -m a, the springs, their dampers -c v, the gas force
+  for (int v = 0; v < static_cast<int>(mech.variables.size()); ++v) {
+    if (model.row_of_variable[v] < 0) continue;
+    int n = 0;
+    for (int k = 0; k < static_cast<int>(mech.nodes.size()); ++k)
+      if (mech.nodes[k].first_variable >= 0 && v >= mech.nodes[k].first_variable &&
+          v < mech.nodes[k].first_variable + (mech.nodes[k].kind == NodeKind::floating ? 3 : 1))
+        n = k;
+    const auto& node = mech.nodes[n];
+    const int sub = v - node.first_variable;
+    const bool angle = node.kind == NodeKind::rotational || (node.kind == NodeKind::floating && sub == 2);
+    const std::string pre = "node_" + node.name + "_" +
+                            (node.kind == NodeKind::floating ? std::string(sub == 0 ? "x_" : sub == 1 ? "y_" : "phi_") : "");
+    const std::string unit = angle ? "Nm" : "N";
+    const double scale = angle ? 1e-3 : 1.0;  // N mm -> N m
+    auto load = [v, scale](const Sweep& s, std::size_t i, int first, int last, double weight) {
+      double f = 0.0;
+      for (int j = first; j < last; ++j) f += s.loads[(i * s.variables + v) * s.cases + j];
+      return -f * weight * scale;
+    };
+    add_column(pre + "inertia_" + unit,
+               [load](const Sweep& s, std::size_t i, double w, double, std::size_t) { return load(s, i, 0, 1, w * w); });
+    add_column(pre + "spring_" + unit, [load](const Sweep& s, std::size_t i, double, double, std::size_t) {
+      return load(s, i, 2, s.cases - 1, 1.0);
+    });
+    add_column(pre + "damping_" + unit, [load](const Sweep& s, std::size_t i, double w, double, std::size_t) {
+      return load(s, i, s.cases - 1, s.cases, w);
+    });
+    add_column(pre + "gas_" + unit,
+               [load](const Sweep& s, std::size_t i, double, double, std::size_t) { return load(s, i, 1, 2, 1.0); });
+  }
   for (std::size_t n = 1; n < mech.nodes.size(); ++n) {
     const auto& node = mech.nodes[n];
     if (node.kind == NodeKind::floating) continue;  // held by its connections only

@@ -193,7 +193,6 @@ Status run_compliant(const kin::Mechanism& mech, const Model& model, const std::
   p.grid_first = p.theta0 - 2 * p.grid_step;
   p.grid_points = static_cast<int>(std::ceil((stop_deg - start_deg) * kDeg / p.grid_step - 1e-9)) + 5;
   p.table.assign(static_cast<std::size_t>(p.grid_points) * p.lay.size, 0.0);
-  const double w2 = p.omega * p.omega;
   // per connection: start-of-run mode (a) force and seat reaction, for the initial state
   Eigen::VectorXd lambda0(p.nc), seat0(p.nc);
   std::vector<char> open0(p.nc, 0);
@@ -204,8 +203,8 @@ Status run_compliant(const kin::Mechanism& mech, const Model& model, const std::
     double* row = &p.table[static_cast<std::size_t>(i) * p.lay.size];
     for (int r = 0; r < p.rows; ++r) {
       const int v = model.free_variables[r];
-      double x = ws.loads(v, 0) * w2;
-      for (int j = 1; j < ws.cases(); ++j) x += ws.loads(v, j);
+      double x = 0.0;
+      for (int j = 0; j < ws.cases(); ++j) x += ws.case_weight(j, p.omega) * ws.loads(v, j);
       row[p.lay.load + r] = x;
       for (int c = 0; c < p.nc; ++c) {
         const bool contact = model.contacts[c].is_contact;
@@ -226,9 +225,11 @@ Status run_compliant(const kin::Mechanism& mech, const Model& model, const std::
     }
     if (i == 2) {  // theta0
       for (int c = 0; c < p.nc; ++c) {
-        lambda0(c) = ws.force(c, 0) * w2;
-        seat0(c) = ws.seat(c, 0) * w2;
-        for (int j = 1; j < ws.cases(); ++j) lambda0(c) += ws.force(c, j), seat0(c) += ws.seat(c, j);
+        lambda0(c) = seat0(c) = 0.0;
+        for (int j = 0; j < ws.cases(); ++j) {
+          lambda0(c) += ws.case_weight(j, p.omega) * ws.force(c, j);
+          seat0(c) += ws.case_weight(j, p.omega) * ws.seat(c, j);
+        }
         open0[c] = model.contacts[c].is_contact && ws.kin.contacts[c].open;
       }
     }
@@ -270,7 +271,7 @@ Status run_compliant(const kin::Mechanism& mech, const Model& model, const std::
       p.held_row[c] = hr;
       // the seat pushes against the applied loads of the node at rest (springs, gas)
       double rest_load = 0.0;
-      for (int j = 1; j < ws.cases(); ++j) rest_load += ws.loads(hv, j);
+      for (int j = 1; j < ws.damping_case(); ++j) rest_load += ws.loads(hv, j);
       p.seat_sign[c] = rest_load >= 0 ? 1.0 : -1.0;
       p.seat_k[c] = p.k[c];
       p.seat_damping[c] = 2.0 * options.damping_ratio * std::sqrt(p.seat_k[c] / m_inv(hr, hr));

@@ -506,13 +506,14 @@ Status static_start(System& s, const Model& model, const std::vector<double>& co
   ws0.kin.set_controls(controls);
   const Status st0 = solve_rigid(s.mech, model, ws0, theta);
   if (!st0.ok()) return st0;
-  const double w2 = s.omega * s.omega;
   Eigen::VectorXd lambda0 = Eigen::VectorXd::Zero(s.C), seat0 = Eigen::VectorXd::Zero(s.C);
   std::vector<char> open0(s.C, 0);
+
   for (int c = 0; c < s.C; ++c) {
-    lambda0(c) = ws0.force(c, 0) * w2;
-    seat0(c) = ws0.seat(c, 0) * w2;
-    for (int j = 1; j < ws0.cases(); ++j) lambda0(c) += ws0.force(c, j), seat0(c) += ws0.seat(c, j);
+    for (int j = 0; j < ws0.cases(); ++j) {
+      lambda0(c) += ws0.case_weight(j, s.omega) * ws0.force(c, j);
+      seat0(c) += ws0.case_weight(j, s.omega) * ws0.seat(c, j);
+    }
     open0[c] = s.flex.contacts[c].is_contact && ws0.kin.contacts[c].open;
   }
   x0 = initial_deviation(s, lambda0, seat0, open0);

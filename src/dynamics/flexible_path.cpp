@@ -60,7 +60,8 @@ void fill_row(const System& s, const RigidWorkspace& ws, double* row) {
     const int v = s.flex.free_variables[r];
     row[L.inertia + r] = ws.loads(v, 0);
     row[L.gas + r] = ws.loads(v, 1);
-    for (int j = 2; j < ws.cases(); ++j) row[L.other + r] += ws.loads(v, j);
+    // the springs left in the path (their dampers, per rad/s, are the chains' in this model)
+    for (int j = 2; j < ws.damping_case(); ++j) row[L.other + r] += ws.loads(v, j);
     row[L.vel + r] = ws.kin.vars[v].c[1];
     for (int c = 0; c < s.C; ++c) {
       const bool contact = s.flex.contacts[c].is_contact;
@@ -83,7 +84,7 @@ void fill_row(const System& s, const RigidWorkspace& ws, double* row) {
       row[L.curv2 + c] = 1.0 / (1.0 / cs.curvature_a + 1.0 / cs.curvature_b);
     row[L.slide + c] = cs.sliding;
   }
-  for (int j = 1; j < ws.cases(); ++j) row[L.load_drv] += ws.loads(dv, j);
+  for (int j = 1; j < ws.damping_case(); ++j) row[L.load_drv] += ws.loads(dv, j);
   for (const Chain& ch : s.chains) {
     const auto& var = ws.kin.vars[mech.nodes[ch.node].first_variable];
     row[L.xs + ch.table_index] = var.value();

@@ -185,6 +185,7 @@ Model compile_dynamics(const kin::Mechanism& mech) {
       s.rate = ss.rate_Nmm_per_deg / kDeg;  // [N mm/rad]
       s.preload = ss.preload_Nmm;
     }
+    if (ss.damping_N_s_per_m) s.damping = *ss.damping_N_s_per_m * 1e-3;  // [N s/mm]
     if (ss.mass_kg) {
       require_positive(ss.where, who + ": mass_kg", *ss.mass_kg);
       model.bodies[s.node].mass += *ss.mass_kg / 3.0;  // effective moving mass of a uniform coil

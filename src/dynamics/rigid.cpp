@@ -34,7 +34,7 @@ double engine_rpm(double cam_rad_per_s, double crank_per_cam) {
 }
 
 RigidWorkspace::RigidWorkspace(const kin::Mechanism& mech, const Model& model) : kin(mech) {
-  cases_ = 2 + static_cast<int>(model.springs.size());
+  cases_ = 3 + static_cast<int>(model.springs.size());  // inertia, gas, springs, dampers
   const auto nc = static_cast<Eigen::Index>(mech.connections.size());
   const auto nv = static_cast<Eigen::Index>(mech.variables.size());
   const auto nn = static_cast<Eigen::Index>(mech.nodes.size());
@@ -160,6 +160,8 @@ Status solve_rigid(const kin::Mechanism& mech, const Model& model, RigidWorkspac
       const double load = sp.load(vars[v].value());
       ws.spring_load(static_cast<Eigen::Index>(s)) = load;
       ws.loads(v, 2 + static_cast<int>(s)) += load;
+      // the damper opposes the travel rate c x' omega: per rad/s c x'
+      ws.loads(v, ws.damping_case()) += sp.damping * vars[v].c[1];
       const int r = model.row_of_variable[v];
       if (r >= 0) ws.spring_stiffness(r, r) += sp.stiffness(vars[v].value());
       continue;
@@ -173,11 +175,13 @@ Status solve_rigid(const kin::Mechanism& mech, const Model& model, RigidWorkspac
     ws.spring_load(static_cast<Eigen::Index>(s)) = load;
     Eigen::Vector2d dp[3];
     const int n = point_partials(mech, ws.kin, sp.node, p, dp);
-    double g[3];
+    double g[3], rate = 0.0;  // the point's travel per rad
     for (int i = 0; i < n; ++i) {
       g[i] = sp.direction.dot(dp[i]);
       ws.loads(v + i, 2 + static_cast<int>(s)) += load * g[i];
+      rate += g[i] * vars[v + i].c[1];
     }
+    for (int i = 0; i < n; ++i) ws.loads(v + i, ws.damping_case()) += sp.damping * rate * g[i];
     for (int i = 0; i < n; ++i) {
       const int ri = model.row_of_variable[v + i];
       if (ri < 0) continue;
@@ -301,6 +305,10 @@ Status solve_rigid(const kin::Mechanism& mech, const Model& model, RigidWorkspac
     const Eigen::Vector2d f = -ws.spring_load(static_cast<Eigen::Index>(s)) * mech.nodes[sp.node].direction;
     ws.reaction(2 * sp.node, 2 + static_cast<int>(s)) -= f.x();
     ws.reaction(2 * sp.node + 1, 2 + static_cast<int>(s)) -= f.y();
+    const int v = mech.nodes[sp.node].first_variable;
+    const Eigen::Vector2d fd = -sp.damping * ws.kin.vars[v].c[1] * mech.nodes[sp.node].direction;
+    ws.reaction(2 * sp.node, ws.damping_case()) -= fd.x();
+    ws.reaction(2 * sp.node + 1, ws.damping_case()) -= fd.y();
   }
   ws.reaction.topRows(2).setZero();  // ground
   return Status::success();
@@ -315,6 +323,7 @@ Status rigid_sweep(const kin::Mechanism& mech, const Model& model, const std::ve
   out = RigidSweep{};
   out.controls = controls;
   out.cases = ws.cases();
+  out.variables = static_cast<int>(mech.variables.size());
   out.connections = static_cast<int>(mech.connections.size());
   out.nodes = static_cast<int>(mech.nodes.size());
   out.springs = static_cast<int>(model.springs.size());
@@ -326,6 +335,7 @@ Status rigid_sweep(const kin::Mechanism& mech, const Model& model, const std::ve
   out.spring_load.resize(points * out.springs);
   out.gas_force.resize(points);
   out.output.resize(points);
+  out.loads.resize(points * out.variables * out.cases);
   const kin::Node& on = mech.nodes[mech.output_node];
   const bool out_angle = on.kind != NodeKind::translational;
   for (std::size_t i = 0; i < points; ++i) {
@@ -341,6 +351,8 @@ Status rigid_sweep(const kin::Mechanism& mech, const Model& model, const std::ve
     std::copy(ws.kin.contacts.begin(), ws.kin.contacts.end(), out.contact.begin() + static_cast<long>(i * out.connections));
     for (int s = 0; s < out.springs; ++s) out.spring_load[i * out.springs + s] = ws.spring_load(s);
     out.gas_force[i] = ws.gas_force;
+    for (int v = 0; v < out.variables; ++v)
+      for (int j = 0; j < out.cases; ++j) out.loads[(i * out.variables + v) * out.cases + j] = ws.loads(v, j);
     const double q = ws.kin.vars[on.first_variable].value() - on.rest;
     out.output[i] = out_angle ? q / kDeg : q;
   }
@@ -351,34 +363,48 @@ Separation separation_speed(const RigidSweep& sweep, const Model& model, int con
   Separation sep;
   CAMOPT_ASSERT(model.contacts[connection].is_contact);
   if (model.contacts[connection].two_sided) return sep;  // guided both ways: it never separates
-  // split of the force at point i: at rest (springs, gas) and per (rad/s)^2 (inertia)
-  auto split = [&](std::size_t i, double& at_rest, double& inertial) {
+  // split of the force at point i: at rest A (springs, gas), per rad/s C (dampers), per
+  // (rad/s)^2 B (inertia): F = A + C w + B w^2
+  auto split = [&](std::size_t i, double& at_rest, double& viscous, double& inertial) {
     const double* f = &sweep.force[(i * sweep.connections + connection) * sweep.cases];
     inertial = f[0];
+    viscous = f[sweep.cases - 1];
     at_rest = 0.0;
-    for (int j = 1; j < sweep.cases; ++j) at_rest += f[j];
+    for (int j = 1; j + 1 < sweep.cases; ++j) at_rest += f[j];
   };
-  // round-off scale: a point where both parts are below it carries no load at any speed
-  double scale_rest = 0.0, scale_inertial = 0.0;
+  // round-off scale: a point where every part is below it carries no load at any speed
+  double scale_rest = 0.0, scale_viscous = 0.0, scale_inertial = 0.0;
   for (std::size_t i = 0; i < sweep.points(); ++i) {
-    double a = 0, b = 0;
-    split(i, a, b);
+    double a = 0, c = 0, b = 0;
+    split(i, a, c, b);
     scale_rest = std::max(scale_rest, std::abs(a));
+    scale_viscous = std::max(scale_viscous, std::abs(c));
     scale_inertial = std::max(scale_inertial, std::abs(b));
   }
-  const double tol_rest = 1e-9 * scale_rest, tol_inertial = 1e-9 * scale_inertial;
+  const double tol_rest = 1e-9 * scale_rest, tol_viscous = 1e-9 * scale_viscous, tol_inertial = 1e-9 * scale_inertial;
   for (std::size_t i = 0; i < sweep.points(); ++i) {
     if (sweep.contact[i * sweep.connections + connection].open) continue;
-    double at_rest = 0, inertial = 0;
-    split(i, at_rest, inertial);
-    double rpm = std::numeric_limits<double>::infinity();
-    if (std::abs(at_rest) <= tol_rest) {
-      if (inertial < -tol_inertial) rpm = 0.0;  // unloaded at rest, pulled apart at any speed
-    } else if (at_rest < 0.0) {
-      rpm = 0.0;
-    } else if (inertial < -tol_inertial) {
-      rpm = engine_rpm(std::sqrt(-at_rest / inertial), model.crank_per_cam);
+    double a = 0, c = 0, b = 0;
+    split(i, a, c, b);
+    if (std::abs(c) <= tol_viscous) c = 0.0;
+    if (std::abs(b) <= tol_inertial) b = 0.0;
+    double w = std::numeric_limits<double>::infinity();  // the smallest speed with F = 0 [rad/s]
+    if (std::abs(a) <= tol_rest) {
+      if (c < 0.0 || (c == 0.0 && b < 0.0)) w = 0.0;  // unloaded at rest, pulled apart at any speed
+    } else if (a < 0.0) {
+      w = 0.0;
+    } else if (b == 0.0) {
+      if (c < 0.0) w = -a / c;
+    } else {
+      // B w^2 + C w + A = 0 with A > 0: the smallest positive root (q: no cancellation)
+      const double disc = c * c - 4.0 * a * b;
+      if (disc >= 0.0) {
+        const double q = -0.5 * (c + std::copysign(std::sqrt(disc), c));
+        for (double root : {q / b, q != 0.0 ? a / q : std::numeric_limits<double>::infinity()})
+          if (root > 0.0) w = std::min(w, root);
+      }
     }
+    const double rpm = std::isfinite(w) ? engine_rpm(w, model.crank_per_cam) : w;
     if (rpm < sep.engine_rpm) sep = {rpm, sweep.cam_deg[i]};
   }
   return sep;

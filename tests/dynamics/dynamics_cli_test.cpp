@@ -193,3 +193,34 @@ TEST_CASE("camopt dynamics --model flexible: a seat the valve cannot reach is an
   CHECK(has(r.err, "node 'follower': seat: the valve never reaches its seat"));
   CHECK((!fs::exists(out) || fs::is_empty(out)));
 }
+
+TEST_CASE("camopt dynamics --model rigid: per node the inertia, spring, damping and gas forces", "[dynamics][cli]") {
+  TempDir tmp;
+  const fs::path out = tmp / "out";
+  const auto r = run_camopt({"dynamics", (source_dir() / "designs/eccentric_flat_follower.toml").string(), "--model",
+                             "rigid", "--rpm", "3000", "--step", "1", "--out", out.string()});
+  INFO(r.command << "\n" << r.all());
+  REQUIRE(r.exit_code == cli_ok);
+  auto c = columns_of(read_file(out / "dynamics.csv"));
+  for (const char* name : {"node_follower_inertia_N", "node_follower_spring_N", "node_follower_damping_N",
+                           "node_follower_gas_N", "spring_return_spring_load_N", "contact_disc_face_force_N"})
+    REQUIRE(c.count(name) == 1);
+  // the spring's force on the node is minus its load; no damper, no gas in this design; the
+  // inertia force is -m a with a from central differences of the lift (1 deg at 1500 cam rpm:
+  // truncation (1 deg)^2 / 12 = 2.5e-5 of a harmonic) and m the follower's mass plus a third of
+  // the spring's (0.10 + 0.01 / 3 kg, the design)
+  const double kFollowerMass = 0.10 + 0.01 / 3;
+  const double dt = 1.0 * camopt::kin_test::deg / (1500 * 2 * camopt::kin_test::pi / 60);
+  const auto& lift = c["lift_mm"];
+  double worst = 0, peak = 0;
+  for (std::size_t i = 1; i + 1 < lift.size(); ++i) {
+    CHECK(c["node_follower_spring_N"][i] == -c["spring_return_spring_load_N"][i]);
+    CHECK(c["node_follower_damping_N"][i] == 0.0);
+    const double a = (lift[i + 1] - 2 * lift[i] + lift[i - 1]) / (dt * dt) * 1e-3;
+    worst = std::max(worst, std::abs(c["node_follower_inertia_N"][i] + kFollowerMass * a));
+    peak = std::max(peak, std::abs(c["node_follower_inertia_N"][i]));
+  }
+  INFO("inertia force error " << worst << " of " << peak << " N");
+  CHECK(peak > 1.0);
+  CHECK(worst < 1e-4 * peak);
+}

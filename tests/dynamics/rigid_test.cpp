@@ -195,6 +195,52 @@ TEST_CASE("rigid (a): separation speed is exact from the rpm^2 split", "[dynamic
   CHECK(s.force_at(i, 0, w3) == Approx(f1 + b * (w3 * w3 - w1 * w1)).epsilon(1e-12));
 }
 
+TEST_CASE("rigid (a): a damped valve spring: F = m a + k (x + x0) + c v, separation at the quadratic's root",
+          "[dynamics][rigid]") {
+  ValveCase c;
+  c.gas = true;
+  const oracles::EccentricFlatFollower o{c.R, c.e, c.phase};
+  DesignSpec d = valve_design(c, o.face_height(0)[0]);
+  const double damping = 400.0;  // [N s/m]
+  d.springs[0].damping_N_s_per_m = damping;
+  const Compiled m(d);
+  const auto s = sweep_of(m);
+  const double m_eff = 1e-3 * (c.mass + c.spring_mass / 3.0), cd = damping * 1e-3;  // [N per mm/s^2], [N s/mm]
+  // the force at 6000 rpm, and the separation speed: per point the smallest positive root w of
+  // m y'' w^2 + c y' w + (k x + F0 + gas) = 0, written here from the quadratic formula
+  const double w6 = dynamics::cam_speed_rad_per_s(kRpm, 2.0);
+  ScalarCompare force("damped contact force");
+  double w_min = INFINITY;
+  for (std::size_t i = 0; i < s.points(); ++i) {
+    const double t = s.cam_deg[i] * deg;
+    const auto y = o.face_height(t);
+    const double rest = c.rate * (y[0] - o.face_height(0)[0]) + c.preload + gas_at(2 * s.cam_deg[i]);
+    force.add(t, s.force_at(i, 0, w6), m_eff * w6 * w6 * y[2] + cd * w6 * y[1] + rest);
+    const double qa = m_eff * y[2], qb = cd * y[1], disc = qb * qb - 4 * qa * rest;
+    if (std::abs(qa) < 1e-15 || disc < 0) continue;
+    for (double root : {(-qb + std::sqrt(disc)) / (2 * qa), (-qb - std::sqrt(disc)) / (2 * qa)})
+      if (root > 0) w_min = std::min(w_min, root);
+  }
+  force.check(kForceRel);
+  const auto sep = dynamics::separation_speed(s, m.model, 0);
+  CHECK(sep.engine_rpm == Approx(dynamics::engine_rpm(w_min, 2.0)).epsilon(1e-9));
+  // the undamped separation speed differs: the damper matters here
+  ValveCase u = c;
+  const Compiled mu(valve_design(u, o.face_height(0)[0]));
+  const double undamped = dynamics::separation_speed(sweep_of(mu), mu.model, 0).engine_rpm;
+  INFO("damped " << sep.engine_rpm << " rpm, undamped " << undamped << " rpm");
+  CHECK(std::abs(sep.engine_rpm - undamped) > 10.0);
+  // the force is positive just below it and reaches zero at it
+  const double w = dynamics::cam_speed_rad_per_s(sep.engine_rpm, 2.0);
+  double min_below = INFINITY, min_at = INFINITY;
+  for (std::size_t i = 0; i < s.points(); ++i) {
+    min_below = std::min(min_below, s.force_at(i, 0, w * (1 - 1e-6)));
+    min_at = std::min(min_at, s.force_at(i, 0, w));
+  }
+  CHECK(min_below > 0.0);
+  CHECK(std::abs(min_at) < 1e-9 * c.preload);
+}
+
 TEST_CASE("rigid (a): spring margin is the load a spring can lose before a contact it loads opens",
           "[dynamics][rigid]") {
   // rocker arm: the valve spring loads the pad and, through the rocker, the cam roller
@@ -439,12 +485,12 @@ TEST_CASE("rigid (a): power balance, drive power = d(kinetic + spring energy)/dt
       for (std::size_t c = 0; c < m.mech.connections.size(); ++c) {
         const auto& cd = m.model.contacts[c];
         if (!cd.is_contact || cd.rolling || ws.kin.contacts[c].open) continue;
-        double n_force = ws.force(static_cast<Eigen::Index>(c), 0) * w * w;
-        for (int j = 1; j < ws.cases(); ++j) n_force += ws.force(static_cast<Eigen::Index>(c), j);
+        double n_force = 0.0;
+        for (int j = 0; j < ws.cases(); ++j) n_force += ws.case_weight(j, w) * ws.force(static_cast<Eigen::Index>(c), j);
         loss += cd.friction * n_force * std::abs(ws.kin.contacts[c].sliding);
       }
-      double torque = ws.torque(0) * w * w;
-      for (int j = 1; j < ws.cases(); ++j) torque += ws.torque(j);
+      double torque = 0.0;
+      for (int j = 0; j < ws.cases(); ++j) torque += ws.case_weight(j, w) * ws.torque(j);
       power.add(th, torque, de + loss);
       if (i > 0) {
         work += 0.5 * (torque + prev) * step * deg;

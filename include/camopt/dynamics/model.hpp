@@ -29,6 +29,7 @@ struct Spring {
   double rate = 0.0;     // compression [N/mm]; torsion [N mm/rad]
   double preload = 0.0;  // compression [N]; torsion [N mm]
   std::vector<double> table_x, table_f;  // progressive law [mm] -> [N] (empty: linear)
+  double damping = 0.0;  // compression: viscous damper between its ends [N s/mm]
   // on a floating node: the point it pushes (drawing) and its line of action (unit); the
   // travel is direction . (point now - point in the drawing)
   bool on_point = false;

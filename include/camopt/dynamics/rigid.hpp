@@ -35,7 +35,12 @@ double engine_rpm(double cam_rad_per_s, double crank_per_cam);
 class RigidWorkspace {
  public:
   RigidWorkspace(const kin::Mechanism& mech, const Model& model);
+  // load cases (columns of force, torque, reaction, loads): 0 inertia (per (rad/s)^2), 1 gas,
+  // 2 .. 2 + springs - 1 the springs, damping_case() the springs' viscous dampers (per rad/s)
   int cases() const { return cases_; }
+  int damping_case() const { return cases_ - 1; }
+  // the weight of case j at cam speed omega [rad/s]: omega^2, 1 or omega
+  double case_weight(int j, double omega) const { return j == 0 ? omega * omega : j == cases_ - 1 ? omega : 1.0; }
 
   kin::Workspace kin;  // the kinematic solve (controls set by the caller)
 
@@ -83,7 +88,7 @@ int point_partials(const kin::Mechanism& mech, const kin::Workspace& kws, int no
 struct RigidSweep {
   std::vector<double> controls;
   std::vector<double> cam_deg;  // driver [deg]
-  int cases = 0, connections = 0, nodes = 0, springs = 0;
+  int cases = 0, connections = 0, nodes = 0, springs = 0, variables = 0;  // the last case: dampers, per rad/s
   std::vector<double> force;     // [(point * connections + c) * cases + j]
   std::vector<double> torque;    // [point * cases + j] [N mm]
   std::vector<double> reaction;  // [((point * nodes + n) * 2 + axis) * cases + j] [N]
@@ -91,12 +96,13 @@ struct RigidSweep {
   std::vector<double> spring_load;  // [point * springs + s] [N or N mm]
   std::vector<double> gas_force;    // [point] [N]
   std::vector<double> output;       // output node displacement from rest [mm or deg]
+  std::vector<double> loads;        // [(point * variables + v) * cases + j]: inertia minus applied [N or N mm]
 
   std::size_t points() const { return cam_deg.size(); }
   // a split quantity at cam speed omega [rad/s]
   double at(const double* split, double omega) const {
-    double v = split[0] * omega * omega;
-    for (int j = 1; j < cases; ++j) v += split[j];
+    double v = split[0] * omega * omega + split[cases - 1] * omega;
+    for (int j = 1; j + 1 < cases; ++j) v += split[j];
     return v;
   }
   double force_at(std::size_t point, int c, double omega) const {
