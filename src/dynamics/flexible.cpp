@@ -182,9 +182,10 @@ class Run {
   System& s_;
   const FlexibleOptions& opt_;
   FlexibleResult& out_;
-  detail::Sundials su_;
+  // the Newton matrix and solver outlive CVODE (declared before it: destroyed after it)
   std::unique_ptr<_generic_SUNLinearSolver, int (*)(SUNLinearSolver)> ls_{nullptr, SUNLinSolFree};
   std::unique_ptr<_generic_SUNMatrix, void (*)(SUNMatrix)> jac_{nullptr, SUNMatDestroy};
+  detail::Sundials su_;
   double first_deg_ = 0.0, rpm_ = 0.0, t_ = 0.0, window_t0_ = 0.0, report_deg0_ = 0.0;
   double last_kink_t_ = -1e-12, next_kink_t_ = 1e300;  // [s] (the start is past no kink)
   long steps_total_ = 0, events_total_ = 0;
