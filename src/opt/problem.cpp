@@ -56,6 +56,28 @@ const char* to_string(ConstraintKind kind) {
   return "?";
 }
 
+const char* limit_key(ConstraintKind kind) {
+  switch (kind) {
+    case ConstraintKind::acc_max: return "limits.acc_max_mm_per_deg2";
+    case ConstraintKind::acc_min: return "limits.acc_min_mm_per_deg2";
+    case ConstraintKind::jerk_max: return "limits.jerk_max_mm_per_deg3";
+    case ConstraintKind::lift_max: return "limits.max_lift_mm";
+    case ConstraintKind::lift_nonnegative: return nullptr;
+    case ConstraintKind::peak_lift_min: return "limits.min_max_lift_mm";
+    case ConstraintKind::duration_min: return "limits.min_duration_deg";
+    case ConstraintKind::duration_max: return "limits.max_duration_deg";
+    case ConstraintKind::radius_min: return "limits.min_radius_of_curvature_mm";
+    case ConstraintKind::concave_radius: return "limits.grinding_wheel_radius_mm";
+    case ConstraintKind::pressure_angle: return "limits.max_pressure_angle_deg";
+    case ConstraintKind::roller_speed: return "limits.max_roller_speed_rpm";
+    case ConstraintKind::sliding_speed: return "limits.max_sliding_speed_m_per_s";
+    case ConstraintKind::hertz_stress: return "limits.max_hertz_stress_MPa";
+    case ConstraintKind::face_width: return "design: the flat face's half_width_mm";
+    case ConstraintKind::peak_bound: return nullptr;
+  }
+  return nullptr;
+}
+
 struct CamProblem::GridPoint {
   double deg = 0.0;
   int position = 0;                               // swing: control position index

@@ -42,6 +42,10 @@ enum class ConstraintKind {
   peak_bound,  // q_i - t <= 0 of a peak objective
 };
 const char* to_string(ConstraintKind kind);
+// the constraint-set key that sets a kind's limit ("limits.acc_max_mm_per_deg2"), as the user
+// wrote it; null for the rows the user does not set (lift_nonnegative, peak_bound) and
+// "design: <what>" for limits taken from the design (face_width)
+const char* limit_key(ConstraintKind kind);
 
 struct ConstraintRow {
   ConstraintKind kind;
