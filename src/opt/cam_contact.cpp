@@ -189,14 +189,17 @@ Status CamContactModel::evaluate(double cam_rad, const double lift[3], ContactWo
     out.inverse_radius_sum = 1.0 / (r * (1.0 - r * out.pitch_curvature));
     out.pressure_angle = angle_between(nu, gq);
     out.force_ratio = 1.0 / (Q1 * dot(nu, gq));
+    const G u_cam = -s * speed * (1.0 - r * out.pitch_curvature);  // cam surface relative to the contact
     if (shape_ == FollowerShape::roller) {
       out.roller_speed = s * speed / r + psi1 - rot_rate;
+      out.entrainment = u_cam;  // perfect rolling: both surfaces at the same speed
     } else {
       // pad: the material points at the contact x = c - r nu
       const V x = g - nu * r;
       const V v_cam = perp(x - constant(cam_pivot)) * psi1;
       const V v_fol = m.rotational_follower ? perp(x - constant(pivot)) * qd1 : constant(gq0) * qd1;
       out.sliding = dot(v_cam - v_fol, perp(nu));
+      out.entrainment = u_cam - 0.5 * out.sliding;
     }
     return Status::success();
   }
@@ -231,6 +234,7 @@ Status CamContactModel::evaluate(double cam_rad, const double lift[3], ContactWo
   const V v_cam = perp(x - constant(cam_pivot)) * psi1;
   out.sliding = dot(v_cam - dx * qd1, perp(nu));
   out.face_offset = dot(x - g, perp(nu));
+  out.entrainment = -(out.cam_radius * b1) - 0.5 * out.sliding;
   return Status::success();
 }
 

@@ -63,6 +63,11 @@ TEST_CASE("cam contact quantities from the valve motion match the kinematic solv
       } else {
         CHECK(std::abs(q.sliding.v) == Approx(std::abs(cs.sliding)).margin(1e-7));
       }
+      // the solver's entrainment is measured along its own tangent: compare magnitudes, and
+      // the sign relative to the sliding speed (pads, flat faces)
+      CHECK(std::abs(q.entrainment.v) == Approx(std::abs(cs.entrainment)).margin(1e-7 * std::max(1.0, std::abs(cs.entrainment))));
+      if (model.follower_shape() != opt::FollowerShape::roller && std::abs(cs.sliding) > 1e-6 && std::abs(cs.entrainment) > 1e-6)
+        CHECK((q.entrainment.v * q.sliding.v > 0) == ((profile_on_a ? 1.0 : -1.0) * cs.entrainment * cs.sliding > 0));
       ++checked;
     }
     CHECK(checked == 144);

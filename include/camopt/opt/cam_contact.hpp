@@ -22,6 +22,8 @@
 // pressure angle: between the normal and the direction of motion of the follower's trace
 // point (roller or pad centre, else the contact point), as kin::solve reports it.
 // normal force per unit valve force from virtual work: F_n / F_valve = 1 / (Q1 nu . dx/dq).
+// entrainment: the contact point moves over the cam at (1 - r kappa_p) |P1| (the offset of
+// the pitch curve) or rho (h + h_bb) times the face normal's turning rate relative to the cam.
 // angles in rad; derivatives per cam radian of the driver.
 #include <memory>
 #include <string>
@@ -47,6 +49,11 @@ struct ContactQuantities {
   Grad3 sliding;              // relative tangential speed of the material points [mm per cam rad]
   Grad3 force_ratio;          // contact normal force per unit valve force [-]
   Grad3 face_offset;          // flat face: contact offset along the face from its reference point [mm]
+  // mean entrainment speed: the mean of the two surfaces' speeds relative to the contact
+  // point, along the tangent perp(normal) [mm per cam rad]; the cam's is minus the contact
+  // point's speed over the cam (rho_cam times the normal's turning rate relative to the cam),
+  // the follower's that minus the sliding speed: u_e = u_cam - sliding / 2
+  Grad3 entrainment;
 };
 
 // per-thread solver state of a CamContactModel (warm starts); movable
