@@ -16,7 +16,7 @@ opt::RampSpec parse_ramp(const Table& t) {
 
 opt::OptimizationSpec parse(const toml::table& document, const Context& context) {
   const Table root(context, document, "");
-  root.allow({"schema", "set", "event", "swing_profile", "limits", "load", "objective"});
+  root.allow({"schema", "set", "event", "swing_profile", "limits", "load", "oil", "objective"});
   if (const long long schema = root.integer("schema"); schema != 1)
     root.fail("schema", "value " + std::to_string(schema) + " is not a supported schema version (must be 1)");
   opt::OptimizationSpec s;
@@ -66,7 +66,9 @@ opt::OptimizationSpec parse(const toml::table& document, const Context& context)
     l.allow({"acc_max_mm_per_deg2", "acc_min_mm_per_deg2", "jerk_max_mm_per_deg3", "min_radius_of_curvature_mm",
              "grinding_wheel_radius_mm", "max_pressure_angle_deg", "max_roller_speed_rpm", "max_sliding_speed_m_per_s",
              "max_hertz_stress_MPa", "max_lift_mm", "min_max_lift_mm", "duration_check_height_mm", "min_duration_deg",
-             "max_duration_deg", "max_seating_velocity_m_per_s", "max_opening_ramp_velocity_m_per_s"});
+             "max_duration_deg", "max_seating_velocity_m_per_s", "max_opening_ramp_velocity_m_per_s",
+             "min_separation_speed_rpm", "min_contact_force_N", "min_spring_margin", "max_cam_torque_Nm",
+             "min_film_thickness_um", "min_lambda"});
     auto& m = s.limits;
     m.acc_max_mm_per_deg2 = l.optional_number("acc_max_mm_per_deg2", gt(0.0));
     m.acc_min_mm_per_deg2 = l.optional_number("acc_min_mm_per_deg2", lt(0.0));
@@ -84,13 +86,34 @@ opt::OptimizationSpec parse(const toml::table& document, const Context& context)
     m.max_duration_deg = l.optional_number("max_duration_deg", gt(0.0));
     m.max_seating_velocity_m_per_s = l.optional_number("max_seating_velocity_m_per_s", gt(0.0));
     m.max_opening_ramp_velocity_m_per_s = l.optional_number("max_opening_ramp_velocity_m_per_s", gt(0.0));
+    m.min_separation_speed_rpm = l.optional_number("min_separation_speed_rpm", gt(0.0));
+    m.min_contact_force_N = l.optional_number("min_contact_force_N", ge(0.0));
+    m.min_spring_margin = l.optional_number("min_spring_margin", ge(0.0) & lt(1.0));
+    m.max_cam_torque_Nm = l.optional_number("max_cam_torque_Nm", gt(0.0));
+    m.min_film_thickness_um = l.optional_number("min_film_thickness_um", gt(0.0));
+    m.min_lambda = l.optional_number("min_lambda", gt(0.0));
+  }
+
+  if (auto oil_ = root.optional_table("oil")) {
+    const Table& o = *oil_;
+    o.allow({"viscosity_mPa_s", "pressure_viscosity_per_GPa", "composite_roughness_um"});
+    opt::OilSetSpec oil;
+    oil.viscosity_mPa_s = o.number("viscosity_mPa_s", gt(0.0));
+    oil.pressure_viscosity_per_GPa = o.number("pressure_viscosity_per_GPa", gt(0.0));
+    oil.composite_roughness_um = o.optional_number("composite_roughness_um", gt(0.0));
+    oil.where = o.where();
+    s.oil = oil;
   }
 
   if (auto ld_ = root.optional_table("load")) {
     const Table& l = *ld_;
-    l.allow({"spring_preload_N", "spring_rate_N_per_mm", "moving_mass_kg", "width_mm", "youngs_modulus_cam_GPa",
-             "poisson_cam", "youngs_modulus_follower_GPa", "poisson_follower"});
+    l.allow({"override_design", "spring_preload_N", "spring_rate_N_per_mm", "moving_mass_kg", "width_mm",
+             "youngs_modulus_cam_GPa", "poisson_cam", "youngs_modulus_follower_GPa", "poisson_follower"});
     opt::LoadSpec load;
+    load.override_design = l.boolean_or("override_design", false);
+    for (const char* key : {"spring_preload_N", "spring_rate_N_per_mm", "moving_mass_kg", "width_mm", "youngs_modulus_cam_GPa",
+                            "poisson_cam", "youngs_modulus_follower_GPa", "poisson_follower"})
+      if (l.has(key)) load.given.emplace_back(key, l.where(key));
     load.spring_preload_N = l.number("spring_preload_N", ge(0.0));
     load.spring_rate_N_per_mm = l.number("spring_rate_N_per_mm", ge(0.0));
     load.moving_mass_kg = l.number("moving_mass_kg", ge(0.0));

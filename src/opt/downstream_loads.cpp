@@ -121,6 +121,10 @@ DownstreamLoads::DownstreamLoads(const DesignSpec& design, const std::string& ca
   }
 }
 
+bool DownstreamLoads::carries(std::size_t contact, std::size_t spring) const {
+  return impl_->beyond[contact][static_cast<std::size_t>(impl_->springs[spring].node)] != 0;
+}
+
 LoadWorkspace DownstreamLoads::make_workspace(const std::vector<double>& controls) const {
   auto state = std::make_unique<LoadWorkspace::State>(impl_->down);
   state->kin.set_controls(controls);

@@ -91,11 +91,25 @@ void validate(const OptimizationSpec& s, double crank_per_cam) {
   if (l.duration_check_height_mm && l.max_lift_mm && *l.duration_check_height_mm >= *l.max_lift_mm)
     throw InputError("limits.duration_check_height_mm = " + num(*l.duration_check_height_mm) +
                      " mm is not below limits.max_lift_mm = " + num(*l.max_lift_mm) + " mm: contradictory constraints");
+  require_positive(l.min_separation_speed_rpm, "limits.min_separation_speed_rpm", "rpm");
+  if (l.min_contact_force_N && !(std::isfinite(*l.min_contact_force_N) && *l.min_contact_force_N >= 0.0))
+    throw InputError("limits.min_contact_force_N = " + num(*l.min_contact_force_N) + " N: must be finite and >= 0");
+  if (l.min_spring_margin && !(*l.min_spring_margin >= 0.0 && *l.min_spring_margin < 1.0))
+    throw InputError("limits.min_spring_margin = " + num(*l.min_spring_margin) +
+                     ": must be in [0, 1) (the fraction of a spring's load that could be lost before a contact opens)");
+  require_positive(l.max_cam_torque_Nm, "limits.max_cam_torque_Nm", "N m");
+  require_positive(l.min_film_thickness_um, "limits.min_film_thickness_um", "um");
+  require_positive(l.min_lambda, "limits.min_lambda", "-");
   const bool speed_limits = l.max_roller_speed_rpm || l.max_sliding_speed_m_per_s || l.max_hertz_stress_MPa ||
-                            l.max_seating_velocity_m_per_s || l.max_opening_ramp_velocity_m_per_s;
+                            l.max_seating_velocity_m_per_s || l.max_opening_ramp_velocity_m_per_s ||
+                            l.min_contact_force_N || l.min_spring_margin || l.max_cam_torque_Nm ||
+                            l.min_film_thickness_um || l.min_lambda;
   if (speed_limits && !(s.rpm > 0))
     throw InputError("rpm = " + num(s.rpm) + ": the speed-dependent limits (roller speed, sliding speed, Hertz stress, "
-                     "ramp velocities) need an engine speed > 0");
+                     "ramp velocities, contact force, spring margin, cam torque, film thickness) need an engine speed > 0");
+  if (s.cam == "swing" && (l.max_cam_torque_Nm || l.min_film_thickness_um || l.min_lambda))
+    throw InputError(std::string(l.max_cam_torque_Nm ? "limits.max_cam_torque_Nm" : l.min_film_thickness_um ? "limits.min_film_thickness_um" : "limits.min_lambda") +
+                     ": not available for a swing cam (its drive torque and entrainment come from the upstream mechanism)");
   if (s.load) {
     const LoadSpec& ld = *s.load;
     if (!(std::isfinite(ld.spring_preload_N) && ld.spring_preload_N >= 0.0))

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "camopt/synthesis/lift_law_event.hpp"
+#include "load_rows.hpp"
 
 namespace camopt::opt {
 
@@ -16,12 +17,6 @@ constexpr double kDegPerRad = 180.0 / std::numbers::pi;
 
 std::string num(double v) { return format_value(v, 8); }
 
-const MaterialSpec* find_material(const DesignSpec& d, const std::string& name) {
-  for (const auto& m : d.materials)
-    if (m.name == name) return &m;
-  return nullptr;
-}
-
 bool needs_contact(const OptimizationSpec& s) {
   const auto& l = s.limits;
   const bool peak_contact = s.objective.peak_weight > 0.0 &&
@@ -29,7 +24,8 @@ bool needs_contact(const OptimizationSpec& s) {
                              s.objective.peak == Quantity::roller_speed || s.objective.peak == Quantity::sliding_speed ||
                              s.objective.peak == Quantity::curvature);
   return peak_contact || l.min_radius_of_curvature_mm || l.grinding_wheel_radius_mm || l.max_pressure_angle_deg ||
-         l.max_roller_speed_rpm || l.max_sliding_speed_m_per_s || l.max_hertz_stress_MPa;
+         l.max_roller_speed_rpm || l.max_sliding_speed_m_per_s || l.max_hertz_stress_MPa || l.min_separation_speed_rpm ||
+         l.min_contact_force_N || l.min_spring_margin || l.max_cam_torque_Nm || l.min_film_thickness_um || l.min_lambda;
 }
 
 }  // namespace
@@ -51,6 +47,12 @@ const char* to_string(ConstraintKind kind) {
     case ConstraintKind::sliding_speed: return "sliding_speed_max";
     case ConstraintKind::hertz_stress: return "hertz_stress_max";
     case ConstraintKind::face_width: return "face_width";
+    case ConstraintKind::separation: return "separation_speed_min";
+    case ConstraintKind::contact_force: return "contact_force_min";
+    case ConstraintKind::spring_margin: return "spring_margin_min";
+    case ConstraintKind::cam_torque: return "cam_torque_max";
+    case ConstraintKind::film_thickness: return "film_thickness_min";
+    case ConstraintKind::lambda: return "lambda_min";
     case ConstraintKind::peak_bound: return "peak_bound";
   }
   return "?";
@@ -73,6 +75,12 @@ const char* limit_key(ConstraintKind kind) {
     case ConstraintKind::sliding_speed: return "limits.max_sliding_speed_m_per_s";
     case ConstraintKind::hertz_stress: return "limits.max_hertz_stress_MPa";
     case ConstraintKind::face_width: return "design: the flat face's half_width_mm";
+    case ConstraintKind::separation: return "limits.min_separation_speed_rpm";
+    case ConstraintKind::contact_force: return "limits.min_contact_force_N";
+    case ConstraintKind::spring_margin: return "limits.min_spring_margin";
+    case ConstraintKind::cam_torque: return "limits.max_cam_torque_Nm";
+    case ConstraintKind::film_thickness: return "limits.min_film_thickness_um";
+    case ConstraintKind::lambda: return "limits.min_lambda";
     case ConstraintKind::peak_bound: return nullptr;
   }
   return nullptr;
@@ -127,32 +135,13 @@ CamProblem::CamProblem(const DesignSpec& design, const OptimizationSpec& spec, c
     if (lim.max_roller_speed_rpm && contact_->follower_shape() != FollowerShape::roller)
       throw InputError("limits.max_roller_speed_rpm: the follower of contact '" + contact_->connection() +
                        "' is not a roller");
-    if (lim.max_hertz_stress_MPa || (spec_.objective.peak_weight > 0 && spec_.objective.peak == Quantity::hertz_stress)) {
-      if (!spec_.load)
-        throw InputError("limits.max_hertz_stress_MPa needs a [load] table (spring preload and rate, moving mass)");
-      const LoadSpec& ld = *spec_.load;
-      width_mm_ = ld.width_mm.value_or(contact_->width_mm());
-      if (!(width_mm_ > 0))
-        throw InputError("load.width_mm: the contact width is not given here nor as width_mm of connection '" +
-                         contact_->connection() + "' in the design");
-      auto material = [&](const std::optional<double>& e, const std::optional<double>& nu, const std::string& name,
-                          const std::string& side) {
-        if (e && nu) return std::pair{*e, *nu};
-        const MaterialSpec* m = find_material(design, name);
-        if (!m)
-          throw InputError("load.youngs_modulus_" + side + "_GPa / load.poisson_" + side +
-                           ": not given, and connection '" + contact_->connection() + "' names no [[material]] for the " +
-                           side + (name.empty() ? std::string() : " ('" + name + "' is not defined)"));
-        return std::pair{e.value_or(m->youngs_modulus_GPa), nu.value_or(m->poisson_ratio)};
-      };
-      const auto [e1, n1] = material(ld.youngs_modulus_cam_GPa, ld.poisson_cam, contact_->material_cam(), "cam");
-      const auto [e2, n2] =
-          material(ld.youngs_modulus_follower_GPa, ld.poisson_follower, contact_->material_follower(), "follower");
-      // 1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2 (Johnson, Contact Mechanics, 1985, eq. 4.22) [MPa]
-      e_star_MPa_ = 1.0 / ((1.0 - n1 * n1) / (e1 * 1e3) + (1.0 - n2 * n2) / (e2 * 1e3));
-    }
-  } else if (spec_.objective.peak_weight > 0 && spec_.objective.peak == Quantity::hertz_stress) {
-    throw InputError("objective.peak = hertz_stress needs a [load] table");
+    // the loads of the separation, margin, torque, Hertz and film rows: one source (load_rows.hpp)
+    std::vector<std::vector<double>> controls;
+    if (swing)
+      for (std::size_t k = 0; k < swing_->positions().size(); ++k) controls.push_back(swing_->controls(static_cast<int>(k)));
+    else
+      controls.push_back(contact_->controls());
+    load_rows_ = std::make_unique<detail::LoadRows>(design, spec_, *contact_, omega_, controls);
   }
   if (swing && spec_.objective.peak_weight > 0 && spec_.objective.peak != Quantity::acceleration &&
       spec_.objective.peak != Quantity::deceleration && spec_.objective.peak != Quantity::jerk &&
@@ -318,6 +307,13 @@ void CamProblem::build_rows() {
     if (lim.max_hertz_stress_MPa) add(ConstraintKind::hertz_stress, i, {0, 1, 2}, false);
     if (contact_ && contact_->follower_shape() == FollowerShape::flat && contact_->face_half_width_mm() > 0)
       add(ConstraintKind::face_width, i, {0, 1, 2}, false);
+    // the load rows where the valve is off its seat (its load then goes to the cam)
+    const GridPoint& gp = points_[static_cast<std::size_t>(i)];
+    if (load_rows_ && (swing_ || gp.variable || gp.constant[0] > 0.0))
+      for (const detail::LoadRowSpec& lr : load_rows_->point_rows()) {
+        add(lr.kind, i, {0, 1, 2}, false);
+        rows_.back().item = lr.item;
+      }
     if (peak) {
       const Quantity q = spec_.objective.peak;
       const std::vector<int> d = q == Quantity::acceleration || q == Quantity::deceleration ? std::vector<int>{2}
@@ -355,6 +351,12 @@ const char* CamProblem::unit_of(ConstraintKind kind) const {
     case ConstraintKind::roller_speed: return "rpm";
     case ConstraintKind::sliding_speed: return "m/s";
     case ConstraintKind::hertz_stress: return "MPa";
+    case ConstraintKind::separation: return "rpm";
+    case ConstraintKind::contact_force: return "N";
+    case ConstraintKind::spring_margin: return "-";
+    case ConstraintKind::cam_torque: return "N m";
+    case ConstraintKind::film_thickness: return "um";
+    case ConstraintKind::lambda: return "-";
     case ConstraintKind::peak_bound: return "-";
   }
   return "";
@@ -378,6 +380,12 @@ double CamProblem::limit_of(ConstraintKind kind) const {
     case ConstraintKind::sliding_speed: return *l.max_sliding_speed_m_per_s;
     case ConstraintKind::hertz_stress: return *l.max_hertz_stress_MPa;
     case ConstraintKind::face_width: return contact_->face_half_width_mm();
+    case ConstraintKind::separation: return *l.min_separation_speed_rpm;
+    case ConstraintKind::contact_force: return *l.min_contact_force_N;
+    case ConstraintKind::spring_margin: return *l.min_spring_margin;
+    case ConstraintKind::cam_torque: return *l.max_cam_torque_Nm;
+    case ConstraintKind::film_thickness: return *l.min_film_thickness_um;
+    case ConstraintKind::lambda: return *l.min_lambda;
     case ConstraintKind::peak_bound: return 0.0;
   }
   return 0.0;
@@ -389,10 +397,32 @@ bool CamProblem::is_upper_limit(ConstraintKind kind) const {
     case ConstraintKind::lift_nonnegative:
     case ConstraintKind::peak_lift_min:
     case ConstraintKind::duration_min:
-    case ConstraintKind::radius_min: return false;
+    case ConstraintKind::radius_min:
+    case ConstraintKind::separation:
+    case ConstraintKind::contact_force:
+    case ConstraintKind::spring_margin:
+    case ConstraintKind::film_thickness:
+    case ConstraintKind::lambda: return false;
     case ConstraintKind::concave_radius: return true;  // the concave radius as a negative number: <= -wheel
     default: return true;
   }
+}
+
+std::string CamProblem::load_source() const { return load_rows_ ? load_rows_->source() : std::string(); }
+
+std::vector<LoadOverride> CamProblem::load_overrides() const {
+  return load_rows_ ? load_rows_->overrides() : std::vector<LoadOverride>{};
+}
+
+std::string CamProblem::item_name(const ConstraintRow& row) const {
+  if (!load_rows_ || row.item < 0) return "";
+  const auto& contacts = load_rows_->contact_names();
+  if (row.kind == ConstraintKind::spring_margin) {
+    const std::size_t ns = load_rows_->spring_names().size(), item = static_cast<std::size_t>(row.item);
+    return contacts[item / ns] + " / " + load_rows_->spring_names()[item % ns];
+  }
+  if (row.kind == ConstraintKind::separation) return contacts[static_cast<std::size_t>(row.item)];
+  return contacts.front();
 }
 
 Eigen::MatrixXd CamProblem::objective_hessian() const {
@@ -498,25 +528,24 @@ Status CamProblem::evaluate(std::span<const double> u, Evaluation& e, bool gradi
     const GridPoint& gp = points_[i];
     const auto& mo = motion[i];
     bool have_contact = false;
+    // the contact quantities (rotational cam) and the loads at this angle, once
     auto contact = [&]() -> Status {
-      if (have_contact || swing_) return Status::success();
+      if (have_contact) return Status::success();
       const double lift[3] = {mo[0], mo[1] * r1, mo[2] * r2};
-      Status st = contact_->evaluate(gp.deg / kDegPerRad, lift, contact_ws_[static_cast<std::size_t>(gp.position)], cq);
-      if (!st.ok()) return st;
+      if (!swing_)
+        if (Status st = contact_->evaluate(gp.deg / kDegPerRad, lift, contact_ws_[static_cast<std::size_t>(gp.position)], cq);
+            !st.ok())
+          return st;
+      if (load_rows_)
+        if (Status st = load_rows_->prepare(gp.deg / kDegPerRad, lift, gp.position); !st.ok()) return st;
       have_contact = true;
       return Status::success();
     };
-    // p0^2 = F E* / (pi L R*) [MPa^2] (Johnson, Contact Mechanics, eq. 4.45) with the valve
-    // force F_v = preload + rate L + m a (a = L'' omega^2) taken to the contact by virtual work
-    // p0^2 R* = F_n E* / (pi L) [MPa^2 mm]
-    auto valve_force = [&]() {  // [N]
-      const double w = omega_ * omega_ * 1e-3;  // [mm/rad^2] -> [m/s^2]
-      Grad3 fv(spec_.load->spring_preload_N + spec_.load->spring_rate_N_per_mm * mo[0] +
-               spec_.load->moving_mass_kg * mo[2] * r2 * w);
-      fv.d = {spec_.load->spring_rate_N_per_mm, 0.0, spec_.load->moving_mass_kg * w};
-      return fv;
-    };
-    const double hertz_k = e_star_MPa_ / (std::numbers::pi * width_mm_);
+    // p0^2 = F E* / (pi L R*) [MPa^2] (Johnson, Contact Mechanics, eq. 4.45) with the valve-side
+    // force F (the cam contact's generalized force at the set's speed, load_rows.hpp) taken to
+    // the contact by virtual work: p0^2 R* = F_n E* / (pi L) [MPa^2 mm]
+    auto valve_force = [&]() { return load_rows_->cam_force(); };  // [N], after contact()
+    const double hertz_k = load_rows_ ? load_rows_->e_star_MPa() / (std::numbers::pi * load_rows_->width_mm()) : 0.0;
     auto hertz_load = [&]() { return valve_force() * cq.force_ratio * hertz_k; };
     auto hertz_p0_squared = [&]() { return hertz_load() * cq.inverse_radius_sum; };
     // gradient row of a contact quantity
@@ -682,6 +711,19 @@ Status CamProblem::evaluate(std::span<const double> u, Evaluation& e, bool gradi
             case ConstraintKind::face_width: {
               const double hw = contact_->face_half_width_mm();
               set_contact((cq.face_offset * cq.face_offset - hw * hw) / (hw * hw), std::abs(cq.face_offset.v));
+              break;
+            }
+            case ConstraintKind::separation:
+            case ConstraintKind::contact_force:
+            case ConstraintKind::spring_margin:
+            case ConstraintKind::cam_torque:
+            case ConstraintKind::film_thickness:
+            case ConstraintKind::lambda: {
+              // swing: the force ratio is a value here, its u-row added through d_ratio
+              const detail::LoadRowValue v = load_rows_->row({kind, rows_[r].item}, swing_ ? Grad3(sc.force_ratio) : cq.force_ratio,
+                                                             swing_ ? nullptr : &cq);
+              if (swing_) set_row(v.g.v, chain(v.g, 1.0) + v.d_ratio * coef_scale_ * sc.force_ratio_row, v.physical);
+              else set_contact(v.g, v.physical);
               break;
             }
             default: CAMOPT_ASSERT(false);

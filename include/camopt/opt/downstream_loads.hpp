@@ -71,6 +71,8 @@ class DownstreamLoads {
   const std::vector<std::string>& contact_names() const noexcept { return contacts_; }
   // the springs of the downstream part (design names)
   const std::vector<std::string>& spring_names() const noexcept { return springs_; }
+  // whether spring s loads contact k (it acts on a body the contact carries)
+  bool carries(std::size_t contact, std::size_t spring) const;
 
  private:
   struct Impl;

@@ -44,10 +44,29 @@ struct LimitSpec {
   std::optional<double> min_duration_deg, max_duration_deg;  // [cam deg] at the check height
   std::optional<double> max_seating_velocity_m_per_s;  // closing ramp velocity at speed
   std::optional<double> max_opening_ramp_velocity_m_per_s;
+  // durability: from the loads of the design's rigid model (opt/downstream_loads.hpp)
+  std::optional<double> min_separation_speed_rpm;  // every loaded contact stays closed up to this engine speed
+  std::optional<double> min_contact_force_N;       // cam contact's normal force at `rpm`
+  std::optional<double> min_spring_margin;         // fraction of each spring's load that could go before a contact opens, at `rpm`
+  std::optional<double> max_cam_torque_Nm;        // |cam drive torque| at `rpm` (rotational cam)
+  std::optional<double> min_film_thickness_um;     // EHL minimum film of the cam contact at `rpm` (needs [oil])
+  std::optional<double> min_lambda;                // film / composite roughness (needs [oil] composite_roughness_um)
 };
 
-// the valve-side load for the Hertz stress: F = preload + rate * lift + mass * acc
+// the engine oil at operating temperature for the EHL film (Dowson-Higginson line contact)
+struct OilSetSpec {
+  double viscosity_mPa_s = 0.0;             // dynamic viscosity at the contact inlet
+  double pressure_viscosity_per_GPa = 0.0;  // Barus coefficient alpha
+  std::optional<double> composite_roughness_um;  // sqrt(Rq1^2 + Rq2^2)
+  SourceRef where;
+};
+
+// a reduced valve-side load, F = preload + rate * lift + mass * acc, for a design without
+// dynamics data, or (override_design) in place of the design's own loads; a set that states
+// values the design disagrees with, without override_design, is an InputError
 struct LoadSpec {
+  bool override_design = false;
+  std::vector<std::pair<std::string, SourceRef>> given;  // the keys the file states, where
   double spring_preload_N = 0.0;
   double spring_rate_N_per_mm = 0.0;
   double moving_mass_kg = 0.0;  // valve-equivalent moving mass (valve, retainer, 1/3 spring, follower)
@@ -78,6 +97,7 @@ struct OptimizationSpec {
   std::vector<double> controls;      // control positions [deg or mm] (empty: the design's defaults)
   LimitSpec limits;
   std::optional<LoadSpec> load;
+  std::optional<OilSetSpec> oil;
   ObjectiveSpec objective;
 };
 

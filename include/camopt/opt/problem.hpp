@@ -39,6 +39,12 @@ enum class ConstraintKind {
   sliding_speed,
   hertz_stress,
   face_width,
+  separation,      // a contact's least force from rest up to the separation-speed limit >= 0
+  contact_force,   // the cam contact's normal force at rpm >= limit
+  spring_margin,   // a contact's force >= margin x a spring's part of it, at rpm
+  cam_torque,      // +- cam drive torque <= limit, at rpm
+  film_thickness,  // EHL minimum film of the cam contact >= limit, at rpm
+  lambda,          // film / composite roughness >= limit
   peak_bound,  // q_i - t <= 0 of a peak objective
 };
 const char* to_string(ConstraintKind kind);
@@ -52,7 +58,19 @@ struct ConstraintRow {
   double cam_deg = 0.0;  // where it is evaluated [cam deg]; scalar constraints: where it is attained
   int grid = -1;         // grid index (-1: a scalar constraint)
   int position = 0;      // swing cam: control position index (SwingCamLift::positions); scalar rows: 0
+  int item = -1;         // load rows: the contact (separation), contact x springs + spring (spring margin)
 };
+
+// a value of the design the constraint set replaces (load.override_design = true)
+struct LoadOverride {
+  std::string key;           // "load.spring_preload_N"
+  double set_value = 0.0;
+  std::string design_value;  // the design's value with its unit and where it is stated
+};
+
+namespace detail {
+class LoadRows;
+}
 
 struct Evaluation {
   double objective = 0.0;
@@ -110,6 +128,11 @@ class CamProblem {
   double limit_of(ConstraintKind kind) const;
   bool is_upper_limit(ConstraintKind kind) const;
   double cam_speed_rad_per_s() const noexcept { return omega_; }
+  // where the load-based rows take their loads from ("" without such rows), and what the set overrides
+  std::string load_source() const;
+  std::vector<LoadOverride> load_overrides() const;
+  // the contact or "contact / spring" a load row is about ("" for other rows)
+  std::string item_name(const ConstraintRow& row) const;
 
  private:
   struct GridPoint;
@@ -124,6 +147,7 @@ class CamProblem {
   std::optional<AccelerationSplineLift> lift_;
   std::unique_ptr<SwingCamLift> swing_;
   std::unique_ptr<CamContactModel> contact_;
+  std::unique_ptr<detail::LoadRows> load_rows_;
   std::vector<ContactWorkspace> contact_ws_;  // per control position
   std::vector<SwingContact> swing_contact_;   // swing: the pitch curve at each grid point
   std::vector<double> grid_;                // event grid [cam deg]
@@ -137,7 +161,6 @@ class CamProblem {
   int n_ = 0, nv_ = 0;
   double coef_scale_ = 1.0;                 // [mm/deg^2] per unit of u
   double omega_ = 0.0;                      // cam speed [rad/s]
-  double e_star_MPa_ = 0.0, width_mm_ = 0.0;
   double area0_ = 1.0, peak_scale_ = 1.0;
   bool need_contact_ = false;
 };
