@@ -111,12 +111,13 @@ opt::OptimizationSpec parse(const toml::table& document, const Context& context)
              "youngs_modulus_cam_GPa", "poisson_cam", "youngs_modulus_follower_GPa", "poisson_follower"});
     opt::LoadSpec load;
     load.override_design = l.boolean_or("override_design", false);
+    load.where = l.where();
     for (const char* key : {"spring_preload_N", "spring_rate_N_per_mm", "moving_mass_kg", "width_mm", "youngs_modulus_cam_GPa",
                             "poisson_cam", "youngs_modulus_follower_GPa", "poisson_follower"})
       if (l.has(key)) load.given.emplace_back(key, l.where(key));
-    load.spring_preload_N = l.number("spring_preload_N", ge(0.0));
-    load.spring_rate_N_per_mm = l.number("spring_rate_N_per_mm", ge(0.0));
-    load.moving_mass_kg = l.number("moving_mass_kg", ge(0.0));
+    load.spring_preload_N = l.number_or("spring_preload_N", 0.0, ge(0.0));
+    load.spring_rate_N_per_mm = l.number_or("spring_rate_N_per_mm", 0.0, ge(0.0));
+    load.moving_mass_kg = l.number_or("moving_mass_kg", 0.0, ge(0.0));
     load.width_mm = l.optional_number("width_mm", gt(0.0));
     load.youngs_modulus_cam_GPa = l.optional_number("youngs_modulus_cam_GPa", gt(0.0));
     load.poisson_cam = l.optional_number("poisson_cam", ge(0.0) & lt(0.5));

@@ -85,6 +85,12 @@ LoadRows::LoadRows(const DesignSpec& design, const OptimizationSpec& spec, const
                      "loads: the design " + design.file + " has no dynamics data (" + design_lacks +
                      "), and the constraint set has no [load] table");
   }
+  if (!design_)  // the set's reduced model needs all of it
+    for (const char* key : {"spring_preload_N", "spring_rate_N_per_mm", "moving_mass_kg"})
+      if (!given(*spec.load, key))
+        throw InputError(spec.load->where,
+                         std::string("load.") + key + ": missing; the set's [load] replaces the design's loads (" + source_ +
+                             ") and needs spring_preload_N, spring_rate_N_per_mm and moving_mass_kg");
   if (design_) {
     contacts_ = design_->contact_names();
     springs_ = design_->spring_names();

@@ -67,6 +67,7 @@ struct OilSetSpec {
 struct LoadSpec {
   bool override_design = false;
   std::vector<std::pair<std::string, SourceRef>> given;  // the keys the file states, where
+  SourceRef where;                                        // the [load] table
   double spring_preload_N = 0.0;
   double spring_rate_N_per_mm = 0.0;
   double moving_mass_kg = 0.0;  // valve-equivalent moving mass (valve, retainer, 1/3 spring, follower)
