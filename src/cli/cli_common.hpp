@@ -2,6 +2,7 @@
 // shared by the subcommands: exit codes, global options, progress bar, messages.
 #include <cstdio>
 #include <limits>
+#include <stdexcept>
 #include <string>
 
 namespace CLI {
@@ -17,6 +18,13 @@ enum ExitCode : int {
   exit_usage_error = 2,
   exit_input_error = 3,
   exit_numerical_failure = 4,
+  exit_verification_failed = 5,  // optimize --verify: the outputs are written, the made design fails a check
+};
+
+// thrown once the outputs are written when `optimize --verify` fails a check
+class VerificationFailed : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
 };
 
 struct GlobalOptions {

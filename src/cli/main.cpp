@@ -1,4 +1,4 @@
-// camopt: command-line entry. Maps the three error channels to exit codes.
+// camopt: command-line entry. Maps the error channels to exit codes.
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <exception>
@@ -43,6 +43,9 @@ int main(int argc, char** argv) {
   } catch (const camopt::InputError& e) {
     std::fprintf(stderr, "camopt: input error: %s\n", e.what());
     return exit_input_error;
+  } catch (const VerificationFailed& e) {
+    std::fprintf(stderr, "camopt: %s\n", e.what());
+    return exit_verification_failed;
   } catch (const camopt::NumericalError& e) {
     std::fprintf(stderr, "camopt: numerical failure: %s\n", e.what());
     return exit_numerical_failure;

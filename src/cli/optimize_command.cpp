@@ -17,7 +17,7 @@
 #include "camopt/opt/solve.hpp"
 #include "camopt/synthesis/envelope.hpp"
 #include "cli_common.hpp"
-#include "flexible_summary.hpp"
+#include "optimize_verify.hpp"
 #include "profile_exports.hpp"
 #include "target_input.hpp"
 
@@ -80,6 +80,7 @@ nlohmann::json constraint_report(const opt::CamProblem& p, const opt::Evaluation
     c["limit_is"] = upper ? "max" : "min";
     c["worst"] = value;
     c["worst_at_cam_deg"] = p.rows()[r].cam_deg;
+    if (const std::string item = p.item_name(p.rows()[r]); !item.empty()) c["worst_at"] = item;
     if (p.is_swing()) c["worst_at_control"] = p.swing()->positions()[static_cast<std::size_t>(p.rows()[r].position)];
     c["normalised"] = g;  // (value - limit) / limit, <= 0 feasible
     c["satisfied"] = g <= 1e-6;
@@ -92,7 +93,8 @@ nlohmann::json constraint_report(const opt::CamProblem& p, const opt::Evaluation
         break;
       }
     // margin in the quantity's unit: how far the worst value is inside its limit
-    c["margin"] = -c["normalised"].get<double>() * std::abs(c["limit"].get<double>());
+    const double worst = c["worst"].get<double>(), limit = c["limit"].get<double>();
+    c["margin"] = c["limit_is"] == "max" ? limit - worst : worst - limit;
   }
   return out;
 }
@@ -101,7 +103,7 @@ nlohmann::json constraint_report(const opt::CamProblem& p, const opt::Evaluation
 // new swing profile with its exports, and (--verify) the kinematic solver on the new design
 void stage_swing_outputs(io::OutputTransaction& out, const OptimizeOptions& o, const DesignSpec& spec,
                          const opt::OptimizationSpec& set, opt::CamProblem& problem, const opt::SolveResult& result,
-                         nlohmann::json& report) {
+                         nlohmann::json& report, Verdict& verdict) {
   opt::SwingCamLift& model = *problem.swing();
   const std::vector<double> c = problem.coefficients(result.u);
   std::vector<double> control, cam_deg, l0, l1, l2, l3;
@@ -214,6 +216,10 @@ void stage_swing_outputs(io::OutputTransaction& out, const OptimizeOptions& o, c
     info("optimize --verify: the kinematic solver's peak lifts match the optimiser's to " + format_value(worst, 3) +
          " mm, its lift at every working point to " + format_value(worst_curve, 3) + " mm, at " +
          std::to_string(peak.size()) + " control positions");
+    verdict.bound("kinematic", "lift of the made cam against the optimised lift", "mm", worst_curve,
+                  set.verify.max_lift_error_mm, true, "every working point");
+    verify_swing_dynamics(made, problem, report, verdict);
+    record_verdict(verdict, report);
   }
 }
 
@@ -257,6 +263,11 @@ void run_optimize(const OptimizeOptions& o) {
                          {"peak_weight", set.objective.peak_weight},
                          {"peak", opt::to_string(set.objective.peak)}};
   if (result.final.g.size() > 0) report["constraints"] = constraint_report(problem, result.final);
+  if (const std::string source = problem.load_source(); !source.empty()) {
+    report["loads"]["source"] = source;
+    for (const opt::LoadOverride& ov : problem.load_overrides())
+      report["loads"]["overrides"][ov.key] = {{"constraint_set", ov.set_value}, {"design", ov.design_value}};
+  }
 
   io::OutputTransaction out(o.out_dir);
   if (result.status.code == StatusCode::infeasible || result.u.empty()) {
@@ -272,7 +283,8 @@ void run_optimize(const OptimizeOptions& o) {
   }
 
   if (problem.is_swing()) {
-    stage_swing_outputs(out, o, spec, set, problem, result, report);
+    Verdict verdict(set.verify.relative_tolerance);
+    stage_swing_outputs(out, o, spec, set, problem, result, report, verdict);
     out.stage("report.json", report.dump(2) + "\n");
     out.commit();
     info("optimize: " + std::string(result.status.ok() ? "converged" : result.status.str()) + " in " +
@@ -280,6 +292,7 @@ void run_optimize(const OptimizeOptions& o) {
          std::to_string(result.final.objective) + " -> " + o.out_dir +
          "/lift.csv, swing_pitch.csv, profile.csv, report.json, design.toml, profile.dxf, grinding.csv");
     if (!result.status.ok()) throw NumericalError(result.status);
+    if (o.verify) raise_if_failed(verdict);
     return;
   }
 
@@ -318,90 +331,11 @@ void run_optimize(const OptimizeOptions& o) {
   }
   stage_profile_exports(out, o.out_dir, o.design, spec, res, std::nullopt, 0.25, report);
 
+  Verdict verdict(set.verify.relative_tolerance);
   if (o.verify) {
-    // forward kinematics of the new design: lift against the optimised lift, and the
-    // quantities the constraints bound, from the kinematic solver's own contact outputs
-    const DesignSpec made = synthesis::with_profile(spec, res.profile);
-    synthesis::RoundTrip rt;
-    st = synthesis::round_trip(made, lift_spline, so_syn.controls, res.connection, rt);
-    if (!st.ok()) throw NumericalError(st);
-    const kin::Mechanism mech = kin::compile(made);
-    kin::SweepSpec sw;
-    sw.start = 0;
-    sw.stop = 360;
-    sw.step = 0.5;
-    sw.control_positions = {so_syn.controls};
-    sw.request = {3, true};
-    const kin::SweepResult sr = kin::sweep(mech, sw);
-    if (!sr.positions[0].status.ok()) throw NumericalError(sr.positions[0].status);
-    const kin::PositionSummary s = kin::summarize(mech, sr, 0);
-    const double rpm_scale = problem.cam_speed_rad_per_s() * 60.0 / (2 * kPi);  // [rev/min per rad/rad]
-    report["verify"]["kinematics"] = {
-        {"lift_error_max_mm", rt.max_error_mm},
-        {"lift_error_max_at_cam_deg", rt.max_error_at_deg},
-        {"max_lift_mm", s.max_lift},
-        {"max_acceleration_mm_per_deg2", s.max_acceleration},
-        {"min_acceleration_mm_per_deg2", s.min_acceleration},
-        {"max_pressure_angle_deg", s.max_pressure_angle_deg},
-        {"min_cam_radius_of_curvature_mm", s.min_cam_radius_mm},
-        {"max_roller_speed_rpm", s.max_roller_speed * 180.0 / kPi * rpm_scale},
-        {"duration_at_1mm_deg", s.duration_at_1mm}};
-    // rigid (kinematically constrained) dynamics at the set's speed: the designed contact's
-    // force, its separation speed and the cam torque
-    try {
-      const dynamics::Model model = dynamics::compile_dynamics(mech);
-      dynamics::RigidSweep rs;
-      st = dynamics::rigid_sweep(mech, model, so_syn.controls, 0.0, 360.0, 0.5, rs);
-      if (!st.ok()) throw NumericalError(st);
-      int conn = -1;
-      for (int c = 0; c < static_cast<int>(made.connections.size()); ++c)
-        if (made.connections[static_cast<std::size_t>(c)].name == res.connection) conn = c;
-      const double omega = problem.cam_speed_rad_per_s();
-      double fmax = -1e300, fmin = 1e300, fmin_at = 0, tmax = 0;
-      for (std::size_t i = 0; i < rs.points(); ++i) {
-        const double f = rs.force_at(i, conn, omega);
-        fmax = std::max(fmax, f);
-        if (f < fmin) {
-          fmin = f;
-          fmin_at = rs.cam_deg[i];
-        }
-        tmax = std::max(tmax, std::abs(rs.torque_at(i, omega)));
-      }
-      const dynamics::Separation sep = dynamics::separation_speed(rs, model, conn);
-      nlohmann::json dyn = {{"model", "rigid, kinematically constrained"},
-                            {"rpm", set.rpm},
-                            {"contact", res.connection},
-                            {"max_contact_force_N", fmax},
-                            {"min_contact_force_N", fmin},
-                            {"min_contact_force_at_cam_deg", fmin_at},
-                            {"max_cam_torque_Nm", tmax * 1e-3}};
-      if (std::isfinite(sep.engine_rpm)) {
-        dyn["separation_speed_rpm"] = sep.engine_rpm;
-        dyn["separation_at_cam_deg"] = sep.cam_deg;
-      } else {
-        dyn["separation_speed_rpm"] = "none";
-      }
-      report["verify"]["rigid_dynamics"] = dyn;
-      // flexible dynamics (compliance, Hertz contacts, lash, seat, spring surge) at the same
-      // speed, default options: lift loss, separation, seating velocity and bounce
-      dynamics::FlexibleResult fr;
-      st = dynamics::run_flexible(mech, model, so_syn.controls, set.rpm, 0.0, 360.0, 0.5, dynamics::FlexibleOptions{},
-                                  fr);
-      if (st.ok()) {
-        nlohmann::json flex = flexible_run_summary(mech, model, fr);
-        flex["model"] = "flexible";
-        flex["rpm"] = set.rpm;
-        flex.erase("events");
-        report["verify"]["flexible_dynamics"] = flex;
-      } else {
-        report["verify"]["flexible_dynamics"] = "failed: " + st.str();
-      }
-    } catch (const InputError& e) {
-      report["verify"]["rigid_dynamics"] = std::string("not run: the design lacks dynamics data: ") + e.what();
-      report["verify"]["flexible_dynamics"] = std::string("not run: the design lacks dynamics data: ") + e.what();
-    }
-    info("optimize --verify: kinematic lift matches the optimised lift to " + std::to_string(rt.max_error_mm) +
-         " mm; max pressure angle " + std::to_string(s.max_pressure_angle_deg) + " deg");
+    verify_rotational(synthesis::with_profile(spec, res.profile), res, lift_spline, so_syn.controls, problem, report,
+                      verdict);
+    record_verdict(verdict, report);
   }
   out.stage("report.json", report.dump(2) + "\n");
   out.commit();
@@ -410,6 +344,7 @@ void run_optimize(const OptimizeOptions& o) {
        std::to_string(result.final.objective) + " -> " + o.out_dir + "/lift.csv, profile.csv, report.json, design.toml, "
        "profile.dxf, grinding.csv");
   if (!result.status.ok()) throw NumericalError(result.status);
+  if (o.verify) raise_if_failed(verdict);
 }
 
 }  // namespace

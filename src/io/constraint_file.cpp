@@ -16,7 +16,7 @@ opt::RampSpec parse_ramp(const Table& t) {
 
 opt::OptimizationSpec parse(const toml::table& document, const Context& context) {
   const Table root(context, document, "");
-  root.allow({"schema", "set", "event", "swing_profile", "limits", "load", "oil", "objective"});
+  root.allow({"schema", "set", "event", "swing_profile", "limits", "load", "oil", "verify", "objective"});
   if (const long long schema = root.integer("schema"); schema != 1)
     root.fail("schema", "value " + std::to_string(schema) + " is not a supported schema version (must be 1)");
   opt::OptimizationSpec s;
@@ -124,6 +124,15 @@ opt::OptimizationSpec parse(const toml::table& document, const Context& context)
     load.youngs_modulus_follower_GPa = l.optional_number("youngs_modulus_follower_GPa", gt(0.0));
     load.poisson_follower = l.optional_number("poisson_follower", ge(0.0) & lt(0.5));
     s.load = load;
+  }
+
+  if (auto v_ = root.optional_table("verify")) {
+    const Table& v = *v_;
+    v.allow({"relative_tolerance", "max_lift_error_mm", "max_lift_loss_mm", "flexible"});
+    s.verify.relative_tolerance = v.number_or("relative_tolerance", 0.005, ge(0.0) & lt(0.5));
+    s.verify.max_lift_error_mm = v.number_or("max_lift_error_mm", 0.01, gt(0.0));
+    s.verify.max_lift_loss_mm = v.optional_number("max_lift_loss_mm", gt(0.0));
+    s.verify.flexible = v.boolean_or("flexible", true);
   }
 
   const Table ob = root.table("objective");

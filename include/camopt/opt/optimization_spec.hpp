@@ -84,6 +84,14 @@ struct ObjectiveSpec {
   std::string target_file;     // csv (cam_deg or crank_deg, lift_mm), relative to the constraints file
 };
 
+// what `optimize --verify` holds the made design to, beside the limits (docs/optimisation.md)
+struct VerifySpec {
+  double relative_tolerance = 0.005;  // on every limit: the rows hold at grid points only
+  double max_lift_error_mm = 0.01;    // kinematic solver's lift of the made cam against the optimised lift
+  std::optional<double> max_lift_loss_mm;  // flexible model: kinematic minus dynamic lift
+  bool flexible = true;               // run the flexible model (separation, bounce, coil clash, seating)
+};
+
 struct OptimizationSpec {
   std::string name, description, file, directory;
   // "rotational": the driver's cam, variables = the valve lift (event); "swing": a swing cam
@@ -99,6 +107,7 @@ struct OptimizationSpec {
   LimitSpec limits;
   std::optional<LoadSpec> load;
   std::optional<OilSetSpec> oil;
+  VerifySpec verify;
   ObjectiveSpec objective;
 };
 
