@@ -38,16 +38,24 @@ nlohmann::json flexible_run_summary(const kin::Mechanism& mech, const dynamics::
     for (std::size_t i = 0; i < r.cam_deg.size(); ++i) f.add(r.force[i * nc + c], r.cam_deg[i]);
     nlohmann::json cj = {{"max_force_N", f.max}, {"max_force_at_cam_deg", f.max_at}, {"min_force_N", f.min},
                          {"min_force_at_cam_deg", f.min_at}, {"damping_N_s_per_mm", r.contact_damping[c]}};
-    // separation intervals: opens .. next closes of this connection (not the lash gap)
+    // separation intervals: opens .. next closes of this connection; one open across the
+    // revolution's end wraps ([opens, closes + 360]); one open at both ends of the output
+    // window without an event of its own is cut at the window
     nlohmann::json intervals = nlohmann::json::array();
     const bool lash = model.contacts[c].held_node > 0;
-    double opened = std::numeric_limits<double>::quiet_NaN();
+    double opened = std::numeric_limits<double>::quiet_NaN(), first_close = std::numeric_limits<double>::quiet_NaN();
+    bool first = true;
     for (const auto& ev : r.events) {
       if (ev.what != mech.connections[c].name) continue;
+      if (first && !ev.opens) first_close = ev.cam_deg;
+      first = false;
       if (ev.opens) opened = ev.cam_deg;
       else if (!std::isnan(opened)) intervals.push_back({opened, ev.cam_deg}), opened = std::numeric_limits<double>::quiet_NaN();
     }
-    if (!std::isnan(opened)) intervals.push_back({opened, nullptr});
+    if (!std::isnan(opened) && !r.cam_deg.empty())
+      intervals.push_back({opened, std::isnan(first_close) ? r.cam_deg.back() : first_close + 360.0});
+    else if (!std::isnan(first_close) && !r.cam_deg.empty())
+      intervals.insert(intervals.begin(), nlohmann::json{r.cam_deg.front(), first_close});
     cj["open_intervals_cam_deg"] = intervals;
     if (!lash && !intervals.empty()) separates = true;
     if (lash && intervals.size() > 1) separates = true;

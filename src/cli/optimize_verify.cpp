@@ -18,7 +18,8 @@ namespace camopt::cli {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-// the valve counts as driven (off its seat) above this kinematic lift [mm]
+// the valve counts as driven above this lift [mm], kinematic and dynamic: a contact that
+// opens while the valve already rests on its seat (landed early) is the seat taking the load
 constexpr double kDrivenLift = 1e-3;
 
 std::string fmt(double v) { return format_value(v, 6); }
@@ -97,7 +98,7 @@ nlohmann::json check_flexible(const kin::Mechanism& mech, const dynamics::Model&
     for (const auto& iv : c["open_intervals_cam_deg"]) {
       const double a = iv[0].get<double>(), b = iv[1].get<double>();
       for (std::size_t i = 0; i < fr.cam_deg.size(); ++i)
-        if (fr.cam_deg[i] >= a && fr.cam_deg[i] <= b && fr.lift_kinematic[i] > kDrivenLift) {
+        if (fr.cam_deg[i] >= a && fr.cam_deg[i] <= b && fr.lift_kinematic[i] > kDrivenLift && fr.lift[i] > kDrivenLift) {
           if (first.empty()) first = fmt(a) + ".." + fmt(b) + " deg";
           ++count;
           break;
@@ -107,7 +108,9 @@ nlohmann::json check_flexible(const kin::Mechanism& mech, const dynamics::Model&
     verdict.none("flexible", "separations of " + name + " while the valve is driven", count,
                  at + (first.empty() ? "" : "first cam " + first));
   }
-  if (flex.contains("bounce_count")) verdict.none("flexible", "valve seat bounces", flex["bounce_count"].get<int>(), at);
+  if (flex.contains("bounce_count") && flex["bounce_count"].get<int>() > 0)
+    verdict.bound("flexible", "valve seat bounce height (" + std::to_string(flex["bounce_count"].get<int>()) + " bounces)",
+                  "mm", flex["bounce_height_mm"].get<double>(), set.verify.max_bounce_height_mm, true, at);
   if (flex.contains("springs"))
     for (auto& [name, s] : flex["springs"].items())
       verdict.none("flexible", "coil clashes of " + name, s["coil_clash_events"].get<int>(), at);

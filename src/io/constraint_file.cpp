@@ -128,10 +128,11 @@ opt::OptimizationSpec parse(const toml::table& document, const Context& context)
 
   if (auto v_ = root.optional_table("verify")) {
     const Table& v = *v_;
-    v.allow({"relative_tolerance", "max_lift_error_mm", "max_lift_loss_mm", "flexible"});
+    v.allow({"relative_tolerance", "max_lift_error_mm", "max_lift_loss_mm", "max_bounce_height_mm", "flexible"});
     s.verify.relative_tolerance = v.number_or("relative_tolerance", 0.005, ge(0.0) & lt(0.5));
     s.verify.max_lift_error_mm = v.number_or("max_lift_error_mm", 0.01, gt(0.0));
     s.verify.max_lift_loss_mm = v.optional_number("max_lift_loss_mm", gt(0.0));
+    s.verify.max_bounce_height_mm = v.number_or("max_bounce_height_mm", 0.001, ge(0.0));
     s.verify.flexible = v.boolean_or("flexible", true);
   }
 

@@ -27,6 +27,7 @@ enum CliExit : int {
   cli_usage_error = 2,
   cli_input_error = 3,
   cli_numerical_failure = 4,
+  cli_verification_failed = 5,
 };
 
 // wall-clock limit of one camopt run [s]; a hang fails the test with exit 124

@@ -89,6 +89,7 @@ struct VerifySpec {
   double relative_tolerance = 0.005;  // on every limit: the rows hold at grid points only
   double max_lift_error_mm = 0.01;    // kinematic solver's lift of the made cam against the optimised lift
   std::optional<double> max_lift_loss_mm;  // flexible model: kinematic minus dynamic lift
+  double max_bounce_height_mm = 0.001;     // flexible model: seat re-openings after the first closing
   bool flexible = true;               // run the flexible model (separation, bounce, coil clash, seating)
 };
 
