@@ -47,10 +47,12 @@ done
 
 # shellcheck source=scripts/packages.sh
 source "$REPO/scripts/packages.sh"
-ensure_packages build-essential cmake ninja-build pkg-config clang libclang-rt-14-dev libeigen3-dev \
+# libomp-14-dev: clang's OpenMP runtime, which SUNDIALSConfig.cmake asks for (OpenMP_CXX)
+ensure_packages build-essential cmake ninja-build pkg-config clang libclang-rt-14-dev libomp-14-dev libeigen3-dev \
   libnlopt-cxx-dev coinor-libipopt-dev libsundials-dev libcli11-dev libtomlplusplus-dev nlohmann-json3-dev
 
-if [[ ! -f "$build_dir/CMakeCache.txt" ]]; then
+# configure without a finished configure (no build.ninja: none yet, or an earlier one failed)
+if [[ ! -f "$build_dir/CMakeCache.txt" || ! -f "$build_dir/build.ninja" ]]; then
   CC=clang CXX=clang++ cmake -S "$REPO" -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
     -DCAMOPT_BUILD_FUZZ=ON -DCAMOPT_BUILD_TESTS=OFF
 fi

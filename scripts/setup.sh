@@ -94,6 +94,8 @@ as_bool() {
 reason=""
 if [[ ! -f "$cache" ]]; then
   reason="new build directory"
+elif [[ ! -f "$build_dir/build.ninja" ]]; then
+  reason="an earlier configure did not finish"
 else
   cached_source="$(cache_get CMAKE_HOME_DIRECTORY)"
   [[ "$cached_source" -ef "$REPO" ]] ||
@@ -122,9 +124,14 @@ else
   echo "== configuring: $build_dir is up to date ($build_type, sanitize $sanitize)"
 fi
 
-# --- build: ninja rebuilds only what changed --------------------------------------------
-echo "== building $build_dir ($jobs jobs)"
-cmake --build "$build_dir" --parallel "$jobs"
+# --- build: ninja rebuilds only what changed; the main job alone needs only camopt --------
+if ((run_default && !run_tests)); then
+  echo "== building camopt in $build_dir ($jobs jobs)"
+  cmake --build "$build_dir" --parallel "$jobs" --target camopt
+else
+  echo "== building $build_dir ($jobs jobs)"
+  cmake --build "$build_dir" --parallel "$jobs"
+fi
 
 # --- test ---------------------------------------------------------------------------------
 if ((run_tests)); then
