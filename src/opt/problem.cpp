@@ -99,6 +99,10 @@ CamProblem::~CamProblem() = default;
 CamProblem::CamProblem(const DesignSpec& design, const OptimizationSpec& spec, const PeriodicSpline* target_lift)
     : spec_(spec) {
   validate(spec_, design.driver.crank_per_cam);
+  if (!spec_.controls.empty() && spec_.controls.size() != design.controls.size())
+    throw InputError("set.controls: " + std::to_string(spec_.controls.size()) + " value(s) given, but the design " +
+                     design.file + " has " + std::to_string(design.controls.size()) +
+                     " [[control]] (one value per control, in the design's order)");
   const bool swing = spec_.cam == "swing";
   if (swing) {
     swing_ = std::make_unique<SwingCamLift>(design, spec_.swing, spec_.grid_step_deg);

@@ -89,3 +89,17 @@ TEST_CASE("optimize: a set whose [load] disagrees with its design exits 3 naming
   CHECK(r.err.find("override_design") != std::string::npos);
   CHECK_FALSE(fs::exists(tmp / "out"));
 }
+
+TEST_CASE("optimize: set controls on a design without them is an input error", "[cli][opt]") {
+  TempDir tmp;
+  std::string set = read_file(source_dir() / "constraints/passenger_car_intake.toml");
+  set.replace(set.find("[set]\n"), 6, "[set]\ncontrols = [8.0]\n");
+  write_text(tmp / "set.toml", set);
+  const auto r = run_camopt({"optimize", (source_dir() / "designs/roller_finger_follower.toml").string(), "--constraints",
+                             (tmp / "set.toml").string(), "--out", (tmp / "out").string()});
+  INFO(r.all());
+  CHECK(r.exit_code == cli_input_error);
+  CHECK(r.err.find("set.controls: 1 value(s) given, but the design") != std::string::npos);
+  CHECK(r.err.find("has 0 [[control]]") != std::string::npos);
+  CHECK_FALSE(fs::exists(tmp / "out"));
+}
