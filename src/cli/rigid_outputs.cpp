@@ -4,15 +4,20 @@
 #include <cmath>
 #include <limits>
 
+#include "camopt/dynamics/ehl.hpp"
 #include "camopt/dynamics/hertz.hpp"
 #include "camopt/io/csv.hpp"
 #include "cli_common.hpp"
+#include "film_outputs.hpp"
 
 namespace camopt::cli {
 
 namespace {
 
 using Sweep = dynamics::RigidSweep;
+
+// a NaN in a column that may be empty: an empty cell
+constexpr double kEmpty = std::numeric_limits<double>::quiet_NaN();
 
 // json number, or null for +-inf
 nlohmann::json finite_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
@@ -55,7 +60,30 @@ dynamics::HertzLine hertz_at(const DynamicsSetup& su, const Sweep& s, std::size_
   return dynamics::hertz_line(s.force_at(i, c, w), cd.width, cd.e_star, cs.curvature_a + cs.curvature_b);
 }
 
-// per contact: force, Hertz, sliding, entrainment and gap; per link its
+// the EHL film of a contact with Hertz data, for a design with [oil]: the Dowson-Higginson
+// minimum film [um] and, with a composite roughness, lambda; an empty cell where the contact
+// has no film (open, tensile, conforming)
+void add_film_columns(const DynamicsSetup& su, RigidTable& t, const std::string& prefix, int ci) {
+  const kin::Mechanism& mech = su.mech;
+  const dynamics::Model& model = su.model;
+  const OilSpec& oil = *su.spec.oil;
+  t.add(
+      prefix + "film_thickness_um",
+      [&mech, &model, &oil, ci](const Sweep& s, std::size_t i, double w, double, std::size_t) {
+        return film_um(mech, s, model, oil, i, ci, w).value_or(kEmpty);
+      },
+      true);
+  if (oil.composite_roughness_um)
+    t.add(
+        prefix + "lambda",
+        [&mech, &model, &oil, ci](const Sweep& s, std::size_t i, double w, double, std::size_t) {
+          const auto h = film_um(mech, s, model, oil, i, ci, w);
+          return h ? dynamics::film_lambda(*h, *oil.composite_roughness_um) : kEmpty;
+        },
+        true);
+}
+
+// per contact: force, Hertz, sliding, entrainment, film (with [oil]) and gap; per link its
 // force, per gear its torque
 void add_connection_columns(const DynamicsSetup& su, RigidTable& t) {
   const kin::Mechanism& mech = su.mech;
@@ -85,6 +113,7 @@ void add_connection_columns(const DynamicsSetup& su, RigidTable& t) {
         t.add(n + "entrainment_m_per_s", [nc, ci](const Sweep& s, std::size_t i, double w, double, std::size_t) {
           return s.contact[i * nc + ci].entrainment * w * 1e-3;
         });
+        if (has_film(model, su.spec.oil, c)) add_film_columns(su, t, n, ci);
         t.add(n + "gap_mm", [nc, ci](const Sweep& s, std::size_t i, double, double, std::size_t) {
           return s.contact[i * nc + ci].gap;
         });
@@ -231,7 +260,7 @@ void add_torque_fields(const Sweep& s, double w, nlohmann::json& j) {
 }
 
 // connection c at cam speed w over the points where it is closed: force extremes (gears:
-// torque); contacts add Hertz, sliding and whether it separates
+// torque); contacts add Hertz, sliding, the film (with [oil]) and whether it separates
 nlohmann::json connection_fields(const DynamicsSetup& su, const Sweep& s, std::size_t c, double w, bool& separates) {
   const auto& conn = su.mech.connections[c];
   const auto& cd = su.model.contacts[c];
@@ -261,6 +290,7 @@ nlohmann::json connection_fields(const DynamicsSetup& su, const Sweep& s, std::s
       cj["max_hertz_at_cam_deg"] = hz.max_at;
     }
     cj["max_sliding_m_per_s"] = max_sliding;
+    if (has_film(su.model, su.spec.oil, c)) cj.update(film_fields(su.mech, s, su.model, *su.spec.oil, ci, w));
     const bool opens = !cd.two_sided && std::isfinite(f.min) && f.min < 0.0;
     cj["separates"] = opens;
     separates |= opens;
@@ -345,6 +375,9 @@ nlohmann::json rigid_summary(const DynamicsSetup& su, const std::string& design_
   for (double rpm : su.rpms)
     for (std::size_t p = 0; p < sweeps.size(); ++p) results.push_back(rigid_result(su, sweeps[p], rpm, p));
   summary["results"] = results;
+  if (su.spec.oil)
+    summary["film"] =
+        film_summary(mech, model, *su.spec.oil, sweeps, su.rpms, su.control_values, "control_" + su.control_unit);
   return summary;
 }
 

@@ -14,7 +14,7 @@ namespace camopt::cli {
 std::string rigid_csv(const DynamicsSetup& su, const std::vector<dynamics::RigidSweep>& sweeps);
 
 // summary.json: the run, per control position the separation speeds, per (rpm, control
-// position) the torque, connection, spring and pivot extremes
+// position) the torque, connection, spring and pivot extremes, and with [oil] the films
 nlohmann::json rigid_summary(const DynamicsSetup& su, const std::string& design_file,
                              const std::vector<dynamics::RigidSweep>& sweeps, double seconds);
 
