@@ -16,9 +16,11 @@
 #include "camopt/io/design_file.hpp"
 #include "camopt/kinematics/drawing_check.hpp"
 #include "cli_common.hpp"
+#include "dynamics_setup.hpp"
 #include "flexible_summary.hpp"
 #include "modes_command.hpp"
 #include "range_option.hpp"
+#include "rigid_outputs.hpp"
 
 namespace camopt::cli {
 
@@ -36,22 +38,9 @@ std::string shortest_number(double v) {
   return std::string(buf, r.ptr);
 }
 
-// json number, or null for +-inf (a separation speed that never happens)
-nlohmann::json finite_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
-
-// what both modes read from the design and the options
-struct Setup {
-  DesignSpec spec;
-  kin::Mechanism mech;
-  dynamics::Model model;
-  std::vector<double> rpms, control_values;
-  std::vector<std::vector<double>> positions;  // every control, per control position
-  double start = 0, stop = 0, step = 0;
-  std::string control_unit;
-};
-
-Setup make_setup(const DynamicsOptions& o) {
-  Setup su;
+// the design, the mechanism, the dynamics model, the speeds and the control positions
+DynamicsSetup make_setup(const DynamicsOptions& o) {
+  DynamicsSetup su;
   su.spec = io::load_design(o.design);
   su.mech = kin::compile(su.spec);
   for (const auto& note : kin::check_drawing(su.mech)) info(o.design + ": warning: " + note);
@@ -89,300 +78,36 @@ Setup make_setup(const DynamicsOptions& o) {
 }
 
 // a numerical failure at one control position, named
-[[noreturn]] void fail_at(const Setup& su, Status st, std::size_t position) {
+[[noreturn]] void fail_at(const DynamicsSetup& su, Status st, std::size_t position) {
   if (!su.mech.controls.empty())
     st.where += ", control " + su.mech.controls[0].name + " = " + std::to_string(su.control_values[position]);
   throw NumericalError(st);
 }
 
+// mode (a): the kinematically constrained inverse dynamics, one sweep per control position,
+// every speed from its split load cases
 void run_rigid(const DynamicsOptions& o) {
-  const Setup su = make_setup(o);
-  const DesignSpec& spec = su.spec;
-  const kin::Mechanism& mech = su.mech;
-  const dynamics::Model& model = su.model;
-  const std::vector<double>& rpms = su.rpms;
-  const std::vector<double>& control_values = su.control_values;
-  const std::string& control_unit = su.control_unit;
-  const double step = su.step;
-
+  const DynamicsSetup su = make_setup(o);
   const auto t0 = std::chrono::steady_clock::now();
-  std::vector<dynamics::RigidSweep> sweeps(control_values.size());
-  Progress progress("dynamics", static_cast<long>(control_values.size()));
-  for (std::size_t p = 0; p < control_values.size(); ++p) {
-    const Status st = dynamics::rigid_sweep(mech, model, su.positions[p], su.start, su.stop, step, sweeps[p]);
+  std::vector<dynamics::RigidSweep> sweeps(su.control_values.size());
+  Progress progress("dynamics", static_cast<long>(su.control_values.size()));
+  for (std::size_t p = 0; p < su.control_values.size(); ++p) {
+    const Status st = dynamics::rigid_sweep(su.mech, su.model, su.positions[p], su.start, su.stop, su.step, sweeps[p]);
     if (!st.ok()) fail_at(su, st, p);
     progress.advance();
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
-  // ---- dynamics.csv (long format: rpm, control, cam angle) ----
-  const std::size_t nc = mech.connections.size(), np = sweeps[0].points();
-  const std::size_t rows = rpms.size() * control_values.size() * np;
-  std::vector<std::string> header;
-  std::vector<std::vector<double>> cols;
-  // a column filled by value(sweep, point, omega)
-  auto add_column = [&](std::string name, auto&& value) {
-    header.push_back(std::move(name));
-    std::vector<double> col;
-    col.reserve(rows);
-    for (double rpm : rpms) {
-      const double w = dynamics::cam_speed_rad_per_s(rpm, model.crank_per_cam);
-      for (std::size_t p = 0; p < sweeps.size(); ++p)
-        for (std::size_t i = 0; i < np; ++i) col.push_back(value(sweeps[p], i, w, rpm, p));
-    }
-    cols.push_back(std::move(col));
-  };
-  using Sweep = dynamics::RigidSweep;
-  add_column("rpm", [](const Sweep&, std::size_t, double, double rpm, std::size_t) { return rpm; });
-  add_column("control_" + control_unit,
-             [&](const Sweep&, std::size_t, double, double, std::size_t p) { return control_values[p]; });
-  add_column("cam_deg", [](const Sweep& s, std::size_t i, double, double, std::size_t) { return s.cam_deg[i]; });
-  add_column("crank_deg", [&](const Sweep& s, std::size_t i, double, double, std::size_t) {
-    return s.cam_deg[i] * model.crank_per_cam;
-  });
-  const kin::Node& out_node = mech.nodes[mech.output_node];
-  add_column(out_node.kind == NodeKind::translational ? "lift_mm" : "lift_deg",
-             [](const Sweep& s, std::size_t i, double, double, std::size_t) { return s.output[i]; });
-  auto hertz_at = [&](const Sweep& s, std::size_t i, int c, double w) {
-    const auto& cs = s.contact[i * nc + c];
-    const auto& cd = model.contacts[c];
-    return dynamics::hertz_line(s.force_at(i, c, w), cd.width, cd.e_star, cs.curvature_a + cs.curvature_b);
-  };
-  for (std::size_t c = 0; c < nc; ++c) {
-    const auto& conn = mech.connections[c];
-    const int ci = static_cast<int>(c);
-    switch (conn.kind) {
-      case ConnectionKind::contact: {
-        const std::string n = "contact_" + conn.name + "_";
-        add_column(n + "force_N", [ci](const Sweep& s, std::size_t i, double w, double, std::size_t) {
-          return s.force_at(i, ci, w);
-        });
-        if (model.contacts[c].has_hertz) {
-          add_column(n + "hertz_MPa", [&, ci](const Sweep& s, std::size_t i, double w, double, std::size_t) {
-            return hertz_at(s, i, ci, w).max_pressure;
-          });
-          add_column(n + "half_width_mm", [&, ci](const Sweep& s, std::size_t i, double w, double, std::size_t) {
-            return hertz_at(s, i, ci, w).half_width;
-          });
-        }
-        // [mm per rad] * [rad/s] -> [m/s]
-        add_column(n + "sliding_m_per_s", [nc, ci](const Sweep& s, std::size_t i, double w, double, std::size_t) {
-          return s.contact[i * nc + ci].sliding * w * 1e-3;
-        });
-        add_column(n + "entrainment_m_per_s", [nc, ci](const Sweep& s, std::size_t i, double w, double, std::size_t) {
-          return s.contact[i * nc + ci].entrainment * w * 1e-3;
-        });
-        add_column(n + "gap_mm", [nc, ci](const Sweep& s, std::size_t i, double, double, std::size_t) {
-          return s.contact[i * nc + ci].gap;
-        });
-        break;
-      }
-      case ConnectionKind::link:
-      case ConnectionKind::crank_slider:
-      case ConnectionKind::rack_pinion:
-        add_column("link_" + conn.name + "_force_N", [ci](const Sweep& s, std::size_t i, double w, double, std::size_t) {
-          return s.force_at(i, ci, w);
-        });
-        break;
-      case ConnectionKind::gear:
-      case ConnectionKind::variable_gear:
-        add_column("gear_" + conn.name + "_torque_Nm", [ci](const Sweep& s, std::size_t i, double w, double,
-                                                             std::size_t) { return s.force_at(i, ci, w) * 1e-3; });
-        break;
-    }
-  }
-  add_column("cam_torque_Nm", [](const Sweep& s, std::size_t i, double w, double, std::size_t) {
-    return s.torque_at(i, w) * 1e-3;
-  });
-  for (std::size_t k = 0; k < model.springs.size(); ++k) {
-    const auto& sp = model.springs[k];
-    const bool torsion = sp.kind == SpringKind::torsion;
-    const double scale = torsion ? 1e-3 : 1.0;  // N mm -> N m
-    const std::string unit = torsion ? "Nm" : "N";
-    const int si = static_cast<int>(k);
-    add_column("spring_" + sp.name + "_load_" + unit, [si, scale](const Sweep& s, std::size_t i, double, double,
-                                                                  std::size_t) {
-      return s.spring_load[i * s.springs + si] * scale;
-    });
-    add_column("spring_" + sp.name + "_margin_" + unit, [&, si, scale](const Sweep& s, std::size_t i, double w, double,
-                                                                       std::size_t) {
-      return dynamics::spring_margin(s, model, i, si, w) * scale;
-    });
-  }
-  if (!model.gas_forces.empty())
-    add_column("gas_force_N", [](const Sweep& s, std::size_t i, double, double, std::size_t) { return s.gas_force[i]; });
-  // per moving node and coordinate: the generalized force of each load on it [N or N m]:
-  // d'Alembert inertia -m a, the springs, their dampers -c v, the gas force
-  for (int v = 0; v < static_cast<int>(mech.variables.size()); ++v) {
-    if (model.row_of_variable[v] < 0) continue;
-    int n = 0;
-    for (int k = 0; k < static_cast<int>(mech.nodes.size()); ++k)
-      if (mech.nodes[k].first_variable >= 0 && v >= mech.nodes[k].first_variable &&
-          v < mech.nodes[k].first_variable + (mech.nodes[k].kind == NodeKind::floating ? 3 : 1))
-        n = k;
-    const auto& node = mech.nodes[n];
-    const int sub = v - node.first_variable;
-    const bool angle = node.kind == NodeKind::rotational || (node.kind == NodeKind::floating && sub == 2);
-    const std::string pre = "node_" + node.name + "_" +
-                            (node.kind == NodeKind::floating ? std::string(sub == 0 ? "x_" : sub == 1 ? "y_" : "phi_") : "");
-    const std::string unit = angle ? "Nm" : "N";
-    const double scale = angle ? 1e-3 : 1.0;  // N mm -> N m
-    auto load = [v, scale](const Sweep& s, std::size_t i, int first, int last, double weight) {
-      double f = 0.0;
-      for (int j = first; j < last; ++j) f += s.loads[(i * s.variables + v) * s.cases + j];
-      return -f * weight * scale;
-    };
-    add_column(pre + "inertia_" + unit,
-               [load](const Sweep& s, std::size_t i, double w, double, std::size_t) { return load(s, i, 0, 1, w * w); });
-    add_column(pre + "spring_" + unit, [load](const Sweep& s, std::size_t i, double, double, std::size_t) {
-      return load(s, i, 2, s.cases - 1, 1.0);
-    });
-    add_column(pre + "damping_" + unit, [load](const Sweep& s, std::size_t i, double w, double, std::size_t) {
-      return load(s, i, s.cases - 1, s.cases, w);
-    });
-    add_column(pre + "gas_" + unit,
-               [load](const Sweep& s, std::size_t i, double, double, std::size_t) { return load(s, i, 1, 2, 1.0); });
-  }
-  for (std::size_t n = 1; n < mech.nodes.size(); ++n) {
-    const auto& node = mech.nodes[n];
-    if (node.kind == NodeKind::floating) continue;  // held by its connections only
-    const int ni = static_cast<int>(n);
-    const std::string pre = "node_" + node.name + "_";
-    if (node.kind == NodeKind::rotational) {
-      add_column(pre + "reaction_x_N", [ni](const Sweep& s, std::size_t i, double w, double, std::size_t) {
-        return s.reaction_at(i, ni, 0, w);
-      });
-      add_column(pre + "reaction_y_N", [ni](const Sweep& s, std::size_t i, double w, double, std::size_t) {
-        return s.reaction_at(i, ni, 1, w);
-      });
-      add_column(pre + "reaction_N", [ni](const Sweep& s, std::size_t i, double w, double, std::size_t) {
-        return std::hypot(s.reaction_at(i, ni, 0, w), s.reaction_at(i, ni, 1, w));
-      });
-    } else {
-      // the guide's reaction across the line of travel, along z x direction
-      const Eigen::Vector2d across(-node.direction.y(), node.direction.x());
-      add_column(pre + "guide_N", [ni, across](const Sweep& s, std::size_t i, double w, double, std::size_t) {
-        return across.x() * s.reaction_at(i, ni, 0, w) + across.y() * s.reaction_at(i, ni, 1, w);
-      });
-    }
-  }
-
-  // ---- summary.json ----
-  nlohmann::json summary;
-  summary["design"] = spec.name;
-  summary["design_file"] = o.design;
-  summary["model"] = "rigid";
-  summary["mode"] = "kinematically constrained inverse dynamics (a)";
-  summary["step_cam_deg"] = step;
-  summary["points_per_position"] = np;
-  summary["run_time_s"] = seconds;
-  nlohmann::json separation = nlohmann::json::array();
-  for (std::size_t p = 0; p < sweeps.size(); ++p) {
-    nlohmann::json j;
-    j["control_" + control_unit] = control_values[p];
-    for (std::size_t c = 0; c < nc; ++c) {
-      if (!model.contacts[c].is_contact) continue;
-      const auto sep = dynamics::separation_speed(sweeps[p], model, static_cast<int>(c));
-      j["contacts"][mech.connections[c].name] = {{"separation_rpm", finite_or_null(sep.engine_rpm)},
-                                                 {"at_cam_deg", std::isfinite(sep.engine_rpm) ? nlohmann::json(sep.cam_deg)
-                                                                                              : nlohmann::json(nullptr)}};
-    }
-    separation.push_back(j);
-  }
-  summary["separation"] = separation;
-  nlohmann::json results = nlohmann::json::array();
-  for (double rpm : rpms) {
-    const double w = dynamics::cam_speed_rad_per_s(rpm, model.crank_per_cam);
-    for (std::size_t p = 0; p < sweeps.size(); ++p) {
-      const Sweep& s = sweeps[p];
-      nlohmann::json j;
-      j["rpm"] = rpm;
-      j["control_" + control_unit] = control_values[p];
-      Extremes torque;
-      double torque_mean = 0.0;
-      for (std::size_t i = 0; i < np; ++i) {
-        const double t = s.torque_at(i, w) * 1e-3;
-        torque.add(t, s.cam_deg[i]);
-        torque_mean += t / static_cast<double>(np);
-      }
-      j["max_cam_torque_Nm"] = torque.max;
-      j["max_cam_torque_at_cam_deg"] = torque.max_at;
-      j["min_cam_torque_Nm"] = torque.min;
-      j["min_cam_torque_at_cam_deg"] = torque.min_at;
-      j["mean_cam_torque_Nm"] = torque_mean;
-      bool separates = false;
-      for (std::size_t c = 0; c < nc; ++c) {
-        const int ci = static_cast<int>(c);
-        const auto& conn = mech.connections[c];
-        Extremes f, hz;
-        double max_sliding = 0.0;
-        for (std::size_t i = 0; i < np; ++i) {
-          const bool open = conn.kind == ConnectionKind::contact && s.contact[i * nc + c].open;
-          if (open) continue;
-          f.add(s.force_at(i, ci, w), s.cam_deg[i]);
-          if (model.contacts[c].has_hertz) hz.add(hertz_at(s, i, ci, w).max_pressure, s.cam_deg[i]);
-          if (conn.kind == ConnectionKind::contact)
-            max_sliding = std::max(max_sliding, std::abs(s.contact[i * nc + c].sliding * w * 1e-3));
-        }
-        nlohmann::json cj;
-        const double scale = conn.kind == ConnectionKind::gear || conn.kind == ConnectionKind::variable_gear ? 1e-3 : 1.0;
-        const std::string unit = scale != 1.0 ? "Nm" : "N";
-        if (std::isfinite(f.max)) {
-          cj["max_force_" + unit] = f.max * scale;
-          cj["max_force_at_cam_deg"] = f.max_at;
-          cj["min_force_" + unit] = f.min * scale;
-          cj["min_force_at_cam_deg"] = f.min_at;
-        }
-        if (conn.kind == ConnectionKind::contact) {
-          if (std::isfinite(hz.max)) {
-            cj["max_hertz_MPa"] = hz.max;
-            cj["max_hertz_at_cam_deg"] = hz.max_at;
-          }
-          cj["max_sliding_m_per_s"] = max_sliding;
-          const bool opens = !model.contacts[c].two_sided && std::isfinite(f.min) && f.min < 0.0;
-          cj["separates"] = opens;
-          separates |= opens;
-        }
-        j["connections"][conn.name] = cj;
-      }
-      j["any_contact_separates"] = separates;
-      for (std::size_t k = 0; k < model.springs.size(); ++k) {
-        const auto& sp = model.springs[k];
-        const double scale = sp.kind == SpringKind::torsion ? 1e-3 : 1.0;
-        const std::string unit = sp.kind == SpringKind::torsion ? "Nm" : "N";
-        Extremes margin, fraction;
-        for (std::size_t i = 0; i < np; ++i) {
-          const double m = dynamics::spring_margin(s, model, i, static_cast<int>(k), w);
-          const double load = s.spring_load[i * s.springs + k];
-          margin.add(m * scale, s.cam_deg[i]);
-          if (load != 0.0) fraction.add(m / load, s.cam_deg[i]);
-        }
-        j["springs"][sp.name] = {{"min_margin_" + unit, margin.min},
-                                 {"min_margin_at_cam_deg", margin.min_at},
-                                 {"min_margin_fraction", finite_or_null(fraction.min)},
-                                 {"min_margin_fraction_at_cam_deg", fraction.min_at}};
-      }
-      for (std::size_t n = 1; n < mech.nodes.size(); ++n) {
-        if (mech.nodes[n].kind != NodeKind::rotational) continue;
-        Extremes r;
-        for (std::size_t i = 0; i < np; ++i)
-          r.add(std::hypot(s.reaction_at(i, static_cast<int>(n), 0, w), s.reaction_at(i, static_cast<int>(n), 1, w)),
-                s.cam_deg[i]);
-        j["pivot_reactions"][mech.nodes[n].name] = {{"max_N", r.max}, {"max_at_cam_deg", r.max_at}};
-      }
-      results.push_back(j);
-    }
-  }
-  summary["results"] = results;
-
+  const nlohmann::json summary = rigid_summary(su, o.design, sweeps, seconds);
   io::OutputTransaction out(o.out_dir);
-  out.stage("dynamics.csv", io::format_csv(header, cols));
+  out.stage("dynamics.csv", rigid_csv(su, sweeps));
   out.stage("summary.json", summary.dump(2) + "\n");
   out.commit();
-  info("dynamics (rigid): " + std::to_string(control_values.size()) + " position(s) x " + std::to_string(np) +
-       " points in " + std::to_string(seconds * 1e3) + " ms, " + std::to_string(rpms.size()) + " speed(s) -> " +
-       o.out_dir + "/dynamics.csv, summary.json");
+  info("dynamics (rigid): " + std::to_string(su.control_values.size()) + " position(s) x " +
+       std::to_string(sweeps[0].points()) + " points in " + std::to_string(seconds * 1e3) + " ms, " +
+       std::to_string(su.rpms.size()) + " speed(s) -> " + o.out_dir + "/dynamics.csv, summary.json");
 }
+
 
 // one time-integrated run per (rpm, control position) of the setup, in that nesting order
 template <class Result>
@@ -394,7 +119,7 @@ struct GridRun {
 
 // runs `integrate(rpm, controls, result)` over the grid; a failure stops with its position
 template <class Result, class Integrate>
-std::vector<GridRun<Result>> run_grid(const Setup& su, Integrate&& integrate) {
+std::vector<GridRun<Result>> run_grid(const DynamicsSetup& su, Integrate&& integrate) {
   std::vector<GridRun<Result>> runs;
   Progress progress("dynamics", static_cast<long>(su.rpms.size() * su.positions.size()));
   for (double rpm : su.rpms)
@@ -410,7 +135,7 @@ std::vector<GridRun<Result>> run_grid(const Setup& su, Integrate&& integrate) {
 
 // mode (b): stiff separable contacts integrated in time, one run per (rpm, control)
 void run_compliant_contacts(const DynamicsOptions& o) {
-  const Setup su = make_setup(o);
+  const DynamicsSetup su = make_setup(o);
   const kin::Mechanism& mech = su.mech;
   const dynamics::Model& model = su.model;
   const std::size_t nc = mech.connections.size();
@@ -521,7 +246,7 @@ void run_compliant_contacts(const DynamicsOptions& o) {
 
 // the flexible model: one CVODE run per (rpm, control), the last revolution reported
 void run_flexible_model(const DynamicsOptions& o) {
-  const Setup su = make_setup(o);
+  const DynamicsSetup su = make_setup(o);
   const kin::Mechanism& mech = su.mech;
   const dynamics::Model& model = su.model;
   const std::size_t nc = mech.connections.size();

@@ -32,6 +32,17 @@ std::string describe_flexible(const kin::Mechanism& mech) {
   return out;
 }
 
+// the engine oil of the EHL film thickness ([oil]), or nothing without one
+std::string describe_oil(const DesignSpec& spec) {
+  if (!spec.oil) return {};
+  const OilSpec& o = *spec.oil;
+  std::string out = "oil: viscosity " + format_value(o.viscosity_mPa_s) + " mPa s, pressure-viscosity " +
+                    format_value(o.pressure_viscosity_per_GPa) + " /GPa";
+  out += o.composite_roughness_um ? ", composite roughness " + format_value(*o.composite_roughness_um) + " um"
+                                  : ", no composite roughness (no lambda)";
+  return out + "\n";
+}
+
 }  // namespace
 
 void setup_validate(CLI::App& app) {
@@ -44,7 +55,7 @@ void setup_validate(CLI::App& app) {
       const DesignSpec spec = io::load_design(f);
       const kin::Mechanism mech = kin::compile(spec);
       const std::string flexible = describe_flexible(mech);  // throws for bad flexible-model data
-      if (!global_options().quiet) std::cout << f << ": ok\n" << kin::describe(mech) << flexible;
+      if (!global_options().quiet) std::cout << f << ": ok\n" << kin::describe(mech) << flexible << describe_oil(spec);
       for (const auto& note : kin::check_drawing(mech)) info(f + ": warning: " + note);
       if (!global_options().quiet) std::cout << "\n";
     }

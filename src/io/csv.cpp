@@ -314,8 +314,14 @@ void require_full_cycle(const AngleTable& table, double period_deg) {
 
 std::string format_csv(const std::vector<std::string>& header, const std::vector<std::vector<double>>& columns,
                        int significant_digits) {
+  return format_csv(header, columns, std::vector<bool>(columns.size(), false), significant_digits);
+}
+
+std::string format_csv(const std::vector<std::string>& header, const std::vector<std::vector<double>>& columns,
+                       const std::vector<bool>& may_be_empty, int significant_digits) {
   CAMOPT_ASSERT(!header.empty());
   CAMOPT_ASSERT(header.size() == columns.size());
+  CAMOPT_ASSERT(may_be_empty.size() == columns.size());
   CAMOPT_ASSERT(significant_digits >= 1 && significant_digits <= 17);
   for (const auto& name : header)
     CAMOPT_ASSERT_MSG(!name.empty() && name.find_first_of(",#\r\n") == std::string::npos,
@@ -325,7 +331,7 @@ std::string format_csv(const std::vector<std::string>& header, const std::vector
     CAMOPT_ASSERT_MSG(columns[c].size() == rows, "write_csv: columns differ in length");
     // a non-finite value here is a kernel bug, not bad input
     for (std::size_t r = 0; r < rows; ++r)
-      if (!std::isfinite(columns[c][r]))
+      if (!std::isfinite(columns[c][r]) && !(may_be_empty[c] && std::isnan(columns[c][r])))
         throw std::logic_error("write_csv: non-finite value in column '" + header[c] + "' row " +
                                std::to_string(r + 1));
   }
@@ -335,6 +341,7 @@ std::string format_csv(const std::vector<std::string>& header, const std::vector
   for (std::size_t r = 0; r < rows; ++r) {
     for (std::size_t c = 0; c < columns.size(); ++c) {
       if (c > 0) text += ',';
+      if (std::isnan(columns[c][r])) continue;  // an empty cell (checked above)
       // + 0.0 turns a negative zero (e.g. a lift of -0 at rest) into 0
       std::snprintf(buffer, sizeof buffer, "%.*g", significant_digits, columns[c][r] + 0.0);
       text += buffer;

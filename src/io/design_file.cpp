@@ -163,7 +163,7 @@ ContactLawSpec read_contact_law(const Table& t) {
 }
 
 const Keys kRootKeys = {"schema", "design", "driver", "control", "node", "profile",
-                        "connection", "material", "spring", "gas_force"};
+                        "connection", "material", "spring", "gas_force", "oil"};
 
 class Parser {
  public:
@@ -187,6 +187,7 @@ class Parser {
     for (const Table& t : root.array_of_tables("connection")) add(spec.connections, parse_connection(t), t);
     for (const Table& t : root.array_of_tables("spring")) add(spec.springs, parse_spring(t), t);
     for (const Table& t : root.array_of_tables("gas_force")) spec.gas_forces.push_back(parse_gas_force(t));
+    if (const auto t = root.optional_table("oil")) spec.oil = parse_oil(*t);
     resolve(spec);
     return spec;
   }
@@ -669,6 +670,17 @@ class Parser {
     g.source_file = s.source_file;
     g.where = t.where();
     return g;
+  }
+
+  // the engine oil at operating temperature (EHL film thickness)
+  OilSpec parse_oil(const Table& t) {
+    t.allow({"viscosity_mPa_s", "pressure_viscosity_per_GPa", "composite_roughness_um"});
+    OilSpec o;
+    o.viscosity_mPa_s = t.number("viscosity_mPa_s", gt(0.0));
+    o.pressure_viscosity_per_GPa = t.number("pressure_viscosity_per_GPa", gt(0.0));
+    o.composite_roughness_um = t.optional_number("composite_roughness_um", gt(0.0));
+    o.where = t.where().str();
+    return o;
   }
 
   // every name used exists (and has the kind its user needs)

@@ -186,6 +186,14 @@ struct GasForceSpec {
   SourceRef where;
 };
 
+// the engine oil at operating temperature ([oil], docs/design-format.md): what the EHL film
+// thickness of the contacts needs (docs/dynamics.md, "EHL film thickness")
+struct OilSpec {
+  double viscosity_mPa_s = 0, pressure_viscosity_per_GPa = 0;  // inlet dynamic viscosity; Barus alpha
+  std::optional<double> composite_roughness_um;  // sigma = sqrt(Rq_a^2 + Rq_b^2); no lambda without it
+  std::string where;                             // "file:line:column: oil" of the table
+};
+
 struct ControlSpec {
   std::string name;
   std::string unit = "deg";  // "deg" or "mm"
@@ -216,6 +224,7 @@ struct DesignSpec {
   std::vector<MaterialSpec> materials;
   std::vector<SpringSpec> springs;
   std::vector<GasForceSpec> gas_forces;
+  std::optional<OilSpec> oil;
 };
 
 const char* to_string(NodeKind kind);

@@ -55,6 +55,11 @@ void require_full_cycle(const AngleTable& table, double period_deg);
 // and throws std::logic_error naming the column and row
 std::string format_csv(const std::vector<std::string>& header, const std::vector<std::vector<double>>& columns,
                        int significant_digits = 10);
+// the same, where a NaN in a column flagged in may_be_empty (one flag per column) is written
+// as an empty cell: a quantity that does not exist at that row, such as the film thickness of
+// an open contact. Any other non-finite value still throws.
+std::string format_csv(const std::vector<std::string>& header, const std::vector<std::vector<double>>& columns,
+                       const std::vector<bool>& may_be_empty, int significant_digits = 10);
 
 // write columns (header names must carry units) to `path` atomically
 void write_csv(const std::string& path, const std::vector<std::string>& header,

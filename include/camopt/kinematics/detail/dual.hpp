@@ -108,9 +108,21 @@ struct Dual {
   constexpr Dual& operator*=(double b) noexcept { return *this = *this * b; }
   constexpr Dual& operator/=(double b) noexcept { return *this = *this * (1.0 / b); }
 
+  friend constexpr double value(const Dual& u) noexcept { return u.v; }
+
   friend Dual sqrt(const Dual& u) noexcept {
     const double r = std::sqrt(u.v);
     return chain(u, r, 0.5 / r);
+  }
+  // exp' = exp, log' = 1/u, (u^p)' = p u^(p-1) for a constant exponent p (u > 0; at u = 0
+  // the value is 0 for p > 0 and the derivative p 0^(p-1): 0 for p > 1, inf for p < 1)
+  friend Dual exp(const Dual& u) noexcept {
+    const double e = std::exp(u.v);
+    return chain(u, e, e);
+  }
+  friend Dual log(const Dual& u) noexcept { return chain(u, std::log(u.v), 1.0 / u.v); }
+  friend Dual pow(const Dual& u, double p) noexcept {
+    return chain(u, std::pow(u.v, p), p * std::pow(u.v, p - 1.0));
   }
   friend void sin_cos(const Dual& u, Dual& s, Dual& c) noexcept {
     double s0, c0;

@@ -1,0 +1,21 @@
+#pragma once
+// the outputs of `camopt dynamics --model rigid` (docs/dynamics.md, "dynamics.csv" and
+// "summary.json"), from one rigid sweep per control position
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "camopt/dynamics/rigid.hpp"
+#include "dynamics_setup.hpp"
+
+namespace camopt::cli {
+
+// dynamics.csv: long format, one row per (rpm, control position, cam angle)
+std::string rigid_csv(const DynamicsSetup& su, const std::vector<dynamics::RigidSweep>& sweeps);
+
+// summary.json: the run, per control position the separation speeds, per (rpm, control
+// position) the torque, connection, spring and pivot extremes, and with [oil] the films
+nlohmann::json rigid_summary(const DynamicsSetup& su, const std::string& design_file,
+                             const std::vector<dynamics::RigidSweep>& sweeps, double seconds);
+
+}  // namespace camopt::cli
