@@ -3,6 +3,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "camopt/dynamics/ehl.hpp"
+
 namespace camopt::opt::detail {
 
 namespace {
@@ -10,10 +12,11 @@ namespace {
 constexpr double kDegPerRad = 180.0 / std::numbers::pi;
 // the largest separation speed a row reports [rpm]: "none below this"
 constexpr double kNoSeparationRpm = 1e6;
-// Dowson-Higginson line contact: h = 2.65 U^0.70 G^0.54 W^-0.13 R (Dowson & Higginson,
-// Elasto-hydrodynamic Lubrication, 1977; Hamrock, Schmid & Jacobson, Fundamentals of Fluid
-// Film Lubrication, 2004, ch. 21), U = eta u / (E' R), G = alpha E', W = w / (E' R), E' = 2 E*
-constexpr double kFilmCoefficient = 2.65, kFilmSpeed = 0.70, kFilmMaterial = 0.54, kFilmLoad = -0.13;
+// Dowson-Higginson line contact (dynamics/ehl.hpp): h = 2.65 U^0.70 G^0.54 W^-0.13 R
+constexpr double kFilmCoefficient = dynamics::kDowsonHigginsonCoefficient;
+constexpr double kFilmSpeed = dynamics::kDowsonHigginsonSpeedExponent;
+constexpr double kFilmMaterial = dynamics::kDowsonHigginsonMaterialExponent;
+constexpr double kFilmLoad = dynamics::kDowsonHigginsonLoadExponent;
 
 std::string num(double v) { return format_value(v, 8); }
 
@@ -190,11 +193,32 @@ void LoadRows::contact_data(const DesignSpec& design, const OptimizationSpec& sp
                            : material({}, {}, contact.material_follower(), "follower");
   // 1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2 (Johnson, Contact Mechanics, 1985, eq. 4.22) [MPa]
   e_star_MPa_ = 1.0 / ((1.0 - n1 * n1) / (e1 * 1e3) + (1.0 - n2 * n2) / (e2 * 1e3));
-  if ((l.min_film_thickness_um || l.min_lambda) && !spec.oil)
+  if (!(l.min_film_thickness_um || l.min_lambda)) return;
+  // the oil: the set's [oil] or the design's, and they agree when both are given
+  if (spec.oil && design.oil) {
+    const OilSpec& d = *design.oil;
+    auto differ = [](double a, double b) { return std::abs(a - b) > 1e-9 * std::max(std::abs(b), 1e-300); };
+    const std::string what = differ(spec.oil->viscosity_mPa_s, d.viscosity_mPa_s)                       ? "viscosity_mPa_s"
+                             : differ(spec.oil->pressure_viscosity_per_GPa, d.pressure_viscosity_per_GPa) ? "pressure_viscosity_per_GPa"
+                             : spec.oil->composite_roughness_um.value_or(-1) != d.composite_roughness_um.value_or(-1)
+                                 ? "composite_roughness_um"
+                                 : "";
+    if (!what.empty())
+      throw InputError(spec.oil->where, "oil." + what + " disagrees with the design's [oil] (" + d.where +
+                                            "): the film takes one oil; delete the set's [oil] or make them agree");
+  }
+  if (spec.oil) {
+    oil_ = *spec.oil;
+  } else if (design.oil) {
+    oil_ = {design.oil->viscosity_mPa_s, design.oil->pressure_viscosity_per_GPa, design.oil->composite_roughness_um, {}};
+  } else {
     throw InputError("limits." + std::string(l.min_film_thickness_um ? "min_film_thickness_um" : "min_lambda") +
-                     " needs an [oil] table (viscosity_mPa_s, pressure_viscosity_per_GPa, composite_roughness_um)");
-  if (l.min_lambda && !spec.oil->composite_roughness_um)
-    throw InputError(spec.oil->where, "limits.min_lambda needs oil.composite_roughness_um");
+                     " needs an [oil] table (viscosity_mPa_s, pressure_viscosity_per_GPa, composite_roughness_um) in "
+                     "the constraint set or the design");
+  }
+  if (l.min_lambda && !oil_.composite_roughness_um)
+    throw InputError(spec.oil ? spec.oil->where : SourceRef{design.file, 0, 0, "oil"},
+                     "limits.min_lambda needs oil.composite_roughness_um");
 }
 
 void LoadRows::build_rows(const OptimizationSpec& spec) {
@@ -279,7 +303,7 @@ LoadRowValue LoadRows::row(const LoadRowSpec& r, const Grad3& ratio, const Conta
     case ConstraintKind::film_thickness:
     case ConstraintKind::lambda: {
       // (h / h_lim)^(1/0.7) = |u| (...)^(1/0.7): smooth but for |u|, finite where u passes 0
-      const OilSetSpec& oil = *spec_.oil;
+      const OilSetSpec& oil = oil_;
       const double sigma = oil.composite_roughness_um.value_or(0.0);
       const double h_lim_um = r.kind == ConstraintKind::lambda ? *l.min_lambda * sigma : *l.min_film_thickness_um;
       const double e_prime = 2.0 * e_star_MPa_ * 1e6, eta = oil.viscosity_mPa_s * 1e-3, alpha = oil.pressure_viscosity_per_GPa * 1e-9;

@@ -69,6 +69,7 @@ class LoadRows {
   std::vector<LoadRowSpec> rows_;
   std::vector<LoadOverride> overrides_;
   std::string source_;
+  OilSetSpec oil_;  // the film's oil: the set's or the design's
   double omega_ = 0.0, crank_per_cam_ = 2.0;
   double e_star_MPa_ = 0.0, width_mm_ = 0.0;
   double lift_[3] = {0, 0, 0};

@@ -95,8 +95,7 @@ TEST_CASE("durability rows: gradients against central differences (roller finger
   s.limits.max_cam_torque_Nm = 12;
   s.limits.min_film_thickness_um = 0.2;
   s.limits.min_lambda = 1.0;
-  s.oil = opt::OilSetSpec{8.0, 18.0, 0.25, {}};
-  opt::CamProblem p(rff_loaded(), s, nullptr);
+  opt::CamProblem p(rff_loaded(), s, nullptr);  // the design's [oil]
   std::vector<double> u = p.start();
   for (int j = 0; j < p.spline_variables(); ++j) u[static_cast<std::size_t>(j)] += 0.01 * std::sin(1.0 + j);
   check_jacobian(p, u,
@@ -258,4 +257,10 @@ area_weight = 1
   CHECK(o[0].key == "load.spring_preload_N");
   CHECK(o[0].set_value == 230);
   CHECK(o[0].design_value.find("220 N") == 0);
+  // the film's oil: a set's [oil] that disagrees with the design's is an input error
+  opt::OptimizationSpec film = rff_set();
+  film.limits.min_film_thickness_um = 0.1;
+  film.oil = opt::OilSetSpec{8.0, 15.8, 0.25, SourceRef{"set.toml", 30, 1, "oil"}};
+  CHECK_THROWS_WITH(opt::CamProblem(d, film, nullptr),
+                    Catch::Contains("set.toml:30:1: oil: oil.viscosity_mPa_s disagrees with the design's [oil]"));
 }
