@@ -263,6 +263,20 @@ void run_optimize(const OptimizeOptions& o) {
                          {"peak_weight", set.objective.peak_weight},
                          {"peak", opt::to_string(set.objective.peak)}};
   if (result.final.g.size() > 0) report["constraints"] = constraint_report(problem, result.final);
+  // the ramps are fixed by [event]: their velocities at rpm, held before the solve
+  if (!problem.is_swing()) {
+    const double to_m_per_s = problem.cam_speed_rad_per_s() * 180.0 / kPi * 1e-3;  // [mm/deg] -> [m/s]
+    auto ramp = [&](const char* name, double velocity, const std::optional<double>& limit) {
+      if (!limit) return;
+      report["constraints"][name] = {{"unit", "m/s"}, {"limit", *limit}, {"limit_is", "max"},
+                                     {"worst", velocity * to_m_per_s}, {"margin", *limit - velocity * to_m_per_s},
+                                     {"normalised", (velocity * to_m_per_s - *limit) / *limit},
+                                     {"satisfied", velocity * to_m_per_s <= *limit}, {"fixed_by", "event"}};
+    };
+    ramp("seating_velocity_max", problem.lift_model().closing_ramp().velocity(), set.limits.max_seating_velocity_m_per_s);
+    ramp("opening_ramp_velocity_max", problem.lift_model().opening_ramp().velocity(),
+         set.limits.max_opening_ramp_velocity_m_per_s);
+  }
   if (const std::string source = problem.load_source(); !source.empty()) {
     report["loads"]["source"] = source;
     for (const opt::LoadOverride& ov : problem.load_overrides())
