@@ -2,7 +2,11 @@
 
 #include <unistd.h>
 
+#include <cmath>
+#include <cstdlib>
 #include <thread>
+
+#include "camopt/core/error.hpp"
 
 namespace camopt::cli {
 
@@ -16,6 +20,43 @@ int thread_count() {
   if (requested > 0) return requested;
   const unsigned hw = std::thread::hardware_concurrency();
   return hw == 0 ? 1 : static_cast<int>(hw);
+}
+
+namespace {
+
+// a whole token that strtod reads as a number that is not finite
+bool non_finite_number(const std::string& piece) {
+  if (piece.empty()) return false;
+  char* end = nullptr;
+  const double v = std::strtod(piece.c_str(), &end);
+  return end == piece.c_str() + piece.size() && !std::isfinite(v);
+}
+
+}  // namespace
+
+void check_finite_arguments(int argc, const char* const* argv) {
+  std::string option = "argument";
+  for (int i = 1; i < argc; ++i) {
+    std::string token = argv[i], name = option;
+    const bool is_option = token.size() > 1 && token[0] == '-' && !non_finite_number(token) &&
+                           !(std::isdigit(static_cast<unsigned char>(token[1])) || token[1] == '.');
+    if (is_option) {
+      const auto eq = token.find('=');
+      option = token.substr(0, eq);
+      if (eq == std::string::npos) continue;
+      name = option;
+      token = token.substr(eq + 1);
+    }
+    std::size_t start = 0;
+    for (std::size_t k = 0; k <= token.size(); ++k) {
+      if (k < token.size() && token[k] != ',' && token[k] != ':') continue;
+      const std::string piece = token.substr(start, k - start);
+      if (non_finite_number(piece))
+        throw InputError(name + ": value '" + piece + "' is not a finite number");
+      start = k + 1;
+    }
+    if (!is_option) option = "argument";
+  }
 }
 
 void info(const std::string& message) {

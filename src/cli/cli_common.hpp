@@ -46,6 +46,11 @@ struct Extremes {
   }
 };
 
+// InputError naming the option when a command-line value (or an item of a list "a,b" or a
+// range "a:b:n") reads as a number that is not finite ("nan", "inf", "1e999"): no option
+// takes one, and CLI11 would pass it on
+void check_finite_arguments(int argc, const char* const* argv);
+
 // informational output on stderr (suppressed by --quiet); results go to files / stdout
 void info(const std::string& message);
 void detail(const std::string& message);  // only with --verbose

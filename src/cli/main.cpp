@@ -30,6 +30,7 @@ int main(int argc, char** argv) {
   setup_dynamics(app);
 
   try {
+    check_finite_arguments(argc, argv);
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);

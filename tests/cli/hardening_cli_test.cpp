@@ -1,0 +1,36 @@
+// bad or extreme command-line values: each is an input error (exit 3) naming the option and
+// its value, before any work, with nothing left in the output folder.
+#include <catch2/catch.hpp>
+
+#include "cli_support.hpp"
+
+using namespace camopt::test;
+
+TEST_CASE("a value that is not a finite number is an input error naming the option", "[cli][hardening]") {
+  const std::string rff = (source_dir() / "designs/roller_finger_follower.toml").string();
+  const std::string target = (source_dir() / "designs/targets/rff_intake_lift.csv").string();
+  struct Case {
+    std::vector<std::string> args;
+    std::string expect;
+  };
+  const std::vector<Case> cases = {
+      {{"kinematics", rff, "--step", "nan"}, "--step: value 'nan' is not a finite number"},
+      {{"kinematics", rff, "--rpm", "-1e999"}, "--rpm: value '-1e999' is not a finite number"},
+      {{"kinematics", rff, "--control", "nan"}, "--control: value 'nan' is not a finite number"},
+      {{"dynamics", rff, "--model", "rigid", "--rpm", "1000,inf"}, "--rpm: value 'inf' is not a finite number"},
+      {{"dynamics", rff, "--model", "rigid", "--rpm", "1000:NaN:3"}, "--rpm: value 'NaN' is not a finite number"},
+      {{"synthesize", target, "--design", rff, "--wheel-radius=nan"}, "--wheel-radius: value 'nan' is not a finite number"},
+      {{"synthesize", target, "--design", rff, "--master-radius", "inf"}, "--master-radius: value 'inf' is not a finite"},
+      {{"lift", "--law", "polynomial-4567", "--lift", "infinity"}, "--lift: value 'infinity' is not a finite number"},
+  };
+  for (const auto& c : cases) {
+    TempDir tmp;
+    std::vector<std::string> args = c.args;
+    args.insert(args.end(), {"--out", (tmp / "out").string()});
+    const auto r = run_camopt(args);
+    INFO(r.command << "\n" << r.all());
+    CHECK(r.exit_code == cli_input_error);
+    CHECK(r.err.find(c.expect) != std::string::npos);
+    CHECK_FALSE(fs::exists(tmp / "out"));
+  }
+}
