@@ -1,5 +1,7 @@
 #include "camopt/io/csv.hpp"
 
+#include "camopt/io/input_file.hpp"
+
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
@@ -206,21 +208,7 @@ CsvTable parse_csv(std::string_view text, const std::string& file_name) {
   return table;
 }
 
-CsvTable read_csv(const std::string& path) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw InputError("cannot read '" + path + "': is a directory");
-  std::FILE* stream = std::fopen(path.c_str(), "rb");
-  if (!stream) throw InputError("cannot read '" + path + "': " + std::strerror(errno));
-  std::string text;
-  char buffer[65536];
-  std::size_t count = 0;
-  while ((count = std::fread(buffer, 1, sizeof buffer, stream)) > 0) text.append(buffer, count);
-  const bool failed = std::ferror(stream) != 0;
-  const int error = errno;
-  std::fclose(stream);
-  if (failed) throw InputError("cannot read '" + path + "': " + std::strerror(error));
-  return parse_csv(text, path);
-}
+CsvTable read_csv(const std::string& path) { return parse_csv(read_input_file(path, "csv file"), path); }
 
 void require_strictly_increasing(const CsvTable& table, std::size_t column) {
   CAMOPT_ASSERT(column < table.columns.size());

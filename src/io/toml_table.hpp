@@ -1,4 +1,5 @@
 #pragma once
+#include "camopt/io/input_file.hpp"
 // the checking layer shared by the TOML readers (design files, constraint sets): typed,
 // range-checked values that know their file, line and key path, and tables that reject
 // keys they do not know. internal to camopt_io.
@@ -396,15 +397,12 @@ inline toml::table parse_document(std::string_view text, const Context& context)
   }
 }
 
-// the whole file and its directory ("." for a bare name); InputError "cannot open <what>"
+// the whole file (io::read_input_file's checks) and its directory ("." for a bare name)
 inline std::string read_text_file(const std::string& path, const char* what, std::string& directory) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(SourceRef{path, 0, 0, ""}, std::string("cannot open ") + what);
-  std::ostringstream text;
-  text << in.rdbuf();
+  std::string text = read_input_file(path, what);
   directory = fs::path(path).parent_path().string();
   if (directory.empty()) directory = ".";
-  return text.str();
+  return text;
 }
 
 }  // namespace camopt::io::toml_detail

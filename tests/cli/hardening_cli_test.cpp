@@ -34,3 +34,27 @@ TEST_CASE("a value that is not a finite number is an input error naming the opti
     CHECK_FALSE(fs::exists(tmp / "out"));
   }
 }
+
+TEST_CASE("an input that is not a readable regular file of bounded size is an input error saying why",
+          "[cli][hardening]") {
+  TempDir tmp;
+  const std::string rff = (source_dir() / "designs/roller_finger_follower.toml").string();
+  struct Case {
+    std::vector<std::string> args;
+    std::string expect;
+  };
+  const std::vector<Case> cases = {
+      {{"validate", "/dev/zero"}, "/dev/zero: cannot read design file: is not a regular file"},
+      {{"validate", tmp.path().string()}, "cannot read design file: is a directory"},
+      {{"validate", (tmp / "missing.toml").string()}, "missing.toml: cannot read design file: no such file"},
+      {{"synthesize", "/dev/zero", "--design", rff, "--out", (tmp / "out").string()},
+       "/dev/zero: cannot read csv file: is not a regular file"},
+  };
+  for (const auto& c : cases) {
+    const auto r = run_camopt(c.args);
+    INFO(r.command << "\n" << r.all());
+    CHECK(r.exit_code == cli_input_error);
+    CHECK(r.err.find(c.expect) != std::string::npos);
+  }
+  CHECK_FALSE(fs::exists(tmp / "out"));
+}
