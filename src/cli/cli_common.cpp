@@ -59,6 +59,20 @@ void check_finite_arguments(int argc, const char* const* argv) {
   }
 }
 
+long sweep_points(const std::string& option, double start, double stop, double step, double positions,
+                  const std::string& positions_option) {
+  const double points = std::floor((stop - start) / step + 0.5) + 1.0;
+  if (!(points <= kMaxSweepPoints))
+    throw InputError(option + ": value " + format_value(step, 6) + " gives " + format_value(points, 6) +
+                     " points over the driver range " + format_value(start, 6) + ".." + format_value(stop, 6) +
+                     " (at most " + format_value(kMaxSweepPoints, 6) + ")");
+  if (!(points * positions <= kMaxTotalPoints))
+    throw InputError(positions_option + ": " + format_value(positions, 6) + " runs x " + format_value(points, 6) +
+                     " points = " + format_value(points * positions, 6) + " (at most " +
+                     format_value(kMaxTotalPoints, 6) + ")");
+  return static_cast<long>(points);
+}
+
 void info(const std::string& message) {
   if (!global_options().quiet) std::fprintf(stderr, "%s\n", message.c_str());
 }

@@ -51,6 +51,15 @@ struct Extremes {
 // takes one, and CLI11 would pass it on
 void check_finite_arguments(int argc, const char* const* argv);
 
+// the largest sweep a command runs: points per position, and points over every position
+// (and rpm); beyond them an InputError names the option, the count and the limit, before
+// anything is allocated (README "Limits")
+inline constexpr double kMaxSweepPoints = 1e6;
+inline constexpr double kMaxTotalPoints = 2e7;
+// the point count of start..stop by step (both ends); InputError naming `option` above the limits
+long sweep_points(const std::string& option, double start, double stop, double step, double positions = 1,
+                  const std::string& positions_option = "--control");
+
 // informational output on stderr (suppressed by --quiet); results go to files / stdout
 void info(const std::string& message);
 void detail(const std::string& message);  // only with --verbose

@@ -73,6 +73,8 @@ DynamicsSetup make_setup(const DynamicsOptions& o) {
     if (!pos.empty()) pos[0] = v;
     su.positions.push_back(pos);
   }
+  sweep_points(o.step_deg > 0 ? "--step" : "driver.step_deg", su.start, su.stop, su.step,
+               static_cast<double>(su.positions.size() * su.rpms.size()), "--control x --rpm");
   su.control_unit = mech.controls.empty() || mech.controls[0].is_angle ? "deg" : "mm";
   return su;
 }

@@ -124,6 +124,8 @@ void setup_kinematics(CLI::App& app) {
       if (!pos.empty()) pos[0] = v;
       sweep.control_positions.push_back(pos);
     }
+    sweep_points(o.step_deg > 0 ? "--step" : "driver.step_deg", sweep.start, sweep.stop, sweep.step,
+                 static_cast<double>(sweep.control_positions.size()));
     Progress progress("kinematics", static_cast<long>(sweep.control_positions.size()));
     std::mutex progress_mutex;
     sweep.on_position_done = [&] {

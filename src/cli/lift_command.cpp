@@ -159,6 +159,9 @@ int cycle_rows(double step_deg) {
   if (!(step_deg > 0.0) || step_deg > kMaxStepDeg)
     throw InputError("--step = " + fmt(step_deg) + " cam deg: must be in (0, " + fmt(kMaxStepDeg) + "]");
   const double n = kCycleDeg / step_deg;
+  if (n > kMaxSweepPoints)
+    throw InputError("--step = " + fmt(step_deg) + " cam deg: gives " + fmt(n) + " rows per cycle (at most " +
+                     fmt(kMaxSweepPoints) + ")");
   const double rounded = std::round(n);
   if (std::abs(n - rounded) > 1e-9 * n)
     throw InputError("--step = " + fmt(step_deg, 10) + " cam deg: must divide 360 cam deg into whole steps (360 / " +

@@ -58,3 +58,36 @@ TEST_CASE("an input that is not a readable regular file of bounded size is an in
   }
   CHECK_FALSE(fs::exists(tmp / "out"));
 }
+
+TEST_CASE("sweeps past the documented point limits are input errors before any allocation", "[cli][hardening]") {
+  TempDir tmp;
+  const std::string rff = (source_dir() / "designs/roller_finger_follower.toml").string();
+  const std::string cvvl = (source_dir() / "designs/cvvl_swing_cam.toml").string();
+  struct Case {
+    std::vector<std::string> args;
+    std::string expect;
+  };
+  const std::vector<Case> cases = {
+      {{"kinematics", rff, "--step", "1e-17"}, "--step: value 1e-17 gives 3.6e+19 points over the driver range 0..360 (at most 1e+06)"},
+      {{"kinematics", cvvl, "--control", "0:16:100000"}, "--control: 100000 runs x 361 points = 3.61e+07 (at most 2e+07)"},
+      {{"dynamics", rff, "--model", "rigid", "--rpm", "3000", "--step", "1e-6"}, "--step: value 1e-06 gives 3.6e+08 points"},
+      {{"lift", "--law", "polynomial-4567", "--step", "1e-9"}, "--step = 1e-09 cam deg: gives 3.6e+11 rows per cycle"},
+  };
+  for (const auto& c : cases) {
+    std::vector<std::string> args = c.args;
+    args.insert(args.end(), {"--out", (tmp / "out").string()});
+    const auto r = run_camopt(args);
+    INFO(r.command << "\n" << r.all());
+    CHECK(r.exit_code == cli_input_error);
+    CHECK(r.err.find(c.expect) != std::string::npos);
+    CHECK_FALSE(fs::exists(tmp / "out"));
+  }
+  // a design's own step: validate names the key and the bound
+  std::string text = read_file(source_dir() / "designs/bucket_tappet.toml");
+  text.replace(text.find("[driver]\n"), 9, "[driver]\nstep_deg = 1e-300\n");
+  text.replace(text.find("file = \"profiles/"), 17, "file = \"" + (source_dir() / "designs/profiles/").string());
+  write_text(tmp / "d.toml", text);
+  const auto r = run_camopt({"validate", (tmp / "d.toml").string()});
+  CHECK(r.exit_code == cli_input_error);
+  CHECK(r.err.find("driver.step_deg: value 1e-300 must be >= (stop_deg - start_deg) / 1e6") != std::string::npos);
+}
