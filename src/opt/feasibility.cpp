@@ -311,19 +311,20 @@ Status deletion_filter(Phase& ph, const ElasticResult& all, std::vector<int>& ca
 }
 
 // the value of a key's quantity that its rows reach at the cached evaluation, in the user's
-// terms: the binding row's (largest g) physical value; for the Hertz stress the largest
-// stress (a flat face's row is scaled by its radius, so its largest g need not be the
-// largest stress); grinding_wheel_radius_mm: the smallest concave radius, positive
-double reached(const Evaluation& e, const KeyRows& k) {
-  int binding = k.rows.front();
-  double largest = -std::numeric_limits<double>::infinity();
-  for (int r : k.rows) {
-    if (e.g(r) > e.g(binding)) binding = r;
-    largest = std::max(largest, e.physical(r));
+// terms: the largest over the rows for a maximum, the smallest for a minimum; for the two
+// radius keys the binding row's (largest g): their rows give the cam radius on both sides,
+// convex and concave (grinding_wheel_radius_mm: the smallest concave radius, positive)
+double reached(const CamProblem& p, const Evaluation& e, const KeyRows& k) {
+  if (k.kind == ConstraintKind::radius_min || k.kind == ConstraintKind::concave_radius) {
+    int binding = k.rows.front();
+    for (int r : k.rows)
+      if (e.g(r) > e.g(binding)) binding = r;
+    return k.kind == ConstraintKind::concave_radius ? -e.physical(binding) : e.physical(binding);
   }
-  if (k.kind == ConstraintKind::hertz_stress) return largest;
-  const double v = e.physical(binding);
-  return k.kind == ConstraintKind::concave_radius ? -v : v;
+  const bool upper = p.is_upper_limit(k.kind);
+  double v = e.physical(k.rows.front());
+  for (int r : k.rows) v = upper ? std::max(v, e.physical(r)) : std::min(v, e.physical(r));
+  return v;
 }
 
 // a conflicting key's limit and its best achievable value: the least relaxation of that key
@@ -358,7 +359,7 @@ Status best_achievable(Phase& ph, const ElasticResult& all, const std::vector<in
   // slsqp keeps the held rows from a start that meets them; should it lose them, the start
   // itself still shows a value that can be achieved
   if (!ph.cache.at((r.hard_met ? r.u : start).data(), false)) return ph.cache.status();
-  out.best_achievable = reached(ph.cache.eval(), key);
+  out.best_achievable = reached(p, ph.cache.eval(), key);
   return Status::success();
 }
 

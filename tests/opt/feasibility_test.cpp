@@ -65,6 +65,12 @@ std::optional<double>* limit_field(opt::LimitSpec& l, const std::string& key) {
       {"limits.max_roller_speed_rpm", &opt::LimitSpec::max_roller_speed_rpm},
       {"limits.max_sliding_speed_m_per_s", &opt::LimitSpec::max_sliding_speed_m_per_s},
       {"limits.max_hertz_stress_MPa", &opt::LimitSpec::max_hertz_stress_MPa},
+      {"limits.min_separation_speed_rpm", &opt::LimitSpec::min_separation_speed_rpm},
+      {"limits.min_contact_force_N", &opt::LimitSpec::min_contact_force_N},
+      {"limits.min_spring_margin", &opt::LimitSpec::min_spring_margin},
+      {"limits.max_cam_torque_Nm", &opt::LimitSpec::max_cam_torque_Nm},
+      {"limits.min_film_thickness_um", &opt::LimitSpec::min_film_thickness_um},
+      {"limits.min_lambda", &opt::LimitSpec::min_lambda},
   };
   for (const auto& [name, field] : fields)
     if (key == name) return &(l.*field);
