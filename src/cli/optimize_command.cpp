@@ -298,11 +298,13 @@ void run_optimize(const OptimizeOptions& o) {
                            {"limit", c.limit},
                            {"limit_is", c.limit_is_max ? "max" : "min"},
                            {"best_achievable", known ? nlohmann::json(c.best_achievable) : nlohmann::json()},
-                           {"alone_suffices", c.alone_suffices}});
-      char row[200];
-      std::snprintf(row, sizeof row, "\n  %-36s %12s %-9s %15s%s", c.key.c_str(), format_value(c.limit, 6).c_str(),
+                           {"alone_suffices", c.alone_suffices},
+                           {"nearest", c.nearest}});
+      char row[240];
+      std::snprintf(row, sizeof row, "\n  %-36s %12s %-9s %15s%s%s", c.key.c_str(), format_value(c.limit, 6).c_str(),
                     c.unit.c_str(), known ? format_value(c.best_achievable, 6).c_str() : "-",
-                    c.alone_suffices ? "" : "  (this conflict only; another remains)");
+                    c.alone_suffices ? "" : "  (this conflict only; another remains)",
+                    c.nearest ? "" : "  (achievable, a nearer value may exist)");
       table += row;
     }
     report["conflicting_constraints"] = conflicts;

@@ -56,7 +56,8 @@ class CachedProblem {
 double violation(const Evaluation& e);
 
 // fill result.u / iterations / solver_message and a status for a backend run from start;
-// `phase` names the run in the progress reports
+// `phase` names the run in the progress reports. run_ipopt ends its phases itself; after
+// run_nlopt the caller ends the phase with the values of its own evaluation of the result
 void run_ipopt(CamProblem& problem, const SolverOptions& options, const std::vector<double>& start, SolveResult& result,
                ProgressReporter& progress);
 void run_nlopt(CamProblem& problem, const SolverOptions& options, SolverKind algorithm, const std::vector<double>& start,

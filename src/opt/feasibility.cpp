@@ -339,6 +339,9 @@ Status best_achievable(Phase& ph, const ElasticResult& all, const std::vector<in
   const bool concave = key.kind == ConstraintKind::concave_radius;  // the wheel radius: -limit_of
   out.limit = concave ? -p.limit_of(key.kind) : p.limit_of(key.kind);
   out.limit_is_max = concave ? false : p.is_upper_limit(key.kind);
+  out.nearest = !(key.kind == ConstraintKind::separation || key.kind == ConstraintKind::spring_margin ||
+                  (key.kind == ConstraintKind::hertz_stress && !p.is_swing() &&
+                   p.contact().follower_shape() == FollowerShape::flat));
   // can every other key be met? (known when the filter tried this key first)
   std::vector<double> start = witness.u;
   out.alone_suffices = witness.whole_set;

@@ -3,7 +3,6 @@
 // callback: every callback catches and reports failure to Ipopt. every iteration is reported
 // to SolverOptions::progress from intermediate_callback, every working-set round is a phase.
 #include <IpIpoptApplication.hpp>
-#include <IpIpoptCalculatedQuantities.hpp>
 #include <IpTNLP.hpp>
 #include <algorithm>
 #include <chrono>
@@ -221,21 +220,16 @@ class CamTnlp : public Ipopt::TNLP {
     return true;
   }
 
-  // the progress report: the objective and the largest unscaled violation of the working set
-  // (ipopt's own scaled inf_pr in the restoration phase, whose quantities are its own problem's)
-  bool intermediate_callback(Ipopt::AlgorithmMode mode, Index iter, Number obj_value, Number inf_pr, Number, Number,
-                             Number, Number, Number, Number, Index, const Ipopt::IpoptData*,
-                             Ipopt::IpoptCalculatedQuantities* ip_cq) override {
+  // the progress report: the objective and ipopt's own primal infeasibility of the working set
+  // (inf_pr; asking ipopt for more would evaluate the problem, and the contact model's warm
+  // starts would then make the solve differ at round-off)
+  bool intermediate_callback(Ipopt::AlgorithmMode, Index iter, Number obj_value, Number inf_pr, Number, Number, Number,
+                             Number, Number, Number, Index, const Ipopt::IpoptData*,
+                             Ipopt::IpoptCalculatedQuantities*) override {
     last_iterations_ = iter;
     if (progress_.enabled()) {
       last_objective_ = obj_value;
       last_violation_ = inf_pr;
-      try {
-        if (mode == Ipopt::RegularMode && ip_cq != nullptr)
-          last_violation_ = ip_cq->unscaled_curr_nlp_constraint_violation(Ipopt::NORM_MAX);
-      } catch (...) {
-        last_violation_ = inf_pr;
-      }
       progress_.iteration(iter, last_objective_, last_violation_, false);
     }
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count() < time_limit_;

@@ -2,7 +2,9 @@
 // they are; MMA, which has no equality constraints, runs in the null space of the closure
 // (u = u_p + N z, N orthonormal, the variable bounds become linear inequalities).
 // a failed evaluation forces the run to stop (nlopt_force_stop); nothing is thrown.
-// progress is reported from the objective's callback, at most every kProgressInterval.
+// progress is reported from the objective's callback, at most every kProgressInterval; the
+// caller ends the phase once it has evaluated the result (no evaluation here: the contact
+// model's warm starts would make the next solve differ at round-off).
 #include <nlopt.h>
 
 #include <Eigen/Dense>
@@ -215,16 +217,6 @@ void run_nlopt(CamProblem& problem, const SolverOptions& options, SolverKind alg
   result.u = reduced ? std::vector<double>(full_point(ctx, x.data()), full_point(ctx, x.data()) + n) : x;
   result.evaluations = cache.evaluations();
   const Status failure = cache.status();
-  if (progress.enabled()) {
-    // the final point's values (a cached evaluation unless nlopt returns an earlier point)
-    bool ok = false;
-    try {
-      ok = cache.at(result.u.data(), false);
-    } catch (...) {
-      ok = false;
-    }
-    progress.end(result.evaluations, ok ? cache.eval().objective : f, ok ? violation(cache.eval()) : HUGE_VAL);
-  }
   result.iterations = nlopt_get_numevals(opt);
   result.solver_message = std::string("nlopt ") + to_string(algorithm) + ": " + describe(r);
   if (ctx.failed) result.solver_message += "; failed evaluation: " + failure.str();

@@ -142,6 +142,12 @@ void finish(CamProblem& problem, const SolverOptions& options, SolveResult& r) {
 // the largest normalised violation a design may keep and still count as feasible
 double feasibility_tolerance(const SolverOptions& options) { return std::max(options.constraint_tolerance, 1e-6); }
 
+// the end of an nlopt phase, with the values finish() evaluated
+void end_phase(detail::ProgressReporter& progress, const SolveResult& r) {
+  if (r.evaluated) progress.end(r.evaluations, r.final.objective, r.max_violation);
+  else progress.end(r.evaluations, HUGE_VAL, HUGE_VAL);
+}
+
 // multi-start slsqp: `start`, then halton points in the box about it; the best feasible
 // result wins, else the least infeasible
 void run_global(CamProblem& problem, const SolverOptions& options, const std::vector<double>& start0,
@@ -169,8 +175,12 @@ void run_global(CamProblem& problem, const SolverOptions& options, const std::ve
                       "global start " + std::to_string(s + 1) + " of " + std::to_string(starts) + " (slsqp)");
     iterations += r.iterations;
     evaluations += r.evaluations;
-    if (r.u.empty()) continue;
+    if (r.u.empty()) {
+      progress.end(r.evaluations, HUGE_VAL, HUGE_VAL);
+      continue;
+    }
     finish(problem, options, r);
+    end_phase(progress, r);
     if (!r.evaluated) continue;
     const bool feasible = r.max_violation <= tol;
     const bool best_feasible = have && best.max_violation <= tol;
@@ -194,14 +204,17 @@ void run_solver(CamProblem& problem, const SolverOptions& options, const std::ve
   else if (options.solver != SolverKind::global)
     detail::run_nlopt(problem, options, options.solver, start, result, progress, to_string(options.solver) + note);
   else run_global(problem, options, start, progress, result);
+  const bool nlopt_phase = options.solver != SolverKind::ipopt && options.solver != SolverKind::global;
   if (result.u.empty()) {
     if (result.status.ok()) result.status = {StatusCode::no_convergence, "the solver returned no design", ""};
+    if (nlopt_phase) progress.end(result.evaluations, HUGE_VAL, HUGE_VAL);
     return;
   }
   const Status backend = result.status;
   result.status = Status::success();
   finish(problem, options, result);
   if (result.status.ok() && !backend.ok()) result.status = backend;
+  if (nlopt_phase) end_phase(progress, result);
 }
 
 bool found_feasible(const SolveResult& r, const SolverOptions& options) {
@@ -211,10 +224,9 @@ bool found_feasible(const SolveResult& r, const SolverOptions& options) {
 // "limits.acc_max_mm_per_deg2 = 0.02 mm/deg^2 (best achievable 0.0215)"
 std::string describe(const ConflictingConstraint& c) {
   std::string s = c.key + " = " + format_value(c.limit, 6) + " " + c.unit;
-  if (std::isfinite(c.best_achievable))
-    s += " (best achievable " + format_value(c.best_achievable, 6) +
-         (c.alone_suffices ? ")" : " with this conflict's other limits; another conflict remains)");
-  else s += " (another conflict remains)";
+  if (!std::isfinite(c.best_achievable)) return s + " (another conflict remains)";
+  s += std::string(c.nearest ? " (best achievable " : " (achievable ") + format_value(c.best_achievable, 6);
+  return s + (c.alone_suffices ? ")" : " with this conflict's other limits; another conflict remains)");
   return s;
 }
 

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <utility>
 
@@ -120,9 +121,10 @@ struct Events {
 
 TEST_CASE("feasibility: 8.9 mm of peak lift, the same conflicting keys on ipopt, slsqp and global",
           "[opt][feasibility]") {
-  // on a 1 deg grid to keep the test short (the 0.5 deg set: tests/cli/optimize_cli_test.cpp)
+  // on a 2 deg grid to keep the test short: ipopt's restoration phase is long on an infeasible
+  // set (the 0.5 deg set, same keys: tests/cli/optimize_cli_test.cpp)
   Fixture f = rff_set("min_max_lift_mm = 8.9");
-  f.set.grid_step_deg = 1.0;
+  f.set.grid_step_deg = 2.0;
   std::vector<std::vector<opt::ConflictingConstraint>> found;
   double coefficient_bound = 0.0;
   for (const opt::SolverKind solver : {opt::SolverKind::ipopt, opt::SolverKind::slsqp, opt::SolverKind::global}) {
@@ -167,10 +169,11 @@ TEST_CASE("feasibility: 8.9 mm of peak lift, the same conflicting keys on ipopt,
   CHECK(lift->best_achievable < 8.9);
 
   // each best achievable value, by solving the set again (slsqp, every row) with that limit
-  // just looser: feasible, and just tighter: infeasible
+  // just looser: feasible, and (the nearest values) just tighter: infeasible
   for (const auto& c : first) {
     INFO(c.key << " = " << c.limit << " " << c.unit << ", best achievable " << c.best_achievable
-                << (c.alone_suffices ? "" : " (with the conflict's other keys only)"));
+                << (c.alone_suffices ? "" : " (with the conflict's other keys only)")
+                << (c.nearest ? "" : " (achievable, maybe not the nearest)"));
     REQUIRE(std::isfinite(c.best_achievable));
     opt::LimitSpec probe;
     REQUIRE(limit_field(probe, c.key) != nullptr);
@@ -180,7 +183,7 @@ TEST_CASE("feasibility: 8.9 mm of peak lift, the same conflicting keys on ipopt,
     const double looser = c.best_achievable + looser_side * kMargin * std::abs(c.best_achievable);
     const double tighter = c.best_achievable - looser_side * kMargin * std::abs(c.best_achievable);
     CHECK(solves_feasibly(f, with_limit(f, first, c, looser, coefficient_bound)));
-    CHECK_FALSE(solves_feasibly(f, with_limit(f, first, c, tighter, coefficient_bound)));
+    if (c.nearest) CHECK_FALSE(solves_feasibly(f, with_limit(f, first, c, tighter, coefficient_bound)));
   }
 }
 
@@ -224,7 +227,7 @@ TEST_CASE("feasibility: a feasible set gets no diagnosis, the phase on it names 
 TEST_CASE("progress: every backend reports its phases, and a throwing callback never stops a solve",
           "[opt][progress]") {
   Fixture f = rff_set("");
-  f.set.grid_step_deg = 1.0;
+  f.set.grid_step_deg = 2.0;
   opt::CamProblem p(f.design, f.set, nullptr);
   auto run = [&](opt::SolverKind solver, Events& events) {
     opt::SolverOptions so;
@@ -251,8 +254,8 @@ TEST_CASE("progress: every backend reports its phases, and a throwing callback n
     CHECK(ev.count(Event::iteration) >= 1);
     CHECK(ev.count(Event::iteration) <= r.evaluations);
     CHECK(ev.all.back().iteration == r.evaluations);
-    CHECK(ev.all.back().objective == Approx(r.final.objective).epsilon(1e-12));
-    CHECK(ev.all.back().violation <= kFeasible);
+    CHECK(ev.all.back().objective == r.final.objective);
+    CHECK(ev.all.back().violation == r.max_violation);
   }
   {
     // ipopt: a phase per working-set round, every iteration (0 included) of each
@@ -271,21 +274,31 @@ TEST_CASE("progress: every backend reports its phases, and a throwing callback n
     for (int s = 1; s <= 3; ++s)
       CHECK(ev.count(Event::end, "global start " + std::to_string(s) + " of 3 (slsqp)") == 1);
   }
-  // a callback that throws is called once and the solves go on as without it
+  // the reports never change a solve, and a callback that throws is called once: each on a
+  // fresh problem (the contact model's warm starts carry over from one solve to the next)
   for (const opt::SolverKind solver : {opt::SolverKind::ipopt, opt::SolverKind::slsqp}) {
     opt::SolverOptions so;
     so.solver = solver;
-    const opt::SolveResult quiet = opt::optimize(p, so);
+    auto solve = [&] {
+      opt::CamProblem fresh(f.design, f.set, nullptr);
+      return opt::optimize(fresh, so);
+    };
+    const opt::SolveResult quiet = solve();
+    so.progress = [](const opt::SolverProgress&) {};
+    const opt::SolveResult listened = solve();
     int calls = 0;
     so.progress = [&](const opt::SolverProgress&) {
       ++calls;
       throw std::runtime_error("progress callback");
     };
-    const opt::SolveResult loud = opt::optimize(p, so);
+    const opt::SolveResult loud = solve();
     INFO(opt::to_string(solver));
     CHECK(calls == 1);
     REQUIRE(loud.status.ok());
-    CHECK(loud.final.objective == Approx(quiet.final.objective).epsilon(1e-9));
-    CHECK(loud.iterations == quiet.iterations);
+    for (const opt::SolveResult* r : {&listened, &loud}) {
+      CHECK(r->final.objective == quiet.final.objective);
+      CHECK(r->iterations == quiet.iterations);
+      CHECK(r->evaluations == quiet.evaluations);
+    }
   }
 }

@@ -36,6 +36,11 @@ struct ConflictingConstraint {
   /// \brief best_achievable holds every other limit of the set; false: another conflict
   /// remains, and best_achievable only holds the other limits of this conflict set
   bool alone_suffices = true;
+  /// \brief best_achievable is the nearest such value; false: a value that can be achieved,
+  /// a nearer one may exist (the key's rows are normalised by different references: the
+  /// separation speed and spring margin of several contacts and springs, a flat face's Hertz
+  /// row scaled by its radius, so the least normalised slack need not be the nearest value)
+  bool nearest = true;
 };
 
 /// \brief the feasibility phase's answer
