@@ -17,6 +17,7 @@
 #include "camopt/opt/solve.hpp"
 #include "camopt/synthesis/envelope.hpp"
 #include "cli_common.hpp"
+#include "optimize_progress.hpp"
 #include "optimize_verify.hpp"
 #include "profile_exports.hpp"
 #include "target_input.hpp"
@@ -231,6 +232,7 @@ void run_optimize(const OptimizeOptions& o) {
   so.solver = opt::parse_solver(o.solver);
   so.max_iterations = o.max_iterations;
   so.starts = o.starts;
+  so.progress = make_progress_printer();
 
   std::unique_ptr<ValveTarget> target;
   if (!set.objective.target_file.empty()) {
@@ -285,12 +287,35 @@ void run_optimize(const OptimizeOptions& o) {
 
   io::OutputTransaction out(o.out_dir);
   if (result.status.code == StatusCode::infeasible || result.u.empty()) {
-    // which constraints conflict: every kind still violated at the least-infeasible design
+    // which limits conflict, from the feasibility phase (opt/feasibility.hpp): an irreducible
+    // set of the user's keys, each with the nearest value at which the other limits hold
     nlohmann::json conflicts = nlohmann::json::array();
-    if (report.contains("constraints"))
-      for (auto& [name, c] : report["constraints"].items())
-        if (!c["satisfied"].get<bool>()) conflicts.push_back(name);
+    std::string table;
+    for (const opt::ConflictingConstraint& c : result.infeasibility.conflicts) {
+      const bool known = std::isfinite(c.best_achievable);
+      conflicts.push_back({{"key", c.key},
+                           {"unit", c.unit},
+                           {"limit", c.limit},
+                           {"limit_is", c.limit_is_max ? "max" : "min"},
+                           {"best_achievable", known ? nlohmann::json(c.best_achievable) : nlohmann::json()},
+                           {"alone_suffices", c.alone_suffices},
+                           {"nearest", c.nearest}});
+      char row[240];
+      std::snprintf(row, sizeof row, "\n  %-36s %12s %-9s %15s%s%s", c.key.c_str(), format_value(c.limit, 6).c_str(),
+                    c.unit.c_str(), known ? format_value(c.best_achievable, 6).c_str() : "-",
+                    c.alone_suffices ? "" : "  (this conflict only; another remains)",
+                    c.nearest ? "" : "  (achievable, a nearer value may exist)");
+      table += row;
+    }
     report["conflicting_constraints"] = conflicts;
+    report["feasibility_phase"] = {{"ran", result.infeasibility.diagnosed},
+                                   {"elastic_slack_normalised", result.infeasibility.elastic_slack},
+                                   {"solves", result.infeasibility.solves},
+                                   {"time_s", result.infeasibility.seconds}};
+    if (!table.empty())
+      info("optimize: these limits conflict; a best achievable value is the nearest setting of that limit alone at "
+           "which every other limit can be met:\n  " +
+           std::string("key                                         limit unit      best achievable") + table);
     out.stage("report.json", report.dump(2) + "\n");
     out.commit();
     throw NumericalError(result.status);

@@ -1,6 +1,7 @@
 // Ipopt 3.11 TNLP around a CamProblem (Wächter & Biegler, Math. Prog. 106 (2006) 25-57).
 // g = (closure A u - b, inequalities); bounds [0, 0] and (-inf, 0]. no exception leaves a
-// callback: every callback catches and reports failure to Ipopt.
+// callback: every callback catches and reports failure to Ipopt. every iteration is reported
+// to SolverOptions::progress from intermediate_callback, every working-set round is a phase.
 #include <IpIpoptApplication.hpp>
 #include <IpTNLP.hpp>
 #include <algorithm>
@@ -86,8 +87,9 @@ std::vector<IpRow> pair_rows(const CamProblem& p, const Evaluation* e) {
 class CamTnlp : public Ipopt::TNLP {
  public:
   CamTnlp(CachedProblem& cache, std::vector<IpRow> all_rows, const std::vector<double>& start, double time_limit,
-          bool hessian)
+          bool hessian, ProgressReporter& progress)
       : cache_(cache),
+        progress_(progress),
         all_(std::move(all_rows)),
         x_(start),
         lambda_all_(all_.size(), 0.0),
@@ -218,9 +220,18 @@ class CamTnlp : public Ipopt::TNLP {
     return true;
   }
 
-  bool intermediate_callback(Ipopt::AlgorithmMode, Index iter, Number, Number, Number, Number, Number, Number, Number,
-                             Number, Index, const Ipopt::IpoptData*, Ipopt::IpoptCalculatedQuantities*) override {
+  // the progress report: the objective and ipopt's own primal infeasibility of the working set
+  // (inf_pr; asking ipopt for more would evaluate the problem, and the contact model's warm
+  // starts would then make the solve differ at round-off)
+  bool intermediate_callback(Ipopt::AlgorithmMode, Index iter, Number obj_value, Number inf_pr, Number, Number, Number,
+                             Number, Number, Number, Index, const Ipopt::IpoptData*,
+                             Ipopt::IpoptCalculatedQuantities*) override {
     last_iterations_ = iter;
+    if (progress_.enabled()) {
+      last_objective_ = obj_value;
+      last_violation_ = inf_pr;
+      progress_.iteration(iter, last_objective_, last_violation_, false);
+    }
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count() < time_limit_;
   }
 
@@ -229,6 +240,7 @@ class CamTnlp : public Ipopt::TNLP {
                          Ipopt::IpoptCalculatedQuantities*) override {
     status_ = status;
     iterations_ += last_iterations_;
+    round_iterations_ = last_iterations_;
     last_iterations_ = 0;
     x_.assign(x, x + n);
     z_l_.assign(z_l, z_l + n);
@@ -239,12 +251,14 @@ class CamTnlp : public Ipopt::TNLP {
   }
 
   CachedProblem& cache_;
+  ProgressReporter& progress_;
   std::vector<IpRow> all_;
   std::vector<int> working_;                  // indices into all_
   std::vector<std::pair<int, int>> pattern_;  // (working row, column)
   std::vector<double> x_, z_l_, z_u_, lambda_eq_, lambda_all_;
   Ipopt::SolverReturn status_ = Ipopt::INTERNAL_ERROR;
-  int iterations_ = 0, last_iterations_ = 0;
+  int iterations_ = 0, last_iterations_ = 0, round_iterations_ = 0;
+  double last_objective_ = 0.0, last_violation_ = 0.0;  // at the last intermediate_callback
   double time_limit_;
   bool hessian_ = false;
   std::chrono::steady_clock::time_point t0_;
@@ -339,9 +353,39 @@ bool grow_working_set(const CamProblem& p, const std::vector<IpRow>& all, const 
   return violated;
 }
 
+// ipopt's options for a run (CAMOPT_IPOPT_PRINT, CAMOPT_IPOPT_OPTIONS: its log and an options file)
+void configure(Ipopt::IpoptApplication& app, const SolverOptions& options, bool objective_hessian) {
+  app.Options()->SetIntegerValue("print_level", std::getenv("CAMOPT_IPOPT_PRINT") ? 5 : 0);
+  app.Options()->SetStringValue("sb", "yes");
+  // CAMOPT_IPOPT_PRINT: ipopt's iteration log and where its time goes (profiling)
+  if (std::getenv("CAMOPT_IPOPT_PRINT")) app.Options()->SetStringValue("print_timing_statistics", "yes");
+  app.Options()->SetStringValue("hessian_approximation", objective_hessian ? "exact" : "limited-memory");
+  app.Options()->SetNumericValue("tol", options.tolerance);
+  app.Options()->SetNumericValue("constr_viol_tol", options.constraint_tolerance);
+  app.Options()->SetNumericValue("acceptable_tol", 1e3 * options.tolerance);
+  app.Options()->SetIntegerValue("max_iter", options.max_iterations);
+  app.Options()->SetStringValue("mu_strategy", "adaptive");
+  app.Options()->SetIntegerValue("limited_memory_max_history", 20);
+  app.Options()->SetNumericValue("bound_push", 1e-6);
+  app.Options()->SetNumericValue("bound_frac", 1e-6);
+  // ipopt relaxes every bound by this times max(1, |bound|); the two-sided rows' lower bounds
+  // reach -3: the default 1e-8 would let them miss by 3e-8, past the feasibility tolerance
+  app.Options()->SetNumericValue("bound_relax_factor", 0.1 * options.constraint_tolerance);
+  if (const char* extra = std::getenv("CAMOPT_IPOPT_OPTIONS")) app.Options()->SetStringValue("option_file_name", extra);
+}
+
+// the progress phase of a working-set round
+std::string round_phase(int round, std::size_t working, std::size_t all, bool screening, bool restart) {
+  if (!screening) return "ipopt (" + std::to_string(all) + " rows)";
+  std::string phase = "ipopt round " + std::to_string(round);
+  if (restart) return phase + " (every row, from the initial design)";
+  return phase + " (" + std::to_string(working) + " of " + std::to_string(all) + " rows)";
+}
+
 }  // namespace
 
-void run_ipopt(CamProblem& problem, const SolverOptions& options, const std::vector<double>& start, SolveResult& result) {
+void run_ipopt(CamProblem& problem, const SolverOptions& options, const std::vector<double>& start, SolveResult& result,
+               ProgressReporter& progress) {
   const bool objective_hessian =
       options.ipopt_hessian == IpoptHessian::objective ||
       (options.ipopt_hessian == IpoptHessian::automatic && !problem.is_swing());
@@ -353,7 +397,7 @@ void run_ipopt(CamProblem& problem, const SolverOptions& options, const std::vec
     start_ok = false;
   }
   Ipopt::SmartPtr<CamTnlp> nlp = new CamTnlp(cache, pair_rows(problem, start_ok ? &cache.eval() : nullptr), start,
-                                             options.time_limit_s, objective_hessian);
+                                             options.time_limit_s, objective_hessian, progress);
   const bool screening = options.ipopt_screening && start_ok;
   std::vector<int> working;
   auto take_every_row = [&] {
@@ -363,23 +407,7 @@ void run_ipopt(CamProblem& problem, const SolverOptions& options, const std::vec
   if (screening) working = initial_working_set(problem, nlp->all_rows(), cache.eval());
   else take_every_row();
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
-  app->Options()->SetIntegerValue("print_level", std::getenv("CAMOPT_IPOPT_PRINT") ? 5 : 0);
-  app->Options()->SetStringValue("sb", "yes");
-  // CAMOPT_IPOPT_PRINT: ipopt's iteration log and where its time goes (profiling)
-  if (std::getenv("CAMOPT_IPOPT_PRINT")) app->Options()->SetStringValue("print_timing_statistics", "yes");
-  app->Options()->SetStringValue("hessian_approximation", objective_hessian ? "exact" : "limited-memory");
-  app->Options()->SetNumericValue("tol", options.tolerance);
-  app->Options()->SetNumericValue("constr_viol_tol", options.constraint_tolerance);
-  app->Options()->SetNumericValue("acceptable_tol", 1e3 * options.tolerance);
-  app->Options()->SetIntegerValue("max_iter", options.max_iterations);
-  app->Options()->SetStringValue("mu_strategy", "adaptive");
-  app->Options()->SetIntegerValue("limited_memory_max_history", 20);
-  app->Options()->SetNumericValue("bound_push", 1e-6);
-  app->Options()->SetNumericValue("bound_frac", 1e-6);
-  // ipopt relaxes every bound by this times max(1, |bound|); the two-sided rows' lower bounds
-  // reach -3: the default 1e-8 would let them miss by 3e-8, past the feasibility tolerance
-  app->Options()->SetNumericValue("bound_relax_factor", 0.1 * options.constraint_tolerance);
-  if (const char* extra = std::getenv("CAMOPT_IPOPT_OPTIONS")) app->Options()->SetStringValue("option_file_name", extra);
+  configure(*app, options, objective_hessian);
   if (app->Initialize() != Ipopt::Solve_Succeeded) {
     result.status = {StatusCode::no_convergence, "Ipopt could not be initialised", ""};
     return;
@@ -390,10 +418,13 @@ void run_ipopt(CamProblem& problem, const SolverOptions& options, const std::vec
     app->Options()->SetNumericValue("acceptable_tol", kFirstRoundTolerance);
   }
   int rounds = 0;
+  bool restart = false;
   for (;;) {
     nlp->set_working(working);
     ++rounds;
+    progress.begin(round_phase(rounds, working.size(), nlp->all_rows().size(), screening, restart));
     app->OptimizeTNLP(nlp);
+    progress.end(nlp->round_iterations_, nlp->last_objective_, nlp->last_violation_);
     const bool solved = nlp->status_ == Ipopt::SUCCESS || nlp->status_ == Ipopt::STOP_AT_ACCEPTABLE_POINT;
     const bool out_of_time = nlp->status_ == Ipopt::USER_REQUESTED_STOP || nlp->status_ == Ipopt::MAXITER_EXCEEDED ||
                              nlp->status_ == Ipopt::CPUTIME_EXCEEDED;
@@ -402,12 +433,14 @@ void run_ipopt(CamProblem& problem, const SolverOptions& options, const std::vec
       // the working set alone failed (locally infeasible): one solve on every row from the
       // start, so that the point reported, and its worst row, are those of the whole problem
       take_every_row();
+      restart = true;
       nlp->x_ = start;
       app->Options()->SetStringValue("warm_start_init_point", "no");
       app->Options()->SetNumericValue("tol", options.tolerance);
       app->Options()->SetNumericValue("acceptable_tol", 1e3 * options.tolerance);
       continue;
     }
+    restart = false;
     if (!screening) break;
     const bool first_loose = loose_first && rounds == 1;
     if (!first_loose && working.size() == nlp->all_rows().size()) break;

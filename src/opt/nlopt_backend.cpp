@@ -2,6 +2,9 @@
 // they are; MMA, which has no equality constraints, runs in the null space of the closure
 // (u = u_p + N z, N orthonormal, the variable bounds become linear inequalities).
 // a failed evaluation forces the run to stop (nlopt_force_stop); nothing is thrown.
+// progress is reported from the objective's callback, at most every kProgressInterval; the
+// caller ends the phase once it has evaluated the result (no evaluation here: the contact
+// model's warm starts would make the next solve differ at round-off).
 #include <nlopt.h>
 
 #include <Eigen/Dense>
@@ -16,6 +19,7 @@ namespace {
 
 struct Context {
   CachedProblem* cache = nullptr;
+  ProgressReporter* progress = nullptr;
   nlopt_opt opt = nullptr;  // the optimiser (force stop)
   bool failed = false;
   // null-space runs: u = particular + basis z
@@ -39,9 +43,17 @@ bool ok_at(Context& c, const double* x, bool gradients) {
   return ok;
 }
 
+// the objective's callback: the point's progress report, when one is due
+void report(Context& c) noexcept {
+  if (!c.progress->enabled() || !c.progress->due()) return;
+  const Evaluation& e = c.cache->eval();
+  c.progress->iteration(c.cache->evaluations(), e.objective, violation(e), true);
+}
+
 double objective(unsigned n, const double* x, double* grad, void* data) {
   Context& c = *static_cast<Context*>(data);
   if (!ok_at(c, x, grad != nullptr)) return HUGE_VAL;
+  report(c);
   const Evaluation& e = c.cache->eval();
   if (grad)
     for (unsigned j = 0; j < n; ++j) grad[j] = e.gradient(j);
@@ -86,6 +98,7 @@ const double* full_point(Context& c, const double* z) {
 double reduced_objective(unsigned nz, const double* z, double* grad, void* data) {
   Context& c = *static_cast<Context*>(data);
   if (!ok_at(c, full_point(c, z), grad != nullptr)) return HUGE_VAL;
+  report(c);
   const Evaluation& e = c.cache->eval();
   if (grad) Eigen::Map<Eigen::VectorXd>(grad, nz) = c.basis.transpose() * e.gradient;
   return e.objective;
@@ -136,12 +149,13 @@ const char* describe(nlopt_result r) {
 }  // namespace
 
 void run_nlopt(CamProblem& problem, const SolverOptions& options, SolverKind algorithm, const std::vector<double>& start,
-               SolveResult& result) {
+               SolveResult& result, ProgressReporter& progress, const std::string& phase) {
   const unsigned n = static_cast<unsigned>(problem.variables());
   const unsigned m = static_cast<unsigned>(problem.rows().size());
   CachedProblem cache(problem);
   Context ctx;
   ctx.cache = &cache;
+  ctx.progress = &progress;
 
   const unsigned neq = static_cast<unsigned>(problem.equality_matrix().rows());
   const bool reduced = algorithm == SolverKind::mma && neq > 0;
@@ -198,12 +212,14 @@ void run_nlopt(CamProblem& problem, const SolverOptions& options, SolverKind alg
   }
 
   double f = 0.0;
+  progress.begin(phase);
   const nlopt_result r = nlopt_optimize(opt, x.data(), &f);
   result.u = reduced ? std::vector<double>(full_point(ctx, x.data()), full_point(ctx, x.data()) + n) : x;
   result.evaluations = cache.evaluations();
+  const Status failure = cache.status();
   result.iterations = nlopt_get_numevals(opt);
   result.solver_message = std::string("nlopt ") + to_string(algorithm) + ": " + describe(r);
-  if (ctx.failed) result.solver_message += "; failed evaluation: " + cache.status().str();
+  if (ctx.failed) result.solver_message += "; failed evaluation: " + failure.str();
   const bool converged = r == NLOPT_SUCCESS || r == NLOPT_FTOL_REACHED || r == NLOPT_XTOL_REACHED;
   result.status = converged ? Status::success() : Status{StatusCode::no_convergence, result.solver_message, ""};
   nlopt_destroy(opt);

@@ -102,6 +102,7 @@ TEST_CASE("ipopt row screening: an infeasible set is reported at the full-row so
   opt::CamProblem p(b.design, b.set, nullptr);
   opt::SolverOptions so;
   so.solver = opt::SolverKind::ipopt;
+  so.feasibility_phase = false;  // the solvers' own points and worst rows (feasibility_test.cpp: the keys)
   const opt::SolveResult screened = opt::optimize(p, so);
   so.ipopt_screening = false;
   const opt::SolveResult full = opt::optimize(p, so);
