@@ -657,7 +657,7 @@ TEST_CASE("synthesize rejects a target with repeated or coincident angles, namin
   expect_rejected_target(c, coincident, {"target.csv:5", "the angles are too close together", "1e-06 deg apart"});
 }
 
-TEST_CASE("synthesize rejects a noisy target for interpolation, naming the row and --smooth; --smooth takes it",
+TEST_CASE("synthesize rejects a noisy target for interpolation, naming the row and --smooth, and --smooth takes it",
           "[cli][synthesize]") {
   // 9 mm cycloidal rise and fall over 240 cam deg, rows 1 deg apart, +-0.01 mm alternating on the event
   std::string text = "cam_deg,lift_mm\n";

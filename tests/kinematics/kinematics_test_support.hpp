@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -195,10 +196,17 @@ inline const Jet<3>& node_jet(const kin::Mechanism& m, const kin::Workspace& ws,
 
 inline Motion motion_of(const Jet<3>& j) { return {j.derivative(0), j.derivative(1), j.derivative(2), j.derivative(3)}; }
 
+// |kernel - reference| of one point for the compare helpers: +infinity when either is not
+// finite, so a NaN or an infinity anywhere fails the comparison (and is the worst point)
+inline double compare_error(double kernel, double reference) {
+  if (!std::isfinite(kernel) || !std::isfinite(reference)) return std::numeric_limits<double>::infinity();
+  return std::abs(kernel - reference);
+}
+
 // the compare helpers of these tests: kernel against reference over a sweep, passing when
 // the worst |kernel - reference| is within rel * (peak |reference| over the sweep) + abs;
-// a failure reports the worst point. SweepCompare: a displacement and its three derivatives
-// (kOrderRel each); ScalarCompare: one quantity.
+// a failure reports the worst point; a non-finite value fails. SweepCompare: a displacement
+// and its three derivatives (kOrderRel each); ScalarCompare: one quantity.
 class SweepCompare {
  public:
   SweepCompare(std::string name, bool angle) : name_(std::move(name)), angle_(angle) {}
@@ -218,9 +226,9 @@ class SweepCompare {
       std::size_t at = 0;
       for (const auto& o : oracle_) peak = std::max(peak, std::abs(o[ks]));
       for (std::size_t i = 0; i < driver_.size(); ++i) {
-        double err = kernel_[i][ks] - oracle_[i][ks];
-        if (k == 0 && angle_) err = oracles::wrap_angle(err);
-        if (std::abs(err) > worst) worst = std::abs(err), at = i;
+        double err = compare_error(kernel_[i][ks], oracle_[i][ks]);
+        if (k == 0 && angle_ && std::isfinite(err)) err = std::abs(oracles::wrap_angle(kernel_[i][ks] - oracle_[i][ks]));
+        if (err > worst) worst = err, at = i;
       }
       INFO(name_ << ": d^" << k << " worst error " << worst << " at driver " << driver_[at] << " (kernel "
                  << kernel_[at][ks] << ", oracle " << oracle_[at][ks] << "), peak " << peak << ", allowed "
@@ -253,7 +261,7 @@ class ScalarCompare {
     std::size_t at = 0;
     for (double o : oracle_) peak = std::max(peak, std::abs(o));
     for (std::size_t i = 0; i < driver_.size(); ++i) {
-      const double err = std::abs(kernel_[i] - oracle_[i]);
+      const double err = compare_error(kernel_[i], oracle_[i]);
       if (err > worst) worst = err, at = i;
     }
     INFO(name_ << ": worst error " << worst << " at driver " << driver_[at] << " (kernel " << kernel_[at]

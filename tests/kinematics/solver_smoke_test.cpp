@@ -3,6 +3,7 @@
 
 #include "camopt/kinematics/mechanism.hpp"
 #include "camopt/kinematics/solver.hpp"
+#include "kinematics_test_support.hpp"
 
 using namespace camopt;
 
@@ -58,4 +59,14 @@ TEST_CASE("eccentric disc with flat follower matches s = e sin(theta)", "[kinema
     CHECK(q.derivative(2) == Approx(-e * std::sin(th)).margin(1e-9));
     CHECK(q.derivative(3) == Approx(-e * std::cos(th)).margin(1e-9));
   }
+}
+
+TEST_CASE("the compare helpers fail on a value that is not finite", "[kinematics][support]") {
+  using camopt::kin_test::compare_error;
+  CHECK(compare_error(1.0, 1.25) == 0.25);
+  CHECK(std::isinf(compare_error(std::nan(""), 1.0)));
+  CHECK(std::isinf(compare_error(1.0, std::nan(""))));
+  CHECK(std::isinf(compare_error(INFINITY, INFINITY)));
+  // so the worst error over a sweep with one NaN is infinite, above any allowance
+  CHECK_FALSE(compare_error(std::nan(""), 0.0) <= 1e300);
 }
