@@ -16,6 +16,7 @@
 #include "camopt/io/design_file.hpp"
 #include "camopt/kinematics/drawing_check.hpp"
 #include "cli_common.hpp"
+#include "validators.hpp"
 #include "dynamics_setup.hpp"
 #include "flexible_summary.hpp"
 #include "modes_command.hpp"
@@ -401,7 +402,7 @@ void setup_dynamics(CLI::App& app) {
   cmd->add_option("--control", opts->control,
                   "control positions of the design's first control [deg or mm]: a value, a list or START:STOP:COUNT");
   cmd->add_option("--step", opts->step_deg, "cam angle step [cam deg] (default: the design's driver.step_deg)")
-      ->check(CLI::PositiveNumber);
+      ->check(positive_number());
   cmd->add_option("--contacts", opts->contacts,
                   "rigid: kinematically constrained inverse dynamics (mode a, exact rpm^2 scaling); compliant: "
                   "stiff separable Hertz contacts integrated in time (mode b)")

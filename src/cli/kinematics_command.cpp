@@ -12,6 +12,7 @@
 #include "camopt/kinematics/drawing_check.hpp"
 #include "camopt/kinematics/sweep.hpp"
 #include "cli_common.hpp"
+#include "validators.hpp"
 #include "range_option.hpp"
 
 namespace camopt::cli {
@@ -83,9 +84,9 @@ void setup_kinematics(CLI::App& app) {
                   "control positions of the design's first control [deg or mm]: a value, or START:STOP:COUNT "
                   "(e.g. 0:16:17)");
   cmd->add_option("--step", opts->step_deg, "driver step [cam deg] (default: the design's driver.step_deg)")
-      ->check(CLI::PositiveNumber);
+      ->check(positive_number());
   cmd->add_option("--rpm", opts->rpm, "engine speed [rpm, crankshaft]: adds SI columns (m/s, m/s^2, m/s^3, rpm)")
-      ->check(CLI::PositiveNumber);
+      ->check(positive_number());
   cmd->add_option("--outputs", opts->outputs,
                   "comma list of lift, velocity, acceleration, jerk, nodes, contacts, all "
                   "(default lift,velocity,acceleration,jerk)");

@@ -2,10 +2,12 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <exception>
+#include <string>
 
 #include "camopt/core/error.hpp"
 #include "camopt/core/process_memory.hpp"
 #include "cli_common.hpp"
+#include "validators.hpp"
 
 int main(int argc, char** argv) {
   using namespace camopt::cli;
@@ -20,7 +22,7 @@ int main(int argc, char** argv) {
   app.add_flag("-q,--quiet", global.quiet, "print nothing but errors on stderr");
   app.add_flag("-v,--verbose", global.verbose, "print solver details on stderr");
   app.add_option("--threads", global.threads, "worker threads for sweeps [count]; 0 = all cores")
-      ->check(CLI::NonNegativeNumber);
+      ->check(non_negative_number());
 
   setup_validate(app);
   setup_kinematics(app);
@@ -28,6 +30,23 @@ int main(int argc, char** argv) {
   setup_lift(app);
   setup_optimize(app);
   setup_dynamics(app);
+
+  // a first word that names no subcommand (a typo): say so, with the subcommands
+  for (int i = 1; i < argc; ++i) {
+    const std::string word = argv[i];
+    if (word == "--threads") ++i;
+    if (word.empty() || word[0] == '-') continue;
+    std::string names;
+    bool known = false;
+    for (const auto* sub : app.get_subcommands({})) {
+      known = known || sub->get_name() == word;
+      names += (names.empty() ? "" : ", ") + sub->get_name();
+    }
+    if (known) break;
+    std::fprintf(stderr, "camopt: unknown subcommand '%s' (subcommands: %s)\nRun with --help for more information.\n",
+                 word.c_str(), names.c_str());
+    return exit_usage_error;
+  }
 
   try {
     check_finite_arguments(argc, argv);
@@ -38,6 +57,10 @@ int main(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
+  } catch (const CLI::ValidationError& e) {
+    // a value out of its range: bad input, as the design and table checks
+    std::fprintf(stderr, "camopt: input error: %s\n", e.what());
+    return exit_input_error;
   } catch (const CLI::ParseError& e) {
     app.exit(e);
     return exit_usage_error;

@@ -14,6 +14,7 @@
 #include "camopt/synthesis/envelope.hpp"
 #include "camopt/synthesis/target_lift.hpp"
 #include "cli_common.hpp"
+#include "validators.hpp"
 #include "profile_exports.hpp"
 #include "target_input.hpp"
 
@@ -277,28 +278,28 @@ void setup_synthesize(CLI::App& app) {
       ->check(CLI::Range(36, 36000));
   cmd->add_flag("--smooth", opts->smooth, "smooth a measured, noisy target by least squares (residual reported)");
   cmd->add_option("--knot-spacing", opts->knot_spacing_deg, "knot spacing of the smoothing spline [cam deg]")
-      ->check(CLI::PositiveNumber);
+      ->check(positive_number());
   cmd->add_option("--wheel-radius", opts->wheel_radius_mm,
                   "grinding wheel radius [mm]: concave radii must be at least this (0: no check)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(non_negative_number());
   cmd->add_option("--target-node", opts->target_node,
                   "node whose motion the target gives (default: the valve); e.g. the swing cam, with a column "
                   "<node>_angle_deg [deg] (or <node>_disp_mm [mm]) against cam_deg|crank_deg");
   cmd->add_option("--master-radius", opts->master_radius_mm,
                   "radius of the master roller or grinding wheel of the grinding table [mm] (0: flat; default: the "
                   "follower's roller radius, or flat for a flat follower)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(non_negative_number());
   cmd->add_option("--grinding-step", opts->grinding_step_deg, "cam angle step of the grinding table [cam deg]")
       ->check(CLI::Range(0.01, 10.0));
   cmd->add_option("--closure-tolerance", opts->closure_tolerance_mm,
                   "largest lift at the ends of a partial table, or step at the seam, closed on the base circle [mm]")
-      ->check(CLI::NonNegativeNumber);
+      ->check(non_negative_number());
   cmd->add_option("--min-radius", opts->min_radius_mm, "smallest allowed radius of curvature of the cam [mm]")
-      ->check(CLI::NonNegativeNumber);
+      ->check(non_negative_number());
   cmd->add_option("--max-round-trip-error", opts->max_round_trip_error,
                   "largest error of the synthesized profile's forward kinematics against the target, else no output "
                   "and exit 4 [mm; deg for a rotational --target-node]")
-      ->check(CLI::PositiveNumber);
+      ->check(positive_number());
   cmd->callback([opts] { run_synthesize(*opts); });
 }
 

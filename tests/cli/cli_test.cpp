@@ -193,14 +193,23 @@ TEST_CASE("usage errors exit 2", "[cli]") {
       {"lift", "--out", out + "/lift.csv"},          // missing required --law
       {"dynamics", design, "--out", out},            // missing required --rpm
       {"optimize", design, "--out", out},            // missing required --constraints
-      {"--threads", "-1", "validate", design},       // value out of range
-      {"dynamics", design, "--rpm", "3000", "--out", out, "--model", "stiff"},  // not one of the choices
   };
   for (const auto& args : cases) {
     const auto r = run_camopt(args);
     INFO(r.command << "\n" << r.all());
     CHECK(r.exit_code == cli_usage_error);
     CHECK_FALSE(r.err.empty());
+  }
+  // a bad option value is an input error (README "Exit codes"), naming the option
+  const std::vector<std::vector<std::string>> values = {
+      {"--threads", "-1", "validate", design},                                  // value out of range
+      {"dynamics", design, "--rpm", "3000", "--out", out, "--model", "stiff"},  // not one of the choices
+  };
+  for (const auto& args : values) {
+    const auto r = run_camopt(args);
+    INFO(r.command << "\n" << r.all());
+    CHECK(r.exit_code == cli_input_error);
+    CHECK((r.err.find("--threads") != std::string::npos || r.err.find("--model") != std::string::npos));
   }
   CHECK(no_output(tmp / "out"));
 }

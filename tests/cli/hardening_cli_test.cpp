@@ -91,3 +91,22 @@ TEST_CASE("sweeps past the documented point limits are input errors before any a
   CHECK(r.exit_code == cli_input_error);
   CHECK(r.err.find("driver.step_deg: value 1e-300 must be >= (stop_deg - start_deg) / 1e6") != std::string::npos);
 }
+
+TEST_CASE("messages: a value out of range is an input error in a few words, a typo'd subcommand is named",
+          "[cli][hardening]") {
+  TempDir tmp;
+  const std::string rff = (source_dir() / "designs/roller_finger_follower.toml").string();
+  auto r = run_camopt({"kinematics", rff, "--step", "0", "--out", (tmp / "out").string()});
+  CHECK(r.exit_code == cli_input_error);
+  CHECK(r.err.find("--step: value 0 must be > 0") != std::string::npos);
+  CHECK(r.err.size() < 200);  // not the whole double range
+  r = run_camopt({"synthesize", (source_dir() / "designs/targets/rff_intake_lift.csv").string(), "--design", rff,
+                  "--wheel-radius", "-3", "--out", (tmp / "out").string()});
+  CHECK(r.exit_code == cli_input_error);
+  CHECK(r.err.find("--wheel-radius: value -3 must be >= 0") != std::string::npos);
+  CHECK_FALSE(fs::exists(tmp / "out"));
+  r = run_camopt({"kinematcs", rff});
+  INFO(r.all());
+  CHECK(r.exit_code == cli_usage_error);
+  CHECK(r.err.find("unknown subcommand 'kinematcs' (subcommands: validate, kinematics,") != std::string::npos);
+}
