@@ -48,7 +48,7 @@ DynamicsSetup make_setup(const DynamicsOptions& o) {
   su.model = dynamics::compile_dynamics(su.mech);
   su.rpms = parse_range("--rpm", o.rpm);
   for (double r : su.rpms)
-    if (!(r > 0)) throw InputError("--rpm: value " + std::to_string(r) + " must be > 0");
+    if (!(r > 0 && r <= 1e6)) throw InputError("--rpm: value " + format_value(r, 6) + " must be in (0, 1e6]");
   su.start = su.spec.driver.start_deg;
   su.stop = su.spec.driver.stop_deg;
   su.step = o.step_deg > 0 ? o.step_deg : su.spec.driver.step_deg;

@@ -85,8 +85,8 @@ void setup_kinematics(CLI::App& app) {
                   "(e.g. 0:16:17)");
   cmd->add_option("--step", opts->step_deg, "driver step [cam deg] (default: the design's driver.step_deg)")
       ->check(positive_number());
-  cmd->add_option("--rpm", opts->rpm, "engine speed [rpm, crankshaft]: adds SI columns (m/s, m/s^2, m/s^3, rpm)")
-      ->check(positive_number());
+  cmd->add_option("--rpm", opts->rpm, "engine speed [rpm, crankshaft], up to 1e6: adds SI columns (m/s, m/s^2, m/s^3, rpm)")
+      ->check(positive_number() & CLI::Range(0.0, 1e6));
   cmd->add_option("--outputs", opts->outputs,
                   "comma list of lift, velocity, acceleration, jerk, nodes, contacts, all "
                   "(default lift,velocity,acceleration,jerk)");

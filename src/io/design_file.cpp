@@ -228,7 +228,7 @@ class Parser {
     d.stop_deg = t.number_or("stop_deg", d.start_deg + 360.0, gt(d.start_deg, "start_deg") & le(d.start_deg + 1e6, "start_deg + 1e6"));
     d.step_deg = t.number_or("step_deg", 1.0, ge((d.stop_deg - d.start_deg) * 1e-6, "(stop_deg - start_deg) / 1e6") &
                                                   le(d.stop_deg - d.start_deg, "stop_deg - start_deg"));
-    d.crank_per_cam = t.number_or("crank_per_cam", 2.0, gt(0.0));
+    d.crank_per_cam = t.number_or("crank_per_cam", 2.0, ge(0.01) & le(100.0));
     d.where = t.where();
     return d;
   }
@@ -289,8 +289,8 @@ class Parser {
       n.control = t.string("control");
       refer(Reference::To::control, t, "control");
     }
-    n.mass_kg = t.optional_number("mass_kg", gt(0.0));
-    n.inertia_kg_mm2 = t.optional_number("inertia_kg_mm2", gt(0.0));
+    n.mass_kg = t.optional_number("mass_kg", gt(0.0) & le(1000.0));
+    n.inertia_kg_mm2 = t.optional_number("inertia_kg_mm2", gt(0.0) & le(1e9));
     n.cg_mm = t.optional_vec2("cg_mm");
     n.torsional_stiffness_Nm_per_rad = t.optional_number("torsional_stiffness_Nm_per_rad", gt(0.0));
     n.axial_stiffness_N_per_mm = t.optional_number("axial_stiffness_N_per_mm", gt(0.0));
@@ -427,7 +427,7 @@ class Parser {
     t.allow({"name", "youngs_modulus_GPa", "poisson_ratio", "density_kg_per_m3"});
     MaterialSpec m;
     m.name = t.string("name");
-    m.youngs_modulus_GPa = t.number("youngs_modulus_GPa", gt(0.0));
+    m.youngs_modulus_GPa = t.number("youngs_modulus_GPa", ge(0.001) & le(2000.0));
     m.poisson_ratio = t.number("poisson_ratio", gt(0.0) & lt(0.5));
     m.density_kg_per_m3 = t.optional_number("density_kg_per_m3", gt(0.0));
     m.where = t.where();
@@ -466,7 +466,7 @@ class Parser {
         break;
       case SurfaceShape::circle:
         s.origin_mm = t.vec2("center_mm");
-        s.radius_mm = t.number("radius_mm", gt(0.0));
+        s.radius_mm = t.number("radius_mm", ge(1e-3) & le(1e6));
         s.roller = t.boolean_or("roller", false);
         s.concave = t.boolean_or("concave", false);
         break;
@@ -620,11 +620,11 @@ class Parser {
       s.table_force_N = force.values;
     } else {
       if (!t.has("rate_N_per_mm")) t.fail("missing required key 'rate_N_per_mm' (or a 'table')");
-      s.rate_N_per_mm = t.number("rate_N_per_mm", gt(0.0));
-      s.preload_N = t.number_or("preload_N", 0.0, ge(0.0));
+      s.rate_N_per_mm = t.number("rate_N_per_mm", gt(0.0) & le(1e7));
+      s.preload_N = t.number_or("preload_N", 0.0, ge(0.0) & le(1e7));
     }
 
-    s.mass_kg = t.optional_number("mass_kg", gt(0.0));
+    s.mass_kg = t.optional_number("mass_kg", gt(0.0) & le(100.0));
     const long long surge_masses = t.integer_or("surge_masses", 0, ge(0.0));
     if (surge_masses > kMaxSurgeMasses)
       t.fail("surge_masses", "value " + std::to_string(surge_masses) + " must be <= " +

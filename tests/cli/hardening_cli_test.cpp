@@ -110,3 +110,35 @@ TEST_CASE("messages: a value out of range is an input error in a few words, a ty
   CHECK(r.exit_code == cli_usage_error);
   CHECK(r.err.find("unknown subcommand 'kinematcs' (subcommands: validate, kinematics,") != std::string::npos);
 }
+
+TEST_CASE("physical inputs past their documented ranges are input errors naming the key", "[cli][hardening]") {
+  TempDir tmp;
+  const std::string base = [] {
+    std::string t = read_file(source_dir() / "designs/bucket_tappet.toml");
+    t.replace(t.find("file = \"profiles/"), 17, "file = \"" + (source_dir() / "designs/profiles/").string());
+    return t;
+  }();
+  struct Case {
+    std::string from, to, expect;
+  };
+  const std::vector<Case> cases = {
+      {"[driver]\n", "[driver]\ncrank_per_cam = 1e-300\n", "driver.crank_per_cam: value 1e-300 must be in [0.01, 100]"},
+      {"mass_kg = 0.0573", "mass_kg = 1e308", "node[1].mass_kg: value 1e+308 must be in (0, 1000]"},
+      {"youngs_modulus_GPa = 210", "youngs_modulus_GPa = 1e308", "youngs_modulus_GPa: value 1e+308 must be in [0.001, 2000]"},
+      {"rate_N_per_mm = 40", "rate_N_per_mm = 1e300", "rate_N_per_mm: value 1e+300 must be in (0, 1e+07]"},
+  };
+  for (const auto& c : cases) {
+    std::string text = base;
+    text.replace(text.find(c.from), c.from.size(), c.to);
+    write_text(tmp / "d.toml", text);
+    const auto r = run_camopt({"validate", (tmp / "d.toml").string()});
+    INFO(r.all());
+    CHECK(r.exit_code == cli_input_error);
+    CHECK(r.err.find(c.expect) != std::string::npos);
+  }
+  const auto r = run_camopt({"dynamics", (source_dir() / "designs/bucket_tappet.toml").string(), "--model", "rigid",
+                             "--rpm", "1e300", "--out", (tmp / "out").string()});
+  CHECK(r.exit_code == cli_input_error);
+  CHECK(r.err.find("--rpm: value 1e+300 must be in (0, 1e6]") != std::string::npos);
+  CHECK_FALSE(fs::exists(tmp / "out"));
+}
