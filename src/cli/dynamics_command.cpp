@@ -423,7 +423,14 @@ void setup_dynamics(CLI::App& app) {
       ->check(CLI::Range(1e-16, 1.0));
   auto modes = std::make_shared<ModesOptions>();
   add_modes_options(*cmd, *modes);
-  cmd->callback([opts, modes] {
+  cmd->callback([opts, modes, cmd] {
+    // options the chosen model does not use
+    if (opts->model != "flexible")
+      reject_unused(*cmd, {"--revolutions", "--start", "--coil-displacements", "--rtol", "--atol"},
+                    "with --model " + opts->model + " (flexible model only)");
+    if (opts->model != "rigid") reject_unused(*cmd, {"--contacts"}, "with --model " + opts->model + " (rigid model only)");
+    if (opts->model != "modes")
+      reject_unused(*cmd, {"--cam-deg", "--release-cam"}, "with --model " + opts->model + " (--model modes only)");
     if (opts->model == "modes") {
       run_modes({opts->design, opts->out_dir, opts->control, opts->rpm, opts->flexible, *modes});
       return;

@@ -32,6 +32,8 @@ struct OutputSelection {
 
 OutputSelection parse_outputs(const std::string& list) {
   OutputSelection s;
+  if (list.empty())
+    throw InputError("--outputs: empty (allowed: lift, velocity, acceleration, jerk, nodes, contacts, all)");
   std::stringstream ss(list);
   std::string item;
   while (std::getline(ss, item, ',')) {

@@ -17,6 +17,7 @@
 #include "camopt/opt/solve.hpp"
 #include "camopt/synthesis/envelope.hpp"
 #include "cli_common.hpp"
+#include "validators.hpp"
 #include "optimize_progress.hpp"
 #include "optimize_verify.hpp"
 #include "profile_exports.hpp"
@@ -411,7 +412,10 @@ void setup_optimize(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--starts", opts->starts, "global: number of starts")->check(CLI::Range(1, 1000))->capture_default_str();
   cmd->add_flag("--verify", opts->verify, "run the optimised design through kinematics, rigid and flexible dynamics and report them");
-  cmd->callback([opts] { run_optimize(*opts); });
+  cmd->callback([opts, cmd] {
+    if (opts->solver != "global") reject_unused(*cmd, {"--starts"}, "with --solver " + opts->solver + " (global only)");
+    run_optimize(*opts);
+  });
 }
 
 }  // namespace camopt::cli

@@ -300,7 +300,10 @@ void setup_synthesize(CLI::App& app) {
                   "largest error of the synthesized profile's forward kinematics against the target, else no output "
                   "and exit 4 [mm; deg for a rotational --target-node]")
       ->check(positive_number());
-  cmd->callback([opts] { run_synthesize(*opts); });
+  cmd->callback([opts, cmd] {
+    if (!opts->smooth) reject_unused(*cmd, {"--knot-spacing"}, "without --smooth");
+    run_synthesize(*opts);
+  });
 }
 
 }  // namespace camopt::cli

@@ -3,7 +3,10 @@
 // CLI11's PositiveNumber / NonNegativeNumber, which print the whole double range
 #include <CLI/CLI.hpp>
 #include <charconv>
+#include <initializer_list>
 #include <string>
+
+#include "camopt/core/error.hpp"
 
 namespace camopt::cli {
 
@@ -22,6 +25,14 @@ inline CLI::Validator bound(bool strict, const char* name) {
 }  // namespace check
 
 inline CLI::Validator positive_number() { return check::bound(true, "POSITIVE"); }
+
+// InputError "OPTION: does nothing WHY" for any of `options` given on the command line of
+// `cmd`: an option the chosen mode ignores is a mistake, not a silent default
+inline void reject_unused(const CLI::App& cmd, std::initializer_list<const char*> options, const std::string& why) {
+  for (const char* name : options)
+    if (const CLI::Option* o = cmd.get_option_no_throw(name); o != nullptr && o->count() > 0)
+      throw InputError(std::string(name) + ": does nothing " + why);
+}
 inline CLI::Validator non_negative_number() { return check::bound(false, "NONNEGATIVE"); }
 
 }  // namespace camopt::cli

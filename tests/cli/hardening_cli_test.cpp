@@ -142,3 +142,32 @@ TEST_CASE("physical inputs past their documented ranges are input errors naming 
   CHECK(r.err.find("--rpm: value 1e+300 must be in (0, 1e6]") != std::string::npos);
   CHECK_FALSE(fs::exists(tmp / "out"));
 }
+
+TEST_CASE("an option the chosen mode ignores is an input error, not a silent default", "[cli][hardening]") {
+  TempDir tmp;
+  const std::string rff = (source_dir() / "designs/roller_finger_follower.toml").string();
+  struct Case {
+    std::vector<std::string> args;
+    std::string expect;
+  };
+  const std::vector<Case> cases = {
+      {{"dynamics", rff, "--model", "rigid", "--rpm", "3000", "--rtol", "1e-8"}, "--rtol: does nothing with --model rigid"},
+      {{"dynamics", rff, "--model", "flexible", "--rpm", "3000", "--contacts", "compliant"},
+       "--contacts: does nothing with --model flexible"},
+      {{"dynamics", rff, "--model", "rigid", "--rpm", "3000", "--cam-deg", "180"}, "--cam-deg: does nothing with --model rigid"},
+      {{"optimize", rff, "--constraints", (source_dir() / "constraints/passenger_car_intake.toml").string(), "--starts", "3"},
+       "--starts: does nothing with --solver ipopt (global only)"},
+      {{"synthesize", (source_dir() / "designs/targets/rff_intake_lift.csv").string(), "--design", rff, "--knot-spacing", "2"},
+       "--knot-spacing: does nothing without --smooth"},
+      {{"kinematics", rff, "--outputs", ""}, "--outputs: empty"},
+  };
+  for (const auto& c : cases) {
+    std::vector<std::string> args = c.args;
+    args.insert(args.end(), {"--out", (tmp / "out").string()});
+    const auto r = run_camopt(args);
+    INFO(r.command << "\n" << r.all());
+    CHECK(r.exit_code == cli_input_error);
+    CHECK(r.err.find(c.expect) != std::string::npos);
+    CHECK_FALSE(fs::exists(tmp / "out"));
+  }
+}
