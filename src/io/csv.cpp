@@ -129,9 +129,14 @@ const std::vector<double>& CsvTable::column(std::string_view name) const {
 }
 
 std::size_t CsvTable::require_one_of(const std::vector<std::string>& names, std::string_view what) const {
+  std::vector<std::size_t> found;
   for (std::size_t i = 0; i < columns.size(); ++i)
     for (const auto& name : names)
-      if (iequals(columns[i], name)) return i;
+      if (iequals(columns[i], name)) found.push_back(i);
+  if (found.size() > 1)
+    throw InputError(file + ": more than one " + std::string(what) + " column ('" + columns[found[0]] + "', '" +
+                     columns[found[1]] + "'); keep exactly one of " + join(names));
+  if (found.size() == 1) return found.front();
   throw InputError(file + ": no " + std::string(what) + " column: expected one of " + join(names) +
                    " (columns: " + join(columns) + ")");
 }

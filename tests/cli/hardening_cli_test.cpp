@@ -171,3 +171,14 @@ TEST_CASE("an option the chosen mode ignores is an input error, not a silent def
     CHECK_FALSE(fs::exists(tmp / "out"));
   }
 }
+
+TEST_CASE("a target with two lift columns is an input error naming both", "[cli][hardening]") {
+  TempDir tmp;
+  write_text(tmp / "two.csv", "cam_deg,valve_lift_mm,lift_mm\n0,0,0\n1,0.1,0.2\n2,0.2,0.4\n");
+  const auto r = run_camopt({"synthesize", (tmp / "two.csv").string(), "--design",
+                             (source_dir() / "designs/roller_finger_follower.toml").string(), "--out", (tmp / "out").string()});
+  INFO(r.all());
+  CHECK(r.exit_code == cli_input_error);
+  CHECK(r.err.find("more than one value column ('valve_lift_mm', 'lift_mm')") != std::string::npos);
+  CHECK_FALSE(fs::exists(tmp / "out"));
+}

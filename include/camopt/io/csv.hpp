@@ -18,7 +18,8 @@ struct CsvTable {
   std::optional<std::size_t> find(std::string_view column) const;  // case-insensitive
   // the column, or InputError "file: no column 'name' (columns: ...)"
   const std::vector<double>& column(std::string_view column) const;
-  // first column whose name is one of `names`, or InputError listing them
+  // the one column whose name is one of `names`; InputError listing them when there is none,
+  // or naming both when there are several (which one was meant is not for us to guess)
   std::size_t require_one_of(const std::vector<std::string>& names, std::string_view what) const;
 };
 
