@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <filesystem>
 #include <cstdlib>
 #include <thread>
 
@@ -71,6 +72,22 @@ long sweep_points(const std::string& option, double start, double stop, double s
                      " points = " + format_value(points * positions, 6) + " (at most " +
                      format_value(kMaxTotalPoints, 6) + ")");
   return static_cast<long>(points);
+}
+
+void check_inputs_outside(const std::string& out_dir, std::initializer_list<std::string> inputs,
+                          std::initializer_list<const char*> outputs) {
+  std::error_code ec;
+  const std::filesystem::path out = std::filesystem::weakly_canonical(out_dir, ec);
+  if (ec) return;
+  for (const std::string& input : inputs) {
+    if (input.empty()) continue;
+    const std::filesystem::path in = std::filesystem::weakly_canonical(input, ec);
+    bool written = false;
+    for (const char* name : outputs) written = written || in.filename() == name;
+    if (!ec && written && in.parent_path() == out)
+      throw InputError("--out: '" + out_dir + "' holds the input '" + input +
+                       "': the results would overwrite it; write them to another folder");
+  }
 }
 
 void info(const std::string& message) {

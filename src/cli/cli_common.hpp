@@ -1,6 +1,7 @@
 #pragma once
 // shared by the subcommands: exit codes, global options, progress bar, messages.
 #include <cstdio>
+#include <initializer_list>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -59,6 +60,11 @@ inline constexpr double kMaxTotalPoints = 2e7;
 // the point count of start..stop by step (both ends); InputError naming `option` above the limits
 long sweep_points(const std::string& option, double start, double stop, double step, double positions = 1,
                   const std::string& positions_option = "--control");
+
+// InputError when an input file is one of the files the run writes into its output folder
+// (`--out`): the run would overwrite its own input
+void check_inputs_outside(const std::string& out_dir, std::initializer_list<std::string> inputs,
+                          std::initializer_list<const char*> outputs);
 
 // informational output on stderr (suppressed by --quiet); results go to files / stdout
 void info(const std::string& message);

@@ -226,6 +226,8 @@ void stage_swing_outputs(io::OutputTransaction& out, const OptimizeOptions& o, c
 }
 
 void run_optimize(const OptimizeOptions& o) {
+  check_inputs_outside(o.out_dir, {o.design, o.constraints},
+                       {"lift.csv", "swing_pitch.csv", "profile.csv", "report.json", "design.toml", "profile.dxf", "grinding.csv"});
   const DesignSpec spec = io::load_design(o.design);
   opt::OptimizationSpec set = io::load_constraints(o.constraints);
   set.cam = o.cam;

@@ -99,6 +99,8 @@ void run_synthesize(const SynthesizeOptions& o) {
 
   // target: the valve lift (cam or crank degrees, explicit in the header), or the motion
   // of another node with --target-node
+  check_inputs_outside(o.out_dir, {o.design, o.target_csv},
+                       {"profile.csv", "report.json", "design.toml", "profile.dxf", "grinding.csv"});
   const io::CsvTable table = io::read_csv(o.target_csv);
   const bool valve_target = o.target_node.empty() || o.target_node == spec.output_node;
   if (valve_target && mech.nodes[mech.output_node].kind != NodeKind::translational)

@@ -182,3 +182,22 @@ TEST_CASE("a target with two lift columns is an input error naming both", "[cli]
   CHECK(r.err.find("more than one value column ('valve_lift_mm', 'lift_mm')") != std::string::npos);
   CHECK_FALSE(fs::exists(tmp / "out"));
 }
+
+TEST_CASE("synthesize and optimize refuse to overwrite their own input", "[cli][hardening]") {
+  TempDir tmp;
+  const std::string target = (source_dir() / "designs/targets/rff_intake_lift.csv").string();
+  auto r = run_camopt({"synthesize", target, "--design", (source_dir() / "designs/roller_finger_follower.toml").string(),
+                       "--out", (tmp / "o").string()});
+  REQUIRE(r.exit_code == cli_ok);
+  const std::string before = read_file(tmp / "o/design.toml");
+  r = run_camopt({"synthesize", target, "--design", (tmp / "o/design.toml").string(), "--out", (tmp / "o").string()});
+  INFO(r.all());
+  CHECK(r.exit_code == cli_input_error);
+  CHECK(r.err.find("holds the input") != std::string::npos);
+  CHECK(r.err.find("o/design.toml': the results would overwrite it") != std::string::npos);
+  CHECK(read_file(tmp / "o/design.toml") == before);
+  r = run_camopt({"optimize", (tmp / "o/design.toml").string(), "--constraints",
+                  (source_dir() / "constraints/passenger_car_intake.toml").string(), "--out", (tmp / "o").string()});
+  CHECK(r.exit_code == cli_input_error);
+  CHECK(read_file(tmp / "o/design.toml") == before);
+}
