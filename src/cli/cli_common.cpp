@@ -90,12 +90,28 @@ void check_inputs_outside(const std::string& out_dir, std::initializer_list<std:
   }
 }
 
+namespace {
+
+bool progress_line_drawn = false;  // a Progress line is on the terminal, without its newline
+
+// a message starts on a clean line: the progress line, if any, is cleared first
+void clear_progress_line() {
+  if (progress_line_drawn) std::fprintf(stderr, "\r\033[K");
+  progress_line_drawn = false;
+}
+
+}  // namespace
+
 void info(const std::string& message) {
-  if (!global_options().quiet) std::fprintf(stderr, "%s\n", message.c_str());
+  if (global_options().quiet) return;
+  clear_progress_line();
+  std::fprintf(stderr, "%s\n", message.c_str());
 }
 
 void detail(const std::string& message) {
-  if (global_options().verbose && !global_options().quiet) std::fprintf(stderr, "%s\n", message.c_str());
+  if (!global_options().verbose || global_options().quiet) return;
+  clear_progress_line();
+  std::fprintf(stderr, "%s\n", message.c_str());
 }
 
 Progress::Progress(std::string label, long total)
@@ -105,7 +121,7 @@ Progress::Progress(std::string label, long total)
 }
 
 Progress::~Progress() {
-  if (enabled_) std::fprintf(stderr, "\r\033[K");
+  if (enabled_) clear_progress_line();
 }
 
 void Progress::advance(long steps) {
@@ -119,9 +135,11 @@ void Progress::draw() {
   last_percent_ = percent;
   constexpr int width = 30;
   const int filled = width * percent / 100;
-  std::fprintf(stderr, "\r%s [%.*s%*s] %3d%%", label_.c_str(), filled, "##############################",
-               width - filled, "", percent);
+  // at 100 % the summaries and the output files are still to come: say so
+  std::fprintf(stderr, "\r\033[K%s [%.*s%*s] %3d%%%s", label_.c_str(), filled, "##############################",
+               width - filled, "", percent, percent == 100 ? ", writing the outputs ..." : "");
   std::fflush(stderr);
+  progress_line_drawn = true;
 }
 
 }  // namespace camopt::cli

@@ -5,9 +5,28 @@
 #include <string>
 
 #include "camopt/core/error.hpp"
+#include "camopt/core/printable.hpp"
 #include "camopt/core/process_memory.hpp"
 #include "cli_common.hpp"
 #include "validators.hpp"
+
+namespace {
+
+// prints "camopt: <kind><message>" with the message's control bytes and bytes that are not
+// UTF-8 escaped line by line (a message may quote a user's binary file or a file name)
+void report(const char* kind, const char* message) {
+  std::string safe;
+  for (std::string_view rest = message;;) {
+    const std::size_t end = rest.find('\n');
+    safe += camopt::printable(rest.substr(0, end), std::string::npos);
+    if (end == std::string_view::npos) break;
+    safe += '\n';
+    rest.remove_prefix(end + 1);
+  }
+  std::fprintf(stderr, "camopt: %s%s\n", kind, safe.c_str());
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   using namespace camopt::cli;
@@ -44,7 +63,7 @@ int main(int argc, char** argv) {
     }
     if (known) break;
     std::fprintf(stderr, "camopt: unknown subcommand '%s' (subcommands: %s)\nRun with --help for more information.\n",
-                 word.c_str(), names.c_str());
+                 camopt::printable(word).c_str(), names.c_str());
     return exit_usage_error;
   }
 
@@ -59,22 +78,22 @@ int main(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::ValidationError& e) {
     // a value out of its range: bad input, as the design and table checks
-    std::fprintf(stderr, "camopt: input error: %s\n", e.what());
+    report("input error: ", e.what());
     return exit_input_error;
   } catch (const CLI::ParseError& e) {
     app.exit(e);
     return exit_usage_error;
   } catch (const camopt::InputError& e) {
-    std::fprintf(stderr, "camopt: input error: %s\n", e.what());
+    report("input error: ", e.what());
     return exit_input_error;
   } catch (const VerificationFailed& e) {
-    std::fprintf(stderr, "camopt: %s\n", e.what());
+    report("", e.what());
     return exit_verification_failed;
   } catch (const camopt::NumericalError& e) {
-    std::fprintf(stderr, "camopt: numerical failure: %s\n", e.what());
+    report("numerical failure: ", e.what());
     return exit_numerical_failure;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "camopt: internal error: %s\n", e.what());
+    report("internal error: ", e.what());
     return exit_internal_error;
   }
   return exit_ok;

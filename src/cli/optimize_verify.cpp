@@ -80,6 +80,7 @@ nlohmann::json check_rigid(const kin::Mechanism& mech, const dynamics::Model& mo
 // seat bounce, no coil clash, the seating velocity and the lift loss within their limits
 nlohmann::json check_flexible(const kin::Mechanism& mech, const dynamics::Model& model, const std::vector<double>& controls,
                               const opt::OptimizationSpec& set, const std::string& at, Verdict& verdict) {
+  info("optimize --verify: " + at + "flexible model at " + fmt(set.rpm) + " rpm ...");
   dynamics::FlexibleResult fr;
   if (Status st = dynamics::run_flexible(mech, model, controls, set.rpm, 0.0, 360.0, 0.5, dynamics::FlexibleOptions{}, fr);
       !st.ok()) {

@@ -14,6 +14,16 @@ opt::RampSpec parse_ramp(const Table& t) {
   return {t.number("height_mm", ge(0.0)), t.number("length_deg", ge(0.0))};
 }
 
+// every key of the file (tables, inline tables and values) with where it was written
+void record_locations(const toml::table& table, const std::string& prefix, const Context& context,
+                      std::vector<std::pair<std::string, SourceRef>>& out) {
+  for (const auto& [key, node] : table) {
+    const std::string path = prefix.empty() ? std::string(key.str()) : prefix + "." + std::string(key.str());
+    out.emplace_back(path, context.ref(key.source(), path));
+    if (const toml::table* sub = node.as_table()) record_locations(*sub, path, context, out);
+  }
+}
+
 opt::OptimizationSpec parse(const toml::table& document, const Context& context) {
   const Table root(context, document, "");
   root.allow({"schema", "set", "event", "swing_profile", "limits", "load", "oil", "verify", "objective"});
@@ -22,6 +32,7 @@ opt::OptimizationSpec parse(const toml::table& document, const Context& context)
   opt::OptimizationSpec s;
   s.file = context.file;
   s.directory = context.directory;
+  record_locations(document, "", context, s.locations);
 
   const Table set = root.table("set");
   set.allow({"name", "description", "rpm", "grid_step_deg", "initial_max_lift_mm", "coefficient_bound_mm_per_deg2",

@@ -15,6 +15,7 @@
 #include <system_error>
 
 #include "camopt/core/error.hpp"
+#include "camopt/core/printable.hpp"
 #include "camopt/io/atomic_file.hpp"
 
 namespace camopt::io {
@@ -172,14 +173,14 @@ CsvTable parse_csv(std::string_view text, const std::string& file_name) {
         for (std::size_t j = 0; j < i; ++j)
           if (iequals(names[i], names[j]))
             throw InputError(where(file_name, line_number) + ": duplicate column name '" +
-                             std::string(names[i]) + "' (columns " + std::to_string(j + 1) + " and " +
+                             printable(names[i]) + "' (columns " + std::to_string(j + 1) + " and " +
                              std::to_string(i + 1) + ")");
         double ignored = 0.0;
         if (parse_number(names[i], ignored) == ParseOutcome::not_a_number) all_numeric = false;
       }
       if (all_numeric)
         throw InputError(where(file_name, line_number) + ": expected a header line naming the columns, found '" +
-                         std::string(line) + "'");
+                         printable(line) + "'");
       for (const auto& name : names) table.columns.emplace_back(name);
       table.values.resize(table.columns.size());
       have_header = true;
@@ -197,9 +198,9 @@ CsvTable parse_csv(std::string_view text, const std::string& file_name) {
       switch (parse_number(cells[c], value)) {
         case ParseOutcome::ok: break;
         case ParseOutcome::not_a_number:
-          throw InputError(prefix + " value '" + std::string(cells[c]) + "' is not a number");
+          throw InputError(prefix + " value '" + printable(cells[c]) + "' is not a number");
         case ParseOutcome::not_finite:
-          throw InputError(prefix + " value '" + std::string(cells[c]) + "' is not finite");
+          throw InputError(prefix + " value '" + printable(cells[c]) + "' is not finite");
       }
       table.values[c].push_back(value);
     }

@@ -21,6 +21,7 @@
 
 #include "camopt/core/design_spec.hpp"
 #include "camopt/core/error.hpp"
+#include "camopt/core/printable.hpp"
 #include "camopt/io/csv.hpp"
 
 namespace camopt::io::toml_detail {
@@ -37,7 +38,7 @@ inline std::string format_number(double value) {
   return std::string(buffer, result.ptr);
 }
 
-inline std::string quote(std::string_view s) { return "\"" + std::string(s) + "\""; }
+inline std::string quote(std::string_view s) { return "\"" + printable(s) + "\""; }
 
 inline std::string join(const Keys& items) {
   std::string out;

@@ -44,14 +44,16 @@ Quantity parse_quantity(const std::string& name, const std::string& what) {
   throw InputError(what + ": unknown quantity '" + name + "' (allowed: " + allowed + ")");
 }
 
-void validate(const OptimizationSpec& s, double crank_per_cam) {
+namespace {
+
+void validate_fields(const OptimizationSpec& s, double crank_per_cam) {
   if (s.cam == "rotational") validate(s.event);
   if (!(std::isfinite(s.grid_step_deg) && s.grid_step_deg >= 0.01 && s.grid_step_deg <= 5.0))
-    throw InputError("grid_step_deg = " + num(s.grid_step_deg) + " cam deg: must be in [0.01, 5]");
-  if (!(std::isfinite(s.rpm) && s.rpm >= 0.0)) throw InputError("rpm = " + num(s.rpm) + ": must be finite and >= 0");
+    throw InputError("set.grid_step_deg = " + num(s.grid_step_deg) + " cam deg: must be in [0.01, 5]");
+  if (!(std::isfinite(s.rpm) && s.rpm >= 0.0)) throw InputError("set.rpm = " + num(s.rpm) + ": must be finite and >= 0");
   if (!(std::isfinite(s.coefficient_bound) && s.coefficient_bound >= 0.0))
-    throw InputError("coefficient_bound_mm_per_deg2 = " + num(s.coefficient_bound) + ": must be finite and >= 0");
-  if (!(crank_per_cam > 0)) throw InputError("driver.crank_per_cam must be > 0");
+    throw InputError("set.coefficient_bound_mm_per_deg2 = " + num(s.coefficient_bound) + ": must be finite and >= 0");
+  if (!(crank_per_cam > 0)) throw InputError("the design's driver.crank_per_cam must be > 0");
   const LimitSpec& l = s.limits;
   require_positive(l.acc_max_mm_per_deg2, "limits.acc_max_mm_per_deg2", "mm/deg^2");
   if (l.acc_min_mm_per_deg2 && !(std::isfinite(*l.acc_min_mm_per_deg2) && *l.acc_min_mm_per_deg2 < 0.0))
@@ -105,7 +107,7 @@ void validate(const OptimizationSpec& s, double crank_per_cam) {
                             l.min_contact_force_N || l.min_spring_margin || l.max_cam_torque_Nm ||
                             l.min_film_thickness_um || l.min_lambda;
   if (speed_limits && !(s.rpm > 0))
-    throw InputError("rpm = " + num(s.rpm) + ": the speed-dependent limits (roller speed, sliding speed, Hertz stress, "
+    throw InputError("set.rpm = " + num(s.rpm) + ": the speed-dependent limits (roller speed, sliding speed, Hertz stress, "
                      "ramp velocities, contact force, spring margin, cam torque, film thickness) need an engine speed > 0");
   if (s.cam == "swing" && (l.max_cam_torque_Nm || l.min_film_thickness_um || l.min_lambda))
     throw InputError(std::string(l.max_cam_torque_Nm ? "limits.max_cam_torque_Nm" : l.min_film_thickness_um ? "limits.min_film_thickness_um" : "limits.min_lambda") +
@@ -133,8 +135,28 @@ void validate(const OptimizationSpec& s, double crank_per_cam) {
   if (o.target_weight > 0.0 && o.target_file.empty())
     throw InputError("objective.target_weight = " + num(o.target_weight) + " needs objective.target (a lift csv)");
   if (s.cam == "rotational" && o.target_file.empty() && !(s.initial_max_lift_mm > 0.0))
-    throw InputError("initial_max_lift_mm = " + num(s.initial_max_lift_mm) +
+    throw InputError("set.initial_max_lift_mm = " + num(s.initial_max_lift_mm) +
                      " mm: without an objective.target the initial design needs a lift > 0");
+}
+
+}  // namespace
+
+InputError located_error(const OptimizationSpec& spec, const std::string& message) {
+  const std::string key = message.substr(0, message.find_first_of(" :="));
+  for (const auto& [path, where] : spec.locations)
+    if (path == key) return InputError(SourceRef{where.file, where.line, where.column, ""}, message);
+  if (spec.file.empty()) return InputError(message);
+  const bool key_path = key.find('.') != std::string::npos && key.find('\'') == std::string::npos;
+  return InputError(spec.file + ": " + message +
+                    (key_path ? " (" + key + " is not in the file: it takes its default)" : std::string()));
+}
+
+void validate(const OptimizationSpec& s, double crank_per_cam) {
+  try {
+    validate_fields(s, crank_per_cam);
+  } catch (const InputError& e) {
+    throw located_error(s, e.what());
+  }
 }
 
 }  // namespace camopt::opt

@@ -44,7 +44,7 @@ CamProblem::CamProblem(const DesignSpec& design, const OptimizationSpec& spec, c
     : spec_(spec) {
   validate(spec_, design.driver.crank_per_cam);
   if (!spec_.controls.empty() && spec_.controls.size() != design.controls.size())
-    throw InputError("set.controls: " + std::to_string(spec_.controls.size()) + " value(s) given, but the design " +
+    throw located_error(spec_, "set.controls: " + std::to_string(spec_.controls.size()) + " value(s) given, but the design " +
                      design.file + " has " + std::to_string(design.controls.size()) +
                      " [[control]] (one value per control, in the design's order)");
   const bool swing = spec_.cam == "swing";

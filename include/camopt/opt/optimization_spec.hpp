@@ -95,6 +95,7 @@ struct VerifySpec {
 
 struct OptimizationSpec {
   std::string name, description, file, directory;
+  std::vector<std::pair<std::string, SourceRef>> locations;  // every key the file states (key path, where)
   // "rotational": the driver's cam, variables = the valve lift (event); "swing": a swing cam
   // of a VVA design, variables = its pitch curve (swing_profile), every control position
   std::string cam = "rotational";
@@ -115,6 +116,11 @@ struct OptimizationSpec {
 // InputError for the first broken rule, naming the field (as written in the file), its
 // value and the rule; contradictions (acc_min above acc_max, min above max duration, a
 // ramp faster than the seating limit ...) name both fields
+// (each error is located at its key's file:line:column, or says the key takes its default)
 void validate(const OptimizationSpec& spec, double crank_per_cam);
+
+// `message`, which starts with a key path ("limits.max_lift_mm = ..."), located at that
+// key in the set's file; a key the file does not state is named as taking its default
+InputError located_error(const OptimizationSpec& spec, const std::string& message);
 
 }  // namespace camopt::opt
