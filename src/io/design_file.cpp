@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <numbers>
 #include <filesystem>
 #include <fstream>
 #include <initializer_list>
@@ -34,6 +35,31 @@ struct Series {
   Column x, y;
   std::string source_file;  // resolved CSV path, "" when inline
 };
+
+// an xy cam profile goes once counter-clockwise around the cam centre with its polar angle
+// increasing from point to point (star-shaped): a loop, a fold or a figure eight is no cam,
+// and the contact search relies on the monotone angle
+void check_star_shaped(const Series& s) {
+  const std::vector<double>& x = s.x.values;
+  const std::vector<double>& y = s.y.values;
+  const std::size_t n = x.size();
+  const auto polar_deg = [&](std::size_t i) { return format_value(std::atan2(y[i], x[i]) * 180.0 / std::numbers::pi, 7); };
+  double turned = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t j = (i + 1) % n;
+    const double step = std::atan2(x[i] * y[j] - x[j] * y[i], x[i] * x[j] + y[i] * y[j]);
+    if (!(step > 0.0))
+      s.x.fail(s.x.refs[j], "point " + std::to_string(j + 1) + " (" + format_number(x[j]) + ", " + format_number(y[j]) +
+                                " mm) is at polar angle " + polar_deg(j) + " deg, not beyond point " +
+                                std::to_string(i + 1) + "'s " + polar_deg(i) +
+                                " deg: an xy profile runs counter-clockwise around the cam centre with its polar "
+                                "angle increasing from point to point (no loop, fold or self-intersection)");
+    turned += step;
+  }
+  if (std::abs(turned - 2.0 * std::numbers::pi) > 1e-9)
+    s.x.fail(s.x.where, "the points go " + format_number(turned / (2.0 * std::numbers::pi)) +
+                            " times around the cam centre; an xy profile goes round it once");
+}
 
 // x_csv: accepted CSV names of the x column; x_key / y_key: inline keys (y_key is also the
 // CSV name of the y column)
@@ -408,6 +434,7 @@ class Parser {
       case ProfileForm::xy: {
         const Series s = read_series(t, {"x_mm"}, "x_mm", "y_mm");
         s.x.check_min_points(6);
+        check_star_shaped(s);
         p.x_mm = s.x.values;
         p.y_mm = s.y.values;
         p.source_file = s.source_file;

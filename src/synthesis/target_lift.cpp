@@ -293,6 +293,14 @@ TargetLift fit_target_lift(std::span<const double> cam_deg, std::span<const doub
     data.push_back({cam_deg[i], y, static_cast<int>(i)});
   }
 
+  // a cam's lift is measured from its base circle: the table must come down to it
+  const auto lowest = std::min_element(data.begin(), data.end(), [](const Site& a, const Site& b) { return a.lift < b.lift; });
+  if (lowest->lift > tol)
+    throw InputError(at_row(static_cast<std::size_t>(lowest->row)) + ": the lift never comes down to the base circle: its " +
+                     "smallest value is " + fmt(lowest->lift) + " mm (at " + fmt(lowest->deg) + " cam deg), above the " +
+                     "closure tolerance " + fmt(tol) + " mm; a target is measured from the base circle (zero lift), so " +
+                     "subtract the offset (a lash or another datum) from every row");
+
   // at most one cycle; exactly one cycle repeats the first site at the end
   const double first = data.front().deg;
   const double span = data.back().deg - first;

@@ -254,6 +254,20 @@ TEST_CASE("target lift: input errors name the file, the row and the rule", "[syn
     const TargetLift t = fit_target_lift(deg, lift, lines, opt);
     CHECK(t.lift_at(0.0) == Approx(0.0).margin(kExactAbs));
   }
+  SECTION("a full cycle that never comes down to the base circle names its lowest row") {
+    std::vector<double> d2, l2;
+    std::vector<int> n2;
+    for (int i = 0; i < 360; i += 2) {  // a 0.5 mm event on 4.5 mm: the cam would have no base circle
+      d2.push_back(i);
+      l2.push_back(4.5 + cycloidal_rise_fall(i) / 18.0);
+      n2.push_back(i / 2 + 2);
+    }
+    const std::string e = error_of(d2, l2, n2, opt);
+    CHECK_THAT(e, Contains("open.csv:2: the lift never comes down to the base circle: its smallest value is 4.5 mm "
+                           "(at 0 cam deg), above the closure tolerance 0.05 mm"));
+    for (auto& y : l2) y -= 4.5;  // measured from the base circle: accepted
+    CHECK_NOTHROW(fit_target_lift(d2, l2, n2, opt));
+  }
   SECTION("a gap above the base circle") {
     std::vector<double> d2, l2;
     for (std::size_t i = 0; i < deg.size(); ++i) {
