@@ -43,7 +43,6 @@ Surface build_surface(Mechanism& m, const SurfaceSpec& s, const std::string& con
       auto it = profile_index.find(s.profile);
       if (it == profile_index.end()) fail(s.where, "unknown profile '" + s.profile + "'");
       const CamProfile& p = m.profiles[it->second];
-      out.source_profile = it->second;
       const double co = std::cos(s.orientation_deg * deg), so = std::sin(s.orientation_deg * deg);
       if (p.is_disc()) {
         // a disc (circle or eccentric) is an exact circle surface

@@ -174,10 +174,13 @@ Separation separation(const Mechanism& m, const SweepResult& r, std::size_t posi
   return out;
 }
 
-// the name of a surface for the summary: its [[profile]], or its shape
-std::string surface_name(const Mechanism& m, const Surface& sf) {
-  if (sf.source_profile >= 0) return m.profiles[sf.source_profile].name();
-  return sf.roller ? "roller" : "circle";
+// the [[profile]] a contact surface is made from (discs too), or "" (a circle, roller or face)
+const std::string& source_profile(const Mechanism& m, std::size_t connection, int side) {
+  static const std::string none;
+  if (m.spec.connections.size() != m.connections.size()) return none;  // connections follow the spec's order
+  const ConnectionSpec& cs = m.spec.connections[connection];
+  const SurfaceSpec& sf = side == 0 ? cs.surface_a : cs.surface_b;
+  return sf.shape == SurfaceShape::profile ? sf.profile : none;
 }
 
 // the radii of curvature each curved contact surface meets while its contact is closed
@@ -194,7 +197,9 @@ void contact_radii(const Mechanism& m, const SweepResult& r, std::size_t positio
       SurfaceRadii out;
       out.contact = conn.name;
       out.body = m.nodes[sf.node].name;
-      out.surface = surface_name(m, sf);
+      const std::string& profile = source_profile(m, c, side);
+      const bool cam = !profile.empty();
+      out.surface = cam ? profile : sf.roller ? "roller" : "circle";
       out.min_convex.value = inf;
       out.sharpest_concave.value = -inf;
       for (std::size_t i = 0; i < r.driver.size(); ++i) {
@@ -208,7 +213,6 @@ void contact_radii(const Mechanism& m, const SweepResult& r, std::size_t positio
       }
       if (!out.convex) out.min_convex = {};
       if (!out.concave) out.sharpest_concave = {};
-      const bool cam = sf.source_profile >= 0;
       if (cam && out.convex && (!s.have_convex_cam || out.min_convex.value < s.min_convex_cam_radius_mm)) {
         s.have_convex_cam = true;
         s.min_convex_cam_radius_mm = out.min_convex.value;

@@ -48,7 +48,6 @@ struct Surface {
   int node = -1;
   SurfaceKind kind = SurfaceKind::point;
   int profile = -1;                   // curve: index into Mechanism::profiles
-  int source_profile = -1;            // the [[profile]] it is made from (discs too), else -1
   Eigen::Vector2d origin{0, 0};       // curve: profile origin; point: centre; line: a point
   double cos_orient = 1.0, sin_orient = 0.0;  // curve: profile frame rotation
   double offset = 0.0;                // point: signed radius (< 0: concave) [mm]
