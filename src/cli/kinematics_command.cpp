@@ -106,8 +106,8 @@ void setup_kinematics(CLI::App& app) {
                   "comma list of lift, velocity, acceleration, jerk, nodes, contacts, all "
                   "(default lift,velocity,acceleration,jerk)");
   cmd->add_option("--duration-at", opts->duration_at,
-                  "lift heights for the durations in summary.json: a comma list, each in mm unless written with "
-                  "its unit, e.g. 1,0.1 or 0.040in,0.004in (deg for a rotating output node; default 1,0.1)");
+                  "lift heights for the durations in summary.json [mm, or in when written 0.040in; deg for a "
+                  "rotating output node]: a comma list, e.g. 1,0.1 (the default) or 0.040in,0.004in");
   cmd->callback([opts] {
     const auto& o = *opts;
     const OutputSelection sel = parse_outputs(o.outputs);
