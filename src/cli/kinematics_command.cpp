@@ -12,6 +12,7 @@
 #include "camopt/kinematics/drawing_check.hpp"
 #include "camopt/kinematics/sweep.hpp"
 #include "cli_common.hpp"
+#include "kinematics_summary.hpp"
 #include "validators.hpp"
 #include "range_option.hpp"
 
@@ -23,6 +24,7 @@ struct KinematicsOptions {
   std::string design, out_dir, control, outputs = "lift,velocity,acceleration,jerk";
   double step_deg = 0.0;  // 0: the design's step
   double rpm = 0.0;       // 0: no SI columns
+  std::string duration_at;  // --duration-at heights ("" : 1 and 0.1 in the output's unit)
 };
 
 struct OutputSelection {
@@ -74,6 +76,17 @@ const char* derivative_name(int k) {
 
 double radius_of(double curvature) { return std::abs(curvature) > 1e-12 ? 1.0 / curvature : 0.0; }
 
+// the summary of every control position, with durations at the chosen heights
+std::vector<kin::PositionSummary> summaries(const kin::Mechanism& mech, const kin::SweepResult& result,
+                                            const std::vector<DurationHeight>& heights) {
+  kin::SummaryOptions options;
+  options.duration_heights.clear();
+  for (const auto& h : heights) options.duration_heights.push_back(h.value);
+  std::vector<kin::PositionSummary> out;
+  for (std::size_t p = 0; p < result.positions.size(); ++p) out.push_back(kin::summarize(mech, result, p, options));
+  return out;
+}
+
 }  // namespace
 
 void setup_kinematics(CLI::App& app) {
@@ -92,12 +105,18 @@ void setup_kinematics(CLI::App& app) {
   cmd->add_option("--outputs", opts->outputs,
                   "comma list of lift, velocity, acceleration, jerk, nodes, contacts, all "
                   "(default lift,velocity,acceleration,jerk)");
+  cmd->add_option("--duration-at", opts->duration_at,
+                  "lift heights for the durations in summary.json [mm, or in when written 0.040in; deg for a "
+                  "rotating output node]: a comma list, e.g. 1,0.1 (the default) or 0.040in,0.004in");
   cmd->callback([opts] {
     const auto& o = *opts;
     const OutputSelection sel = parse_outputs(o.outputs);
     const DesignSpec spec = io::load_design(o.design);
     const kin::Mechanism mech = kin::compile(spec);
     for (const auto& note : kin::check_drawing(mech)) info(o.design + ": warning: " + note);
+    const bool output_is_angle = mech.variables[mech.nodes[mech.output_node].first_variable].is_angle;
+    const std::vector<DurationHeight> heights =
+        parse_duration_heights(o.duration_at.empty() ? "1,0.1" : o.duration_at, output_is_angle);
 
     kin::SweepSpec sweep;
     sweep.start = spec.driver.start_deg;
@@ -157,7 +176,7 @@ void setup_kinematics(CLI::App& app) {
       for (auto& c : zero.connections) c.lash_mm = 0.0;
       const kin::Mechanism mech0 = kin::compile(zero);
       kin::SweepSpec s0 = sweep;
-      s0.request = {0, false};
+      s0.request = {sweep.request.derivative_order, false};  // refined as the summary below
       s0.on_position_done = nullptr;
       const kin::SweepResult r0 = kin::sweep(mech0, s0);
       for (std::size_t p = 0; p < r0.positions.size(); ++p) {
@@ -261,51 +280,29 @@ void setup_kinematics(CLI::App& app) {
     if (o.rpm > 0) summary["engine_speed_rpm"] = o.rpm;
     summary["run_time_s"] = seconds;
     nlohmann::json positions = nlohmann::json::array();
+    const std::vector<kin::PositionSummary> position_summaries = summaries(mech, result, heights);
+    if (!o.duration_at.empty()) check_duration_heights(heights, position_summaries, output_is_angle ? "deg" : "mm");
+    const SummaryUnits summary_units{output_is_angle ? "deg" : "mm", driver_unit, sel.order,
+                                     o.rpm > 0 && mech.driver_is_angle() ? cam_deg_per_s : 0.0};
     for (std::size_t p = 0; p < result.positions.size(); ++p) {
-      const kin::PositionSummary s = kin::summarize(mech, result, p);
+      const kin::PositionSummary& s = position_summaries[p];
       const Units u{mech.variables[out_var].is_angle ? "deg" : "mm", driver_unit};
       nlohmann::json j;
       j["control_" + control_unit] = control_values[p];
       j["status"] = "ok";
-      j["max_lift_" + u.base] = s.max_lift;
-      j["max_lift_at_" + driver_unit] = s.max_lift_at;
-      j["duration_at_1mm_" + driver_unit] = s.duration_at_1mm;
-      j["duration_at_0.1mm_" + driver_unit] = s.duration_at_0p1mm;
-      j["lift_area_" + u.base + "_" + driver_unit] = s.lift_area;
-      if (sel.order >= 1) {
-        j["max_vel_" + u.derivative(1)] = s.max_velocity;
-        j["min_vel_" + u.derivative(1)] = s.min_velocity;
-      }
-      if (sel.order >= 2) {
-        j["max_acc_" + u.derivative(2)] = s.max_acceleration;
-        j["max_acc_at_" + driver_unit] = s.max_acceleration_at;
-        j["min_acc_" + u.derivative(2)] = s.min_acceleration;
-        j["min_acc_at_" + driver_unit] = s.min_acceleration_at;
-      }
-      if (sel.order >= 3) j["max_abs_jerk_" + u.derivative(3)] = s.max_jerk_abs;
-      if (s.have_contacts) {
-        j["max_pressure_angle_deg"] = s.max_pressure_angle_deg;
-        j["max_pressure_angle_at_" + driver_unit] = s.max_pressure_angle_at;
-        j["max_pressure_angle_contact"] = s.max_pressure_angle_contact;
-        j["min_cam_radius_of_curvature_mm"] = s.min_cam_radius_mm;
-        j["min_cam_radius_of_curvature_at_" + driver_unit] = s.min_cam_radius_at;
-        j["min_cam_radius_of_curvature_contact"] = s.min_cam_radius_contact;
-        j["max_roller_speed_rad_per_" + driver_unit] = s.max_roller_speed;
-        j["max_sliding_mm_per_" + driver_unit] = s.max_sliding;
-        if (o.rpm > 0) {
-          j["max_roller_speed_rpm"] = s.max_roller_speed * cam_deg_per_s * 60.0 / (2 * M_PI);
-          j["max_sliding_m_per_s"] = s.max_sliding * cam_deg_per_s * 1e-3;
-        }
-      }
-      j["separations"] = s.separations;
+      j.update(position_summary_json(s, heights, summary_units));
       if (sel.order >= 1 || sel.contacts) {
         j["max_condition_number"] = s.max_condition;
         j["near_toggle"] = s.max_condition > 1e6;
+        j["grid_values"].push_back("max_condition_number");
       }
       if (has_lash) {
         j["lift_loss_from_lash_" + u.base] = no_lash_summary[p].max_lift - s.max_lift;
         j["lift_area_loss_from_lash_" + u.base + "_" + driver_unit] = no_lash_summary[p].lift_area - s.lift_area;
       }
+      info("kinematics: " + (mech.controls.empty() ? std::string() : "control " + format_value(control_values[p], 6) +
+                                                                      " " + control_unit + ": ") +
+           position_summary_line(s, heights, summary_units));
       if (s.max_condition > 1e6)
         info("warning: near-toggle configuration (condition number " + std::to_string(s.max_condition) + " at " +
              std::to_string(s.max_condition_at) + " " + driver_unit + ")");

@@ -211,7 +211,7 @@ void stage_swing_outputs(io::OutputTransaction& out, const OptimizeOptions& o, c
       v.push_back({{"control", model.positions()[k]},
                    {"max_lift_mm", sum.max_lift},
                    {"max_pressure_angle_deg", sum.max_pressure_angle_deg},
-                   {"duration_at_1mm_deg", sum.duration_at_1mm}});
+                   {"duration_at_1mm_deg", sum.duration_at(1.0)}});
     }
     report["verify"]["kinematics"] = {
         {"positions", v}, {"max_lift_difference_mm", worst}, {"max_lift_curve_difference_mm", worst_curve}};

@@ -209,9 +209,9 @@ void verify_rotational(const DesignSpec& made, const synthesis::SynthesisResult&
                                     {"max_acceleration_mm_per_deg2", s.max_acceleration},
                                     {"min_acceleration_mm_per_deg2", s.min_acceleration},
                                     {"max_pressure_angle_deg", s.max_pressure_angle_deg},
-                                    {"min_cam_radius_of_curvature_mm", s.min_cam_radius_mm},
+                                    {"min_convex_cam_radius_mm", s.min_convex_cam_radius_mm},
                                     {"max_roller_speed_rpm", roller_rpm},
-                                    {"duration_at_1mm_deg", s.duration_at_1mm}};
+                                    {"duration_at_1mm_deg", s.duration_at(1.0)}};
   verdict.bound("kinematic", "lift of the made cam against the optimised lift", "mm", rt.max_error_mm,
                 set.verify.max_lift_error_mm, true, "cam " + fmt(rt.max_error_at_deg) + " deg");
   if (l.acc_max_mm_per_deg2)

@@ -10,6 +10,14 @@ namespace camopt::kin {
 namespace {
 constexpr double deg = std::numbers::pi / 180.0;
 
+// bit s: plan step s holds a lash gap open (steps from 63 on share bit 63)
+std::uint64_t lash_mask(const Workspace& ws) {
+  std::uint64_t mask = 0;
+  for (std::size_t s = 0; s < ws.open.size(); ++s)
+    if (ws.open[s]) mask |= std::uint64_t{1} << std::min<std::size_t>(s, 63);
+  return mask;
+}
+
 // drawing: the solved drawing to continue from (nullptr: solve() solves it itself)
 void run_position(const Mechanism& m, const SweepSpec& spec, const std::vector<double>& driver, PositionResult& out,
                   const Workspace* drawing) {
@@ -22,6 +30,8 @@ void run_position(const Mechanism& m, const SweepSpec& spec, const std::vector<d
   out.data.reserve(driver.size() * nv * 4);
   out.condition.clear();
   out.condition.reserve(driver.size());
+  out.lash_open.clear();
+  out.lash_open.reserve(driver.size());
   out.contacts.clear();
   if (spec.request.contacts) out.contacts.reserve(driver.size() * nc);
   const double unit = m.driver_is_angle() ? deg : 1.0;  // driver deg -> rad
@@ -43,29 +53,22 @@ void run_position(const Mechanism& m, const SweepSpec& spec, const std::vector<d
       for (int k = 0; k <= 3; ++k) row[v * 4 + k] = factorial[k] * ws.vars[v].c[k] * scale[v * 4 + k];
     out.data.insert(out.data.end(), row.begin(), row.end());
     out.condition.push_back(ws.max_condition);
+    out.lash_open.push_back(lash_mask(ws));
     if (spec.request.contacts) out.contacts.insert(out.contacts.end(), ws.contacts.begin(), ws.contacts.end());
   }
   out.data.resize(driver.size() * nv * 4, 0.0);
   out.condition.resize(driver.size(), 0.0);
+  out.lash_open.resize(driver.size(), 0);
   if (spec.request.contacts) out.contacts.resize(driver.size() * nc, ContactState{});
   out.stats = ws.stats;
 }
 
-// driver span where lift exceeds h, with linear interpolation at the crossings
-double duration_above(const std::vector<double>& x, const std::vector<double>& y, double h) {
-  double total = 0.0;
-  for (std::size_t i = 0; i + 1 < x.size(); ++i) {
-    const double a = y[i] - h, b = y[i + 1] - h, dx = x[i + 1] - x[i];
-    if (a >= 0 && b >= 0) total += dx;
-    else if (a >= 0 || b >= 0) total += dx * (a >= 0 ? a : b) / std::abs(a - b);
-  }
-  return total;
-}
 }  // namespace
 
 SweepResult sweep(const Mechanism& m, const SweepSpec& spec) {
   CAMOPT_ASSERT(spec.step > 0 && spec.stop >= spec.start);
   SweepResult r;
+  r.derivative_order = spec.request.derivative_order;
   const long n = std::lround((spec.stop - spec.start) / spec.step);
   for (long i = 0; i <= n; ++i) r.driver.push_back(std::min(spec.stop, spec.start + spec.step * static_cast<double>(i)));
   auto positions = spec.control_positions;
@@ -92,72 +95,6 @@ SweepResult sweep(const Mechanism& m, const SweepSpec& spec) {
   worker();
   for (auto& t : pool) t.join();
   return r;
-}
-
-PositionSummary summarize(const Mechanism& m, const SweepResult& r, std::size_t position) {
-  const PositionResult& p = r.positions[position];
-  PositionSummary s;
-  const std::size_t nv = m.variables.size(), nc = m.connections.size(), np = r.driver.size();
-  const int out = m.nodes[m.output_node].first_variable;
-  std::vector<double> lift(np);
-  for (std::size_t i = 0; i < np; ++i) lift[i] = p.at(i, nv, out, 0);
-  // lift measured from the output node's rest position
-  const double rest = m.variables[out].is_angle ? m.nodes[m.output_node].rest / deg : m.nodes[m.output_node].rest;
-  for (auto& l : lift) l -= rest;
-  s.max_lift = -1e300;
-  s.max_velocity = s.max_acceleration = -1e300;
-  s.min_velocity = s.min_acceleration = 1e300;
-  for (std::size_t i = 0; i < np; ++i) {
-    if (lift[i] > s.max_lift) s.max_lift = lift[i], s.max_lift_at = r.driver[i];
-    const double v = p.at(i, nv, out, 1), a = p.at(i, nv, out, 2), j = p.at(i, nv, out, 3);
-    s.max_velocity = std::max(s.max_velocity, v);
-    s.min_velocity = std::min(s.min_velocity, v);
-    if (a > s.max_acceleration) s.max_acceleration = a, s.max_acceleration_at = r.driver[i];
-    if (a < s.min_acceleration) s.min_acceleration = a, s.min_acceleration_at = r.driver[i];
-    s.max_jerk_abs = std::max(s.max_jerk_abs, std::abs(j));
-    if (p.condition[i] > s.max_condition) s.max_condition = p.condition[i], s.max_condition_at = r.driver[i];
-  }
-  s.duration_at_1mm = duration_above(r.driver, lift, 1.0);
-  s.duration_at_0p1mm = duration_above(r.driver, lift, 0.1);
-  for (std::size_t i = 0; i + 1 < np; ++i) s.lift_area += 0.5 * (lift[i] + lift[i + 1]) * (r.driver[i + 1] - r.driver[i]);
-  if (!p.contacts.empty()) {
-    s.have_contacts = true;
-    s.min_cam_radius_mm = 1e300;
-    const double unit = m.driver_is_angle() ? deg : 1.0;
-    for (std::size_t c = 0; c < nc; ++c) {
-      const Connection& conn = m.connections[c];
-      if (conn.kind != ConnectionKind::contact) continue;
-      double open_from = 0.0, open_span = 0.0;
-      bool was_open = false;
-      for (std::size_t i = 0; i < np; ++i) {
-        const ContactState& cs = p.contacts[i * nc + c];
-        const double pa = cs.pressure_angle / deg;
-        if (!cs.open && pa > s.max_pressure_angle_deg)
-          s.max_pressure_angle_deg = pa, s.max_pressure_angle_at = r.driver[i], s.max_pressure_angle_contact = conn.name;
-        for (int side = 0; side < 2; ++side) {
-          // cam surfaces: profiles and discs (not rollers, not flat faces)
-          const Surface& sf = side == 0 ? conn.surface_a : conn.surface_b;
-          if (sf.kind == SurfaceKind::line || (sf.kind == SurfaceKind::point && sf.roller)) continue;
-          const double k = side == 0 ? cs.curvature_a : cs.curvature_b;
-          // smallest |radius| (sign kept: negative = concave); flat points do not count
-          if (k == 0.0) continue;
-          const double radius = 1.0 / k;
-          if (std::abs(radius) < std::abs(s.min_cam_radius_mm))
-            s.min_cam_radius_mm = radius, s.min_cam_radius_at = r.driver[i], s.min_cam_radius_contact = conn.name;
-        }
-        s.max_roller_speed = std::max(s.max_roller_speed, std::abs(cs.roller_speed) * unit);
-        s.max_sliding = std::max(s.max_sliding, std::abs(cs.sliding) * unit);
-        if (cs.open && !was_open) open_from = r.driver[i];
-        if (cs.open) open_span += (i + 1 < np ? r.driver[i + 1] - r.driver[i] : 0.0);
-        was_open = cs.open;
-      }
-      (void)open_from;
-      if (open_span > 0 && conn.one_sided)
-        s.separations.push_back(conn.name + ": lash open over " + std::to_string(open_span) + " deg of the cycle");
-    }
-    if (s.min_cam_radius_mm == 1e300) s.min_cam_radius_mm = 0.0;
-  }
-  return s;
 }
 
 Status periodic_motion(const Mechanism& m, int node, const std::vector<double>& controls, double step_deg,

@@ -150,6 +150,7 @@ TEST_CASE("every subcommand's --help gives the units of its numeric options", "[
   };
   const std::vector<Expected> expected = {
       {"kinematics", "--step", "deg"},  {"kinematics", "--rpm", "rpm"}, {"kinematics", "--control", ""},
+      {"kinematics", "--duration-at", "mm"},
       {"synthesize", "--control", "deg"}, {"synthesize", "--points", "count"},
       {"lift", "--lift", "mm"},           {"lift", "--duration", "deg"},
       {"dynamics", "--rpm", "rpm"},

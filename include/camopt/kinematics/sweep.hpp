@@ -2,7 +2,10 @@
 // a kinematic sweep over the driver range at one or more control positions (solved in
 // parallel, one workspace per thread), and the per-position summary engineers read first.
 #include <atomic>
+#include <cstdint>
 #include <functional>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "camopt/core/spline.hpp"
@@ -26,6 +29,8 @@ struct PositionResult {
   std::vector<double> data;
   std::vector<ContactState> contacts;  // [point * connections + c] (request.contacts)
   std::vector<double> condition;       // largest block condition estimate per point
+  // per point: bit s set while plan step s holds a lash gap open (steps from 63 on share bit 63)
+  std::vector<std::uint64_t> lash_open;
   SolveStats stats;
 
   double at(std::size_t point, std::size_t variables, int v, int k) const { return data[(point * variables + v) * 4 + k]; }
@@ -33,31 +38,76 @@ struct PositionResult {
 
 struct SweepResult {
   std::vector<double> driver;  // [deg or mm]
+  int derivative_order = 0;    // derivatives computed at every point (Request::derivative_order)
   std::vector<PositionResult> positions;
 };
 
 SweepResult sweep(const Mechanism& mech, const SweepSpec& spec);
 
-// what a valvetrain engineer reads first, per control position
+// a value and the driver position where it occurs
+struct Extreme {
+  double value = 0, at = 0;  // the quantity, driver [deg or mm]
+};
+
+// the radius of curvature met by one surface of a contact, at the points where it touches
+struct SurfaceRadii {
+  std::string contact;  // the [[connection]]
+  std::string body;     // the node that carries the surface
+  std::string surface;  // the [[profile]] name, or "circle" / "roller"
+  bool convex = false, concave = false;  // touched where convex / concave
+  Extreme min_convex;    // smallest convex radius [mm] (> 0)
+  Extreme sharpest_concave;  // concave radius of smallest magnitude [mm] (< 0)
+};
+
+// driver span where the lift exceeds a height
+struct Duration {
+  double height = 0;  // [output unit: mm, or deg for a rotating output]
+  double span = 0;    // [driver deg or mm]
+};
+
+// a lash contact whose gap opens
+struct Separation {
+  std::string contact;
+  double open_span = 0;                              // [driver deg or mm]
+  std::vector<std::pair<double, double>> intervals;  // open from .. to [driver deg or mm]
+};
+
+struct SummaryOptions {
+  std::vector<double> duration_heights{1.0, 0.1};  // [output unit: mm, or deg for a rotating output]
+};
+
+// what a valvetrain engineer reads first, per control position. The lift and its
+// derivatives (extremes, crossings, area) are refined between the grid points on the
+// hermite interpolant of the sweep's derivatives (grid_refine.hpp) when the sweep computed
+// any (SweepResult::derivative_order > 0), except across an interval where a lash gap opens
+// or closes; the contact quantities and the condition number are grid values.
 struct PositionSummary {
+  bool refined = false;                          // lift values refined between grid points
   double max_lift = 0, max_lift_at = 0;          // output node [mm or deg], driver [deg]
-  double duration_at_1mm = 0, duration_at_0p1mm = 0;  // driver span above the height [deg]
+  std::vector<Duration> durations;               // one per SummaryOptions::duration_heights
   double lift_area = 0;                          // integral of lift over the driver [mm deg]
-  double max_velocity = 0, min_velocity = 0;     // [per driver deg]
+  double max_velocity = 0, max_velocity_at = 0, min_velocity = 0, min_velocity_at = 0;  // [per driver deg]
   double max_acceleration = 0, max_acceleration_at = 0, min_acceleration = 0, min_acceleration_at = 0;
-  double max_jerk_abs = 0;
+  double max_jerk_abs = 0, max_jerk_abs_at = 0;
   bool have_contacts = false;
   double max_pressure_angle_deg = 0, max_pressure_angle_at = 0;
   std::string max_pressure_angle_contact;
-  double min_cam_radius_mm = 0, min_cam_radius_at = 0;  // smallest radius of curvature of a cam surface
-  std::string min_cam_radius_contact;
+  std::vector<SurfaceRadii> cam_surfaces;       // every contact surface from a [[profile]]
+  std::vector<SurfaceRadii> follower_surfaces;  // every other curved surface (circles, rollers)
+  // the smallest convex radius over the cam surfaces only (never a pad or a roller)
+  bool have_convex_cam = false;
+  double min_convex_cam_radius_mm = 0, min_convex_cam_radius_at = 0;
+  std::string min_convex_cam_radius_contact;
   double max_roller_speed = 0;   // |roller spin| [rad per driver deg]
   double max_sliding = 0;        // |scrub| [mm per driver deg]
   double max_condition = 0, max_condition_at = 0;
-  std::vector<std::string> separations;  // lash contacts that open, with their open driver span
+  std::vector<Separation> separations;  // lash contacts that open
+
+  double duration_at(double height) const;  // the duration at one of the options' heights
 };
 
-PositionSummary summarize(const Mechanism& mech, const SweepResult& result, std::size_t position);
+PositionSummary summarize(const Mechanism& mech, const SweepResult& result, std::size_t position,
+                          const SummaryOptions& options = {});
 
 // the displacement of one node over one revolution of a rotational driver, interpolated
 // periodically: [driver rad] -> [rad or mm] (the node's internal unit); lash as designed.

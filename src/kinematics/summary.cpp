@@ -1,0 +1,286 @@
+// the per-position summary of a sweep: extremes, durations and area of the lift refined
+// between the grid points, lash openings, and the contacts' extremes at the grid points.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <optional>
+
+#include "camopt/kinematics/grid_refine.hpp"
+#include "camopt/kinematics/sweep.hpp"
+
+namespace camopt::kin {
+
+namespace {
+constexpr double deg = std::numbers::pi / 180.0;
+constexpr double inf = std::numeric_limits<double>::infinity();
+
+// one quantity over the grid with its derivatives, and where lash gaps open or close
+struct Series {
+  const std::vector<double>& x;             // driver [deg or mm]
+  std::vector<GridJet> f;                   // per point, per driver unit
+  const std::vector<std::uint64_t>& lash;   // per point (PositionResult::lash_open)
+  int order = 0;                            // derivatives known (0: linear between points)
+
+  std::size_t intervals() const { return x.size() - 1; }
+  // no lash gap opens or closes between points i and i + 1: the motion is smooth there
+  bool smooth(std::size_t i) const { return lash[i] == lash[i + 1]; }
+  HermiteInterval interval(std::size_t i) const { return HermiteInterval::fit(x[i], x[i + 1], f[i], f[i + 1], order); }
+};
+
+// a variable's series per driver unit, less `offset` from its value
+Series variable_series(const SweepResult& r, std::size_t position, std::size_t variables, int v, double offset) {
+  const PositionResult& p = r.positions[position];
+  Series s{r.driver, {}, p.lash_open, std::min(r.derivative_order, 3)};
+  s.f.resize(r.driver.size());
+  for (std::size_t i = 0; i < r.driver.size(); ++i) {
+    for (int k = 0; k <= 3; ++k) s.f[i][k] = k <= s.order ? p.at(i, variables, v, k) : 0.0;
+    s.f[i][0] -= offset;
+  }
+  return s;
+}
+
+struct Range {
+  Extreme max{-inf, 0}, min{inf, 0};
+  void add(double v, double at) {
+    if (v > max.value) max = {v, at};
+    if (v < min.value) min = {v, at};
+  }
+};
+
+// extremes of the k-th derivative: the grid values, and the interpolant's stationary points
+// on every smooth interval when the series has derivative k + 1 or its interpolant is of
+// higher degree than k
+Range extremes(const Series& s, int k) {
+  Range e;
+  for (std::size_t i = 0; i < s.x.size(); ++i) e.add(s.f[i][k], s.x[i]);
+  if (s.order == 0 || k > s.order) return e;
+  std::vector<double> at;
+  for (std::size_t i = 0; i < s.intervals(); ++i) {
+    if (!s.smooth(i)) continue;
+    const HermiteInterval p = s.interval(i);
+    p.stationary(k, at);
+    for (double x : at) e.add(p.derivative(k, x), x);
+  }
+  return e;
+}
+
+// on interval i, where a lash gap opens or closes: the span from the end `from_left` to the
+// first crossing of `level` by the interpolant of the smooth interval beyond that end,
+// extrapolated (error ~ 2^(n+1) h^(2n+2) f^(2n+2) / (2n+2)!: two steps out on one side, one
+// on the other)
+std::optional<double> span_to_crossing(const Series& s, std::size_t i, bool from_left, double level) {
+  if (s.order == 0) return std::nullopt;
+  const bool have = from_left ? i >= 1 && s.smooth(i - 1) : i + 2 < s.x.size() && s.smooth(i + 1);
+  if (!have) return std::nullopt;
+  const HermiteInterval p = s.interval(from_left ? i - 1 : i + 1);
+  std::vector<double> roots;
+  p.solve(0, level, s.x[i], s.x[i + 1], roots);
+  if (roots.empty()) return std::nullopt;
+  return from_left ? roots.front() - s.x[i] : s.x[i + 1] - roots.back();
+}
+
+// the span of interval i where the value is above `level`
+double span_above(const Series& s, std::size_t i, double level) {
+  const double a = s.f[i][0] - level, b = s.f[i + 1][0] - level, dx = s.x[i + 1] - s.x[i];
+  const bool above_a = a > 0, above_b = b > 0;
+  if (s.order > 0 && s.smooth(i)) {
+    // the interpolant's crossings split the interval; each piece is above or below
+    const HermiteInterval p = s.interval(i);
+    std::vector<double> cut;
+    p.solve(0, level, s.x[i], s.x[i + 1], cut);
+    cut.insert(cut.begin(), s.x[i]);
+    cut.push_back(s.x[i + 1]);
+    double span = 0.0;
+    for (std::size_t j = 0; j + 1 < cut.size(); ++j)
+      if (p.derivative(0, 0.5 * (cut[j] + cut[j + 1])) > level) span += cut[j + 1] - cut[j];
+    return span;
+  }
+  if (above_a == above_b) return above_a ? dx : 0.0;
+  // a lash gap opens or closes here: the side above the level is the moving one
+  if (const auto span = span_to_crossing(s, i, above_a, level)) return *span;
+  return dx * (above_a ? a : b) / std::abs(a - b);  // linear
+}
+
+double duration_above(const Series& s, double level) {
+  double total = 0.0;
+  for (std::size_t i = 0; i < s.intervals(); ++i) total += span_above(s, i, level);
+  return total;
+}
+
+// the integral of the interpolant; the trapezoid where a lash gap opens or closes
+double area(const Series& s) {
+  double total = 0.0;
+  for (std::size_t i = 0; i < s.intervals(); ++i)
+    total += s.order > 0 && s.smooth(i) ? s.interval(i).integral()
+                                        : 0.5 * (s.f[i][0] + s.f[i + 1][0]) * (s.x[i + 1] - s.x[i]);
+  return total;
+}
+
+// the lift's extremes and those of its derivatives (each up to the series' order)
+void lift_extremes(const Series& lift, PositionSummary& s) {
+  const Range l = extremes(lift, 0);
+  s.max_lift = l.max.value, s.max_lift_at = l.max.at;
+  if (lift.order >= 1) {
+    const Range v = extremes(lift, 1);
+    s.max_velocity = v.max.value, s.max_velocity_at = v.max.at;
+    s.min_velocity = v.min.value, s.min_velocity_at = v.min.at;
+  }
+  if (lift.order >= 2) {
+    const Range a = extremes(lift, 2);
+    s.max_acceleration = a.max.value, s.max_acceleration_at = a.max.at;
+    s.min_acceleration = a.min.value, s.min_acceleration_at = a.min.at;
+  }
+  if (lift.order >= 3) {
+    const Range j = extremes(lift, 3);
+    const bool upper = j.max.value >= -j.min.value;
+    s.max_jerk_abs = upper ? j.max.value : -j.min.value;
+    s.max_jerk_abs_at = upper ? j.max.at : j.min.at;
+  }
+}
+
+// the open spans of one lash step: the follower node is held at rest while open, so a gap
+// opens or closes where the node's motion on the closed side reaches its rest position
+Separation separation(const Mechanism& m, const SweepResult& r, std::size_t position, int step) {
+  const SolveStep& st = m.plan[step];
+  const Node& node = m.nodes[st.output_node];
+  const int v = node.first_variable;
+  const double rest = m.variables[v].is_angle ? node.rest / deg : node.rest;
+  Series s = variable_series(r, position, m.variables.size(), v, rest);
+  const std::uint64_t bit = std::uint64_t{1} << std::min(step, 63);
+  auto open = [&](std::size_t i) { return (s.lash[i] & bit) != 0; };
+  Separation out;
+  out.contact = m.connections[st.connections[0]].name;
+  double from = s.x[0];
+  for (std::size_t i = 0; i < s.intervals(); ++i) {
+    const double dx = s.x[i + 1] - s.x[i];
+    if (open(i) == open(i + 1)) {
+      if (open(i)) out.open_span += dx;
+      continue;
+    }
+    // the closed side's motion, signed to be positive there, reaches rest at the crossing
+    const bool closed_left = !open(i);
+    const std::size_t c = closed_left ? i : i + 1;
+    const double sign = s.f[c][0] < 0 ? -1.0 : 1.0;
+    Series signed_series = s;
+    for (auto& jet : signed_series.f)
+      for (double& d : jet) d *= sign;
+    const double closed = span_to_crossing(signed_series, i, closed_left, 0.0).value_or(0.5 * dx);
+    out.open_span += dx - closed;
+    if (closed_left) from = s.x[i] + closed;
+    else out.intervals.emplace_back(from, s.x[i + 1] - closed);
+  }
+  if (open(s.x.size() - 1)) out.intervals.emplace_back(from, s.x.back());
+  return out;
+}
+
+// the [[profile]] a contact surface is made from (discs too), or "" (a circle, roller or face)
+const std::string& source_profile(const Mechanism& m, std::size_t connection, int side) {
+  static const std::string none;
+  if (m.spec.connections.size() != m.connections.size()) return none;  // connections follow the spec's order
+  const ConnectionSpec& cs = m.spec.connections[connection];
+  const SurfaceSpec& sf = side == 0 ? cs.surface_a : cs.surface_b;
+  return sf.shape == SurfaceShape::profile ? sf.profile : none;
+}
+
+// the radii of curvature each curved contact surface meets while its contact is closed
+// (grid values); the cam surfaces are those made from a [[profile]]
+void contact_radii(const Mechanism& m, const SweepResult& r, std::size_t position, PositionSummary& s) {
+  const PositionResult& p = r.positions[position];
+  const std::size_t nc = m.connections.size();
+  for (std::size_t c = 0; c < nc; ++c) {
+    const Connection& conn = m.connections[c];
+    if (conn.kind != ConnectionKind::contact) continue;
+    for (int side = 0; side < 2; ++side) {
+      const Surface& sf = side == 0 ? conn.surface_a : conn.surface_b;
+      if (sf.kind == SurfaceKind::line) continue;
+      SurfaceRadii out;
+      out.contact = conn.name;
+      out.body = m.nodes[sf.node].name;
+      const std::string& profile = source_profile(m, c, side);
+      const bool cam = !profile.empty();
+      out.surface = cam ? profile : sf.roller ? "roller" : "circle";
+      out.min_convex.value = inf;
+      out.sharpest_concave.value = -inf;
+      for (std::size_t i = 0; i < r.driver.size(); ++i) {
+        const ContactState& cs = p.contacts[i * nc + c];
+        const double k = side == 0 ? cs.curvature_a : cs.curvature_b;
+        if (cs.open || k == 0.0) continue;  // flat points have no radius
+        const double radius = 1.0 / k;
+        if (radius > 0 && radius < out.min_convex.value) out.min_convex = {radius, r.driver[i]}, out.convex = true;
+        if (radius < 0 && radius > out.sharpest_concave.value)
+          out.sharpest_concave = {radius, r.driver[i]}, out.concave = true;
+      }
+      if (!out.convex) out.min_convex = {};
+      if (!out.concave) out.sharpest_concave = {};
+      if (cam && out.convex && (!s.have_convex_cam || out.min_convex.value < s.min_convex_cam_radius_mm)) {
+        s.have_convex_cam = true;
+        s.min_convex_cam_radius_mm = out.min_convex.value;
+        s.min_convex_cam_radius_at = out.min_convex.at;
+        s.min_convex_cam_radius_contact = conn.name;
+      }
+      (cam ? s.cam_surfaces : s.follower_surfaces).push_back(std::move(out));
+    }
+  }
+}
+
+// pressure angle (closed contacts), roller speed and sliding: grid values
+void contact_extremes(const Mechanism& m, const SweepResult& r, std::size_t position, PositionSummary& s) {
+  const PositionResult& p = r.positions[position];
+  const std::size_t nc = m.connections.size();
+  const double unit = m.driver_is_angle() ? deg : 1.0;
+  for (std::size_t c = 0; c < nc; ++c) {
+    const Connection& conn = m.connections[c];
+    if (conn.kind != ConnectionKind::contact) continue;
+    for (std::size_t i = 0; i < r.driver.size(); ++i) {
+      const ContactState& cs = p.contacts[i * nc + c];
+      const double pa = cs.pressure_angle / deg;
+      if (!cs.open && pa > s.max_pressure_angle_deg)
+        s.max_pressure_angle_deg = pa, s.max_pressure_angle_at = r.driver[i], s.max_pressure_angle_contact = conn.name;
+      s.max_roller_speed = std::max(s.max_roller_speed, std::abs(cs.roller_speed) * unit);
+      s.max_sliding = std::max(s.max_sliding, std::abs(cs.sliding) * unit);
+    }
+  }
+}
+}  // namespace
+
+double PositionSummary::duration_at(double height) const {
+  for (const Duration& d : durations)
+    if (d.height == height) return d.span;
+  CAMOPT_ASSERT_MSG(false, "duration_at: the height is not one of SummaryOptions::duration_heights");
+  return 0.0;
+}
+
+PositionSummary summarize(const Mechanism& m, const SweepResult& r, std::size_t position,
+                          const SummaryOptions& options) {
+  const PositionResult& p = r.positions[position];
+  PositionSummary s;
+  const std::size_t nv = m.variables.size();
+  // the output node's lift, measured from its rest position, with its derivatives
+  const Node& out = m.nodes[m.output_node];
+  const int v = out.first_variable;
+  const Series lift = variable_series(r, position, nv, v, m.variables[v].is_angle ? out.rest / deg : out.rest);
+  s.refined = lift.order > 0;
+  // extremes, durations and area of the lift
+  lift_extremes(lift, s);
+  for (double h : options.duration_heights) s.durations.push_back({h, duration_above(lift, h)});
+  s.lift_area = area(lift);
+  // the worst conditioned solve (grid value)
+  for (std::size_t i = 0; i < r.driver.size(); ++i)
+    if (p.condition[i] > s.max_condition) s.max_condition = p.condition[i], s.max_condition_at = r.driver[i];
+  // lash gaps that open
+  for (std::size_t step = 0; step < m.plan.size(); ++step) {
+    if (!m.plan[step].one_sided) continue;
+    Separation sep = separation(m, r, position, static_cast<int>(step));
+    if (sep.open_span > 0) s.separations.push_back(std::move(sep));
+  }
+  // contact quantities
+  if (!p.contacts.empty()) {
+    s.have_contacts = true;
+    contact_extremes(m, r, position, s);
+    contact_radii(m, r, position, s);
+  }
+  return s;
+}
+
+}  // namespace camopt::kin
