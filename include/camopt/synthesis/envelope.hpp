@@ -42,6 +42,9 @@ struct SynthesisOptions {
   // beyond its traced stretch keeps its convex radius >= this and >= the roller's
   double min_radius_mm = 0.0;
   std::string target_node;         // node whose motion is the target (empty: the valve, design.output_node)
+  // a swing cam whose traced stretch folds back: bisect the valve-lift target's scale for the
+  // largest that synthesizes and give it in the message (swing_remedy.hpp; ~9 more syntheses)
+  bool remedies = true;
 };
 
 struct SynthesisResult {
