@@ -275,6 +275,7 @@ void finish_from_polar(SynthesisResult& result, double wheel_radius, const std::
   if (!result.has_concave) result.min_concave_radius_mm = 0.0;
   if (result.min_radius_of_curvature_mm == 1e300) result.min_radius_of_curvature_mm = 0.0;
   result.concave_narrower_than_wheel = result.has_concave && wheel_radius > 0 && result.min_concave_radius_mm < wheel_radius;
+  result.concave_below_wheel = radius_windows(result.angle_deg, result.radius_of_curvature_mm, wheel_radius, true);
   result.base_radius_mm = *std::min_element(result.radius_mm.begin(), result.radius_mm.end());
   result.max_radius_mm = *std::max_element(result.radius_mm.begin(), result.radius_mm.end());
 }
@@ -297,6 +298,7 @@ Status swing_profile(const DesignSpec& spec, const kin::Mechanism& up, const Mec
                      const std::vector<double>& cam_rate, const std::vector<double>& valve_rate,
                      const std::vector<IdleCentre>& idle_centres, const SynthesisOptions& options,
                      SynthesisResult& result, bool& folds) {
+  // folds: the traced stretch folds back for the target's shape (not its ripple)
   (void)spec;
   if (!roller)
     throw InputError("synthesize --cam swing: the swing cam's follower must be a roller or pad (circle), not a flat face");
@@ -347,8 +349,13 @@ Status swing_profile(const DesignSpec& spec, const kin::Mechanism& up, const Mec
   const double dir = phi.back() > phi.front() ? 1.0 : -1.0;
   // the stretch must run on in polar angle: else every window where it folds back
   for (std::size_t j = 1; j < phi.size(); ++j)
-    if ((phi[j] - phi[j - 1]) * dir <= 0)
-      return folds = true, detail::swing_fold_status(env, phi, dir, run, path, theta, cam_rate, max_rate, valve_rate, radius);
+    if ((phi[j] - phi[j - 1]) * dir <= 0) {
+      bool ripple = false;
+      const Status st = detail::swing_fold_status(env, phi, dir, run, path, theta, cam_rate, max_rate, valve_rate,
+                                                  radius, ripple);
+      folds = !ripple;
+      return st;
+    }
   // radius on the traced stretch at polar angle a (quintic hermite in theta between
   // samples), with dr/da and d2r/da2 (out[0..2])
   const double h = 2 * pi / n;
@@ -724,6 +731,7 @@ Status swing_profile(const DesignSpec& spec, const kin::Mechanism& up, const Mec
     ddr[k] = table[k][3];
   }
   finish_from_polar(result, options.wheel_radius_mm, dr, ddr);
+  result.below_min_radius = radius_windows(result.angle_deg, result.radius_of_curvature_mm, options.min_radius_mm, false);
   result.profile.name = cut.profile;
   result.profile.form = ProfileForm::polar;
   result.profile.angle_deg = result.angle_deg;
@@ -1266,6 +1274,9 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
   if (result.min_radius_of_curvature_mm == 1e300) result.min_radius_of_curvature_mm = 0.0;
   result.concave_narrower_than_wheel =
       result.has_concave && options.wheel_radius_mm > 0 && result.min_concave_radius_mm < options.wheel_radius_mm;
+  result.concave_below_wheel =
+      radius_windows(result.angle_deg, result.radius_of_curvature_mm, options.wheel_radius_mm, true);
+  result.below_min_radius = radius_windows(result.angle_deg, result.radius_of_curvature_mm, options.min_radius_mm, false);
   result.base_radius_mm = extreme_radius(env, h, -1);
   result.max_radius_mm = extreme_radius(env, h, +1);
   result.profile.name = cut.profile;

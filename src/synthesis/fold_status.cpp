@@ -32,6 +32,46 @@ void path_curvature(const P2<Jet<3>>& c, double sense, double& kappa, double& sl
           3 * kappa * (x1 * x2 + y1 * y2) / speed2;
 }
 
+// [mm] valve travel over a fold window below which a fold at a slow swing is taken for ripple
+// in the target (a table's interpolation ripple, ~1e-6 mm; a ramp that lifts the valve before
+// the swing cam moves: 0.1 mm)
+constexpr double kRippleLift = 1e-3;
+
+// [deg] a target that peaks this far from where the swing cam turns back is named as mistimed
+constexpr double kPeakMismatchDeg = 0.05;
+
+// where the swing cam turns back after the opening stroke `run` (its rate changes sign) and
+// where the target peaks (its rate turns from rising to falling, the nearest such point):
+// "; it turns back at cam X deg, the target peaks at cam Z deg: in between the lift is no
+// function of the swing angle, at any scale", or empty when they are within kPeakMismatchDeg
+std::string swing_timing_text(const std::vector<int>& run, const std::vector<double>& theta,
+                              const std::vector<double>& cam_rate, const std::vector<double>& valve_rate) {
+  const int n = static_cast<int>(theta.size());
+  const double open = cam_rate[static_cast<std::size_t>(run.front())] > 0 ? 1.0 : -1.0;
+  // the zero of rate between samples i and i + 1 [sample units]
+  auto zero = [&](const std::vector<double>& rate, int i) {
+    const double a = rate[static_cast<std::size_t>(i)], b = rate[static_cast<std::size_t>((i + 1) % n)];
+    return i + (a != b ? a / (a - b) : 0.0);
+  };
+  int i = run.back();
+  for (int k = 0; k < n && cam_rate[static_cast<std::size_t>((i + 1) % n)] * open > 0; ++k) i = (i + 1) % n;
+  const double turn = zero(cam_rate, i);
+  double peak = turn;
+  for (int k = 0; k < n / 2; ++k) {
+    auto peaks = [&](int j) {
+      return valve_rate[static_cast<std::size_t>(j)] > 0 && valve_rate[static_cast<std::size_t>((j + 1) % n)] <= 0;
+    };
+    if (peaks((i + k) % n)) { peak = zero(valve_rate, (i + k) % n) + (i + k >= n ? n : 0); break; }
+    if (peaks((i - k + n) % n)) { peak = zero(valve_rate, (i - k + n) % n) - (i - k < 0 ? n : 0); break; }
+  }
+  const double step_deg = 360.0 / n;
+  if (!(std::abs(peak - turn) * step_deg > kPeakMismatchDeg)) return "";
+  auto deg = [&](double samples) { return format_value(std::fmod(samples * step_deg + 360.0, 360.0), 5); };
+  return "; it turns back at cam " + deg(turn) + " deg, but the target peaks at cam " + deg(peak) +
+         " deg: in between the lift is no function of the swing angle, at any scale (a lift must peak where the "
+         "swing cam turns back)";
+}
+
 }  // namespace
 
 Status revolution_fold_status(const std::vector<P2<Jet<2>>>& env, const std::vector<P2<Jet<3>>>& path,
@@ -73,7 +113,7 @@ Status revolution_fold_status(const std::vector<P2<Jet<2>>>& env, const std::vec
 Status swing_fold_status(const std::vector<P2<Jet<2>>>& env, const std::vector<double>& phi, double dir,
                          const std::vector<int>& run, const std::vector<P2<Jet<3>>>& path,
                          const std::vector<double>& theta, const std::vector<double>& cam_rate, double max_rate,
-                         const std::vector<double>& valve_rate, double roller_mm) {
+                         const std::vector<double>& valve_rate, double roller_mm, bool& ripple) {
   const std::size_t m = run.size();
   const double h = 2 * pi / static_cast<double>(theta.size());  // [rad] sample spacing
   FoldSamples s;
@@ -99,37 +139,50 @@ Status swing_fold_status(const std::vector<P2<Jet<2>>>& env, const std::vector<d
     if (kappa > 0) smallest_convex = std::min(smallest_convex, 1.0 / kappa);
     if (j > 0 && (phi[j] - phi[j - 1]) * dir <= 0 && first_failing == m) first_failing = j;
   }
-  // what the target asks of the swing over a window: the valve's travel against the swing
-  // cam's turn (trapezoidal sums of their rates over the window's samples)
-  s.extra = [&](const FailureWindow& w) {
-    double lift = 0.0, swing = 0.0, slowest = 1e300;
+  // what the target asks of the swing over a window and a sample either side: the valve's
+  // travel against the swing cam's turn (trapezoidal sums of their rates), and the slowest
+  // swing inside it (a fraction of the peak rate)
+  struct Travel {
+    double lift_mm = 0, swing_deg = 0, slowest = 1e300;
+  };
+  auto travel = [&](const FailureWindow& w) {
+    Travel t;
     const int from = std::max(0, w.first - 1), to = std::min(static_cast<int>(m) - 1, w.last + 1);
     for (int j = from; j <= to; ++j) {
       const auto i = static_cast<std::size_t>(run[static_cast<std::size_t>(j)]);
       if (j > from) {
         const auto before = static_cast<std::size_t>(run[static_cast<std::size_t>(j - 1)]);
-        lift += 0.5 * (valve_rate[before] + valve_rate[i]) * h;
-        swing += 0.5 * (cam_rate[before] + cam_rate[i]) * h;
+        t.lift_mm += 0.5 * (valve_rate[before] + valve_rate[i]) * h;
+        t.swing_deg += 0.5 * (cam_rate[before] + cam_rate[i]) * h / kPerDeg;
       }
-      if (j >= w.first && j <= w.last) slowest = std::min(slowest, std::abs(cam_rate[i]) / max_rate);
+      if (j >= w.first && j <= w.last) t.slowest = std::min(t.slowest, std::abs(cam_rate[i]) / max_rate);
     }
-    return "the target moves the valve " + format_value(std::abs(lift), 3) + " mm while the swing cam turns " +
-           format_value(std::abs(swing) / kPerDeg, 3) + " deg, at " + format_value(slowest, 3) +
-           " of its peak rate or more";
+    t.lift_mm = std::abs(t.lift_mm), t.swing_deg = std::abs(t.swing_deg);
+    return t;
+  };
+  s.extra = [&](const FailureWindow& w) {
+    const Travel t = travel(w);
+    return "the target moves the valve " + format_value(t.lift_mm, 3) + " mm while the swing cam turns " +
+           format_value(t.swing_deg, 3) + " deg, at " + format_value(t.slowest, 3) + " of its peak rate or more";
   };
   const FoldReport report = fold_report(s);
-  std::string message = "the synthesized swing profile folds back on itself (undercut or cusp): " + report.message;
-  // a fold where the swing barely moves (next to the ends of its stroke) is the target's own ripple
+  std::string message = "the synthesized swing profile folds back on itself (undercut or cusp): " + report.message +
+                        ". The swing cam makes the valve lift a function of its swing angle";
+  message += swing_timing_text(run, theta, cam_rate, valve_rate);
+  // a fold where the swing barely moves (next to the ends of its stroke) and the valve hardly
+  // either is the target's own ripple
   const std::size_t at = std::min(first_failing, m - 1);
   const double rate = std::abs(cam_rate[static_cast<std::size_t>(run[at])]) / max_rate;
-  if (rate < 0.05)
+  const std::vector<FailureWindow>& windows = report.cusp.empty() ? report.turn_back : report.cusp;
+  ripple = rate < 0.05 && (windows.empty() || travel(windows.front()).lift_mm < kRippleLift);
+  if (!ripple && !report.cusp.empty() && smallest_convex < roller_mm)
+    message += "; this one bends faster than the " + format_value(roller_mm, 6) + " mm roller can follow (a roller " +
+               "of radius below " + format_value(smallest_convex, 3) + " mm would)";
+  if (ripple)
     message += ". The swing cam moves at " + format_value(rate, 3) + " of its peak rate at cam " +
-               format_value(theta[static_cast<std::size_t>(run[at])] * 180 / pi, 6) + " deg: so slow a swing is where its stroke starts or ends, and a "
-               "fold there comes from ripple in the target lift; sample the target more finely, or smooth it (--smooth)";
-  else if (!report.cusp.empty() && smallest_convex < roller_mm)
-    message += ". The swing cam turns the target into a lift against the swing angle, and this one bends over "
-               "faster than the " + format_value(roller_mm, 6) + " mm roller can follow: a roller of radius below " +
-               format_value(smallest_convex, 3) + " mm would";
+               format_value(theta[static_cast<std::size_t>(run[at])] * 180 / pi, 6) + " deg: so slow a swing is where "
+               "its stroke starts or ends, and a fold there comes from ripple in the target lift; sample the target "
+               "more finely, or smooth it (--smooth)";
   return {StatusCode::undercut, message, "cam " + format_value(theta[static_cast<std::size_t>(run[at])] * 180 / pi, 6) + " deg"};
 }
 

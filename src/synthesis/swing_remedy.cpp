@@ -50,12 +50,12 @@ LiftScaleBound largest_synthesizable_scale(const DesignSpec& spec, const Periodi
 std::string swing_remedy_text(const LiftScaleBound& bound, double smallest_scale) {
   std::string s;
   if (bound.found)
-    s = "the same lift shape scaled to a peak of " + format_value(bound.scale * bound.peak_mm, 3) +
+    s = "The same lift shape scaled to a peak of " + format_value(bound.scale * bound.peak_mm, 3) +
         " mm synthesizes (at " + format_value(bound.failing_scale * bound.peak_mm, 3) +
         " mm it still fails): lower the peak lift below " + format_value(bound.failing_scale * bound.peak_mm, 3) +
         " mm";
   else
-    s = "the same lift shape scaled down to " + format_value(smallest_scale * bound.peak_mm, 3) +
+    s = "The same lift shape scaled down to " + format_value(smallest_scale * bound.peak_mm, 3) +
         " mm of peak lift still fails: its timing against the swing cam's motion, not its height, is the cause";
   return s + "; or let `camopt optimize --cam swing` find the nearest lift this mechanism can give (it designs the "
              "swing cam's pitch curve against the swing angle, so the lift is one by construction)";

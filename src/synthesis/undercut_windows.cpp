@@ -101,6 +101,19 @@ std::string describe_windows(const std::vector<FailureWindow>& windows,
   return s;
 }
 
+std::vector<FailureWindow> radius_windows(const std::vector<double>& angle_deg, const std::vector<double>& roc,
+                                          double limit, bool concave_only) {
+  if (!(limit > 0) || angle_deg.empty()) return {};
+  // the margin in curvature, continuous through an inflection (flat: curvature 0)
+  std::vector<double> margin, size;
+  for (double r : roc) {
+    const double kappa = r != 0.0 ? 1.0 / r : 0.0;
+    margin.push_back(1.0 / limit - (concave_only ? -kappa : std::abs(kappa)));
+    size.push_back(std::abs(r));
+  }
+  return failing_windows(angle_deg, margin, {}, size, true, true);
+}
+
 namespace {
 
 // how far the polar angle runs back over a window and one sample either side [deg]: the

@@ -31,6 +31,12 @@ std::vector<FailureWindow> failing_windows(std::span<const double> angle_deg, st
 std::string describe_windows(const std::vector<FailureWindow>& windows,
                              const std::function<std::string(const FailureWindow&)>& detail);
 
+// the windows of a periodic polar table (angle_deg over one turn, radius of curvature roc
+// [mm], convex > 0, 0 flat) where |roc| is below limit [mm]; concave_only: concave parts only
+// (a grinding wheel). worst: the smallest |roc| in each [mm]
+std::vector<FailureWindow> radius_windows(const std::vector<double>& angle_deg, const std::vector<double>& roc,
+                                          double limit, bool concave_only);
+
 // an envelope sampled along its tracing, for the report of where it folds back: its polar
 // angle turns back (it is not star-shaped about the profile origin) or, under a roller, its
 // centre path curves tighter than the roller (a cusp: the cam would need a negative radius)

@@ -23,10 +23,11 @@ Status revolution_fold_status(const std::vector<P2<Jet<2>>>& env, const std::vec
 // a swing cam's traced stretch: env and phi (unwrapped polar angle) along the run of sample
 // indices `run` (into path, theta, cam_rate and valve_rate, all per sample of the revolution),
 // traced in the polar sense dir; cam_rate: the swing cam's angular rate [rad/rad], peak
-// max_rate; valve_rate: the target's dL/dtheta [mm/rad]
+// max_rate; valve_rate: the target's dL/dtheta [mm/rad]. ripple: the first fold is where the
+// swing and the valve barely move (the target's own interpolation ripple, not its shape)
 Status swing_fold_status(const std::vector<P2<Jet<2>>>& env, const std::vector<double>& phi, double dir,
                          const std::vector<int>& run, const std::vector<P2<Jet<3>>>& path,
                          const std::vector<double>& theta, const std::vector<double>& cam_rate, double max_rate,
-                         const std::vector<double>& valve_rate, double roller_mm);
+                         const std::vector<double>& valve_rate, double roller_mm, bool& ripple);
 
 }  // namespace camopt::synthesis::detail
