@@ -249,11 +249,17 @@ void run_synthesize(const SynthesizeOptions& o) {
   out.stage("report.json", report.dump(2) + "\n");
   out.commit();
 
+  // each window of profile angle where a radius is too small, with the smallest there
+  auto smallest = [](const synthesis::FailureWindow& w) {
+    return "down to " + format_value(w.worst, 4) + " mm at " + format_value(w.worst_at_deg, 5) + " deg";
+  };
   if (!checks["min_radius_ok"].get<bool>())
-    info("warning: radius of curvature below the allowed " + std::to_string(o.min_radius_mm) + " mm");
+    info("warning: radius of curvature below the allowed " + std::to_string(o.min_radius_mm) + " mm in " +
+         synthesis::describe_windows(res.below_min_radius, smallest) + " of profile angle");
   if (!checks["concave_ok"].get<bool>())
     info("warning: concave radius " + std::to_string(res.min_concave_radius_mm) + " mm is below the grinding wheel "
-         "radius " + std::to_string(o.wheel_radius_mm) + " mm");
+         "radius " + std::to_string(o.wheel_radius_mm) + " mm in " +
+         synthesis::describe_windows(res.concave_below_wheel, smallest) + " of profile angle");
   info("synthesize: profile '" + res.profile.name + "' on '" + res.cam_node + "' (" + res.connection + "), base circle " +
        std::to_string(res.base_radius_mm) + " mm, min radius of curvature " +
        std::to_string(res.min_radius_of_curvature_mm) + " mm; round trip max error " +

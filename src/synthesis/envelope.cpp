@@ -16,10 +16,12 @@
 #include "camopt/kinematics/mechanism.hpp"
 #include "camopt/kinematics/solver.hpp"
 #include "camopt/kinematics/sweep.hpp"
+#include "camopt/synthesis/detail/fold_status.hpp"
 #include "camopt/synthesis/detail/hermite.hpp"
 #include "camopt/synthesis/floating_inversion.hpp"
 #include "camopt/synthesis/lever_path.hpp"
 #include "camopt/synthesis/mechanism_cut.hpp"
+#include "camopt/synthesis/swing_remedy.hpp"
 
 namespace camopt::synthesis {
 
@@ -62,10 +64,7 @@ Jet2 derivative_of(const Jet3& x) {
   return d;
 }
 
-template <class T>
-struct P2 {
-  T x, y;
-};
+using detail::P2;
 
 
 // v^1.5 [mm^3]: the denominator of a curvature from a squared speed v
@@ -276,6 +275,7 @@ void finish_from_polar(SynthesisResult& result, double wheel_radius, const std::
   if (!result.has_concave) result.min_concave_radius_mm = 0.0;
   if (result.min_radius_of_curvature_mm == 1e300) result.min_radius_of_curvature_mm = 0.0;
   result.concave_narrower_than_wheel = result.has_concave && wheel_radius > 0 && result.min_concave_radius_mm < wheel_radius;
+  result.concave_below_wheel = radius_windows(result.angle_deg, result.radius_of_curvature_mm, wheel_radius, true);
   result.base_radius_mm = *std::min_element(result.radius_mm.begin(), result.radius_mm.end());
   result.max_radius_mm = *std::max_element(result.radius_mm.begin(), result.radius_mm.end());
 }
@@ -297,7 +297,8 @@ Status swing_profile(const DesignSpec& spec, const kin::Mechanism& up, const Mec
                      const std::vector<P2<Jet3>>& normal, const std::vector<double>& theta,
                      const std::vector<double>& cam_rate, const std::vector<double>& valve_rate,
                      const std::vector<IdleCentre>& idle_centres, const SynthesisOptions& options,
-                     SynthesisResult& result) {
+                     SynthesisResult& result, bool& folds) {
+  // folds: the traced stretch folds back for the target's shape (not its ripple)
   (void)spec;
   if (!roller)
     throw InputError("synthesize --cam swing: the swing cam's follower must be a roller or pad (circle), not a flat face");
@@ -346,18 +347,14 @@ Status swing_profile(const DesignSpec& spec, const kin::Mechanism& up, const Mec
     phi.push_back(a);
   }
   const double dir = phi.back() > phi.front() ? 1.0 : -1.0;
+  // the stretch must run on in polar angle: else every window where it folds back
   for (std::size_t j = 1; j < phi.size(); ++j)
     if ((phi[j] - phi[j - 1]) * dir <= 0) {
-      // how far back, and how fast the swing cam moves there: a fold where it barely moves
-      // (next to the ends of its stroke) is the target's own ripple
-      const double rate = std::abs(cam_rate[run[j]]) / max_rate;
-      std::string message = "the synthesized swing profile folds back on itself (undercut or cusp) by " +
-                            fmt(std::abs(phi[j] - phi[j - 1]) * 180 / pi) + " deg of profile, where the swing cam moves at " +
-                            fmt(rate) + " of its peak rate";
-      if (rate < 0.05)
-        message += ": so slow a swing is where its stroke starts or ends, and a fold there comes from ripple in the "
-                   "target lift; sample the target more finely, or smooth it (--smooth)";
-      return {StatusCode::undercut, message, "cam " + fmt(theta[run[j]] * 180 / pi) + " deg"};
+      bool ripple = false;
+      const Status st = detail::swing_fold_status(env, phi, dir, run, path, theta, cam_rate, max_rate, valve_rate,
+                                                  radius, ripple);
+      folds = !ripple;
+      return st;
     }
   // radius on the traced stretch at polar angle a (quintic hermite in theta between
   // samples), with dr/da and d2r/da2 (out[0..2])
@@ -734,6 +731,7 @@ Status swing_profile(const DesignSpec& spec, const kin::Mechanism& up, const Mec
     ddr[k] = table[k][3];
   }
   finish_from_polar(result, options.wheel_radius_mm, dr, ddr);
+  result.below_min_radius = radius_windows(result.angle_deg, result.radius_of_curvature_mm, options.min_radius_mm, false);
   result.profile.name = cut.profile;
   result.profile.form = ProfileForm::polar;
   result.profile.angle_deg = result.angle_deg;
@@ -1132,8 +1130,13 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
         }
       }
     }
-    return swing_profile(spec, up, cut, cam_surface, radius, roller, path, normal, theta, cam_rate, valve_rate,
-                         idle_centres, options, result);
+    bool folds = false;
+    Status st = swing_profile(spec, up, cut, cam_surface, radius, roller, path, normal, theta, cam_rate, valve_rate,
+                              idle_centres, options, result, folds);
+    // a valve lift that folds the swing cam: how far down its scale would have to go
+    if (folds && options.remedies && options.target_node.empty())
+      st.message += ". " + swing_remedy_text(largest_synthesizable_scale(spec, lift, options));
+    return st;
   }
 
   // orientation of the traced path: +1 counter-clockwise (shoelace area)
@@ -1180,25 +1183,23 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
     result.face_offset_max_mm = face_max;
   }
 
-  // the profile must be traced monotonically in polar angle (star-shaped, no undercut)
+  // the profile must be traced monotonically in polar angle (star-shaped, no undercut), in
+  // the sense in which it winds
   std::vector<double> phi(n + 1), dphi(n);
-  double sign = 0.0;
+  double winding = 0.0;
   for (int i = 0; i < n; ++i) {
     const double x = env[i].x.value(), y = env[i].y.value();
     const double x1 = env[i].x.derivative(1), y1 = env[i].y.derivative(1);
     dphi[i] = (x * y1 - y * x1) / (x * x + y * y);
-    const double s = dphi[i] > 0 ? 1.0 : -1.0;
-    if (i == 0) sign = s;
+    winding += dphi[i];
+  }
+  const double sign = winding >= 0 ? 1.0 : -1.0;
+  bool folds = false;
+  for (int i = 0; i < n && !folds; ++i) {
     // roller: the profile runs backwards against its centre path where the centre path's
     // radius of curvature is below the roller radius (undercut, a cusp)
     const double d_env = env[i].x.derivative(1) * path[i].x.derivative(1) + env[i].y.derivative(1) * path[i].y.derivative(1);
-    if (s != sign || dphi[i] == 0.0 || (roller && d_env <= 0.0))
-      return {StatusCode::undercut,
-              "the synthesized profile folds back on itself (undercut or cusp): " +
-                  std::string(roller ? "the cam would need a radius of curvature smaller than 0 where the roller's "
-                                       "centre path curves tighter than the roller radius"
-                                     : "the flat face envelope is not star-shaped about the cam pivot"),
-              "cam " + fmt(theta[i] * 180 / pi) + " deg"};
+    folds = !(dphi[i] * sign > 0) || (roller && d_env <= 0.0);
   }
   phi[0] = std::atan2(env[0].y.value(), env[0].x.value());
   for (int i = 1; i <= n; ++i) {
@@ -1207,6 +1208,8 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
     a += 2 * pi * std::round((phi[i - 1] - a) / (2 * pi));
     phi[i] = a;
   }
+  // every window where it folds, with the worst value in each
+  if (folds) return detail::revolution_fold_status(env, path, phi, sign, orient, roller ? radius : -1.0);
   if (std::abs(std::abs(phi[n] - phi[0]) - 2 * pi) > 1e-6)
     return {StatusCode::undercut, "the synthesized profile does not wind once around the cam pivot", "whole revolution"};
 
@@ -1271,6 +1274,9 @@ Status synthesize(const DesignSpec& spec, const PeriodicSpline& lift, const Synt
   if (result.min_radius_of_curvature_mm == 1e300) result.min_radius_of_curvature_mm = 0.0;
   result.concave_narrower_than_wheel =
       result.has_concave && options.wheel_radius_mm > 0 && result.min_concave_radius_mm < options.wheel_radius_mm;
+  result.concave_below_wheel =
+      radius_windows(result.angle_deg, result.radius_of_curvature_mm, options.wheel_radius_mm, true);
+  result.below_min_radius = radius_windows(result.angle_deg, result.radius_of_curvature_mm, options.min_radius_mm, false);
   result.base_radius_mm = extreme_radius(env, h, -1);
   result.max_radius_mm = extreme_radius(env, h, +1);
   result.profile.name = cut.profile;

@@ -23,6 +23,7 @@
 #include "camopt/core/design_spec.hpp"
 #include "camopt/core/error.hpp"
 #include "camopt/core/spline.hpp"
+#include "camopt/synthesis/undercut_windows.hpp"
 
 namespace camopt::synthesis {
 
@@ -42,6 +43,9 @@ struct SynthesisOptions {
   // beyond its traced stretch keeps its convex radius >= this and >= the roller's
   double min_radius_mm = 0.0;
   std::string target_node;         // node whose motion is the target (empty: the valve, design.output_node)
+  // a swing cam whose traced stretch folds back: bisect the valve-lift target's scale for the
+  // largest that synthesizes and give it in the message (swing_remedy.hpp; ~9 more syntheses)
+  bool remedies = true;
 };
 
 struct SynthesisResult {
@@ -53,6 +57,9 @@ struct SynthesisResult {
   bool has_concave = false;
   double min_concave_radius_mm = 0, min_concave_radius_at_deg = 0;  // smallest |radius| of concave parts
   bool concave_narrower_than_wheel = false;
+  // where a concave radius is below the grinding wheel's, and where |radius of curvature| is
+  // below options.min_radius_mm: windows in profile angle [deg], worst the smallest |radius| [mm]
+  std::vector<FailureWindow> concave_below_wheel, below_min_radius;
   double face_offset_min_mm = 0, face_offset_max_mm = 0;  // flat face: contact offset along the face
   int upstream_solves = 0;  // work: kinematic solves of a cam that is not the driver (1 per deg where it moves)
   std::vector<std::string> notes;
