@@ -74,8 +74,12 @@ long sweep_points(const std::string& option, double start, double stop, double s
   return static_cast<long>(points);
 }
 
+io::OutputTransaction open_outputs(const std::string& out_dir, const std::vector<std::string>& outputs) {
+  return io::OutputTransaction(out_dir, outputs, [](const std::string& message) { info(message); });
+}
+
 void check_inputs_outside(const std::string& out_dir, std::initializer_list<std::string> inputs,
-                          std::initializer_list<const char*> outputs) {
+                          const std::vector<std::string>& outputs) {
   std::error_code ec;
   const std::filesystem::path out = std::filesystem::weakly_canonical(out_dir, ec);
   if (ec) return;
@@ -83,7 +87,7 @@ void check_inputs_outside(const std::string& out_dir, std::initializer_list<std:
     if (input.empty()) continue;
     const std::filesystem::path in = std::filesystem::weakly_canonical(input, ec);
     bool written = false;
-    for (const char* name : outputs) written = written || in.filename() == name;
+    for (const std::string& name : outputs) written = written || in.filename() == name;
     if (!ec && written && in.parent_path() == out)
       throw InputError("--out: '" + out_dir + "' holds the input '" + input +
                        "': the results would overwrite it; write them to another folder");

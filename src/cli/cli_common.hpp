@@ -5,6 +5,9 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <vector>
+
+#include "camopt/io/atomic_file.hpp"
 
 namespace CLI {
 class App;
@@ -61,10 +64,24 @@ inline constexpr double kMaxTotalPoints = 2e7;
 long sweep_points(const std::string& option, double start, double stop, double step, double positions = 1,
                   const std::string& positions_option = "--control");
 
+// every file a folder command may write into its --out folder: a run that succeeds removes
+// the files of its list it did not write (a previous run's), and never any other file
+inline const std::vector<std::string> kKinematicsOutputs = {"kinematics.csv", "summary.json"};
+inline const std::vector<std::string> kDynamicsOutputs = {"dynamics.csv", "modes.csv", "summary.json"};
+inline const std::vector<std::string> kSynthesizeOutputs = {"profile.csv", "report.json", "design.toml",
+                                                            "profile.dxf", "grinding.csv"};
+inline const std::vector<std::string> kOptimizeOutputs = {"lift.csv",    "swing_pitch.csv", "profile.csv",
+                                                          "report.json", "design.toml",     "profile.dxf",
+                                                          "grinding.csv"};
+
+// the output set of a run into `out_dir` (one of the lists above), the folder locked
+// against other camopt runs; a run that has to wait says so on stderr
+io::OutputTransaction open_outputs(const std::string& out_dir, const std::vector<std::string>& outputs);
+
 // InputError when an input file is one of the files the run writes into its output folder
 // (`--out`): the run would overwrite its own input
 void check_inputs_outside(const std::string& out_dir, std::initializer_list<std::string> inputs,
-                          std::initializer_list<const char*> outputs);
+                          const std::vector<std::string>& outputs);
 
 // informational output on stderr (suppressed by --quiet); results go to files / stdout
 void info(const std::string& message);

@@ -102,7 +102,7 @@ void run_rigid(const DynamicsOptions& o) {
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
   const nlohmann::json summary = rigid_summary(su, o.design, sweeps, seconds);
-  io::OutputTransaction out(o.out_dir);
+  io::OutputTransaction out = open_outputs(o.out_dir, kDynamicsOutputs);
   out.stage("dynamics.csv", rigid_csv(su, sweeps));
   out.stage("summary.json", summary.dump(2) + "\n");
   out.commit();
@@ -239,7 +239,7 @@ void run_compliant_contacts(const DynamicsOptions& o) {
     results.push_back(j);
   }
   summary["results"] = results;
-  io::OutputTransaction out(o.out_dir);
+  io::OutputTransaction out = open_outputs(o.out_dir, kDynamicsOutputs);
   out.stage("dynamics.csv", io::format_csv(header, cols));
   out.stage("summary.json", summary.dump(2) + "\n");
   out.commit();
@@ -376,7 +376,7 @@ void run_flexible_model(const DynamicsOptions& o) {
   }
   summary["results"] = results;
   summary["speed_map"] = map;
-  io::OutputTransaction out(o.out_dir);
+  io::OutputTransaction out = open_outputs(o.out_dir, kDynamicsOutputs);
   out.stage("dynamics.csv", io::format_csv(header, cols));
   out.stage("summary.json", summary.dump(2) + "\n");
   out.commit();

@@ -317,7 +317,7 @@ void setup_kinematics(CLI::App& app) {
                           {"max_excess_radius_mm", prof.max_radius_mm() - prof.base_radius_mm()}});
     summary["profiles"] = profiles;
 
-    io::OutputTransaction out(o.out_dir);
+    io::OutputTransaction out = open_outputs(o.out_dir, kKinematicsOutputs);
     out.stage("kinematics.csv", io::format_csv(header, cols));
     out.stage("summary.json", summary.dump(2) + "\n");
     out.commit();

@@ -18,7 +18,6 @@ namespace {
 
 constexpr double kCycleDeg = 360.0;   // one cam revolution [cam deg]
 constexpr double kMaxStepDeg = 10.0;  // coarser tables cannot resolve a lift event [cam deg]
-constexpr int kCsvDigits = 12;        // significant digits of the table
 
 struct LiftOptions {
   std::string law, close_law, out, basis = "cam";
@@ -213,7 +212,7 @@ void run_lift(const LiftOptions& o) {
   }
   const std::vector<std::string> header = {crank ? "crank_deg" : "cam_deg", "lift_mm", "vel_mm_per_deg",
                                            "acc_mm_per_deg2", "jerk_mm_per_deg3"};
-  io::write_csv(o.out, header, columns, kCsvDigits);
+  io::write_csv(o.out, header, columns);
 
   // summary on stderr [cam deg]
   const synthesis::LiftEventSummary s = synthesis::summarize(event);

@@ -25,8 +25,6 @@ constexpr double kDeg = kPi / 180.0;
 // flexible_modes normalises the shapes with M in t (N s^2/mm) and t mm^2; the files use
 // the design file's kg and kg mm^2: shape_kg = shape_t / sqrt(1000)
 const double kShapeToKg = 1.0 / std::sqrt(1000.0);
-// CSV digits: 17 significant digits read back to the same double
-constexpr int kCsvDigits = 17;
 
 // one linearisation: a control position and a cam angle
 struct Point {
@@ -215,8 +213,8 @@ void run_modes(const ModesRequest& rq) {
   }
   summary["springs_alone"] = springs;
 
-  io::OutputTransaction out(rq.out_dir);
-  out.stage("modes.csv", io::format_csv(header, cols, kCsvDigits));
+  io::OutputTransaction out = open_outputs(rq.out_dir, kDynamicsOutputs);
+  out.stage("modes.csv", io::format_csv(header, cols));
   out.stage("summary.json", summary.dump(2) + "\n");
   out.commit();
   info("dynamics (modes): " + std::to_string(points.size()) + " linearisation(s), " + std::to_string(n) +

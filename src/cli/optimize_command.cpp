@@ -126,7 +126,7 @@ void stage_swing_outputs(io::OutputTransaction& out, const OptimizeOptions& o, c
   }
   out.stage("lift.csv", io::format_csv({"control", "cam_deg", "lift_mm", "vel_mm_per_deg", "acc_mm_per_deg2",
                                         "jerk_mm_per_deg3"},
-                                       {control, cam_deg, l0, l1, l2, l3}, 12));
+                                       {control, cam_deg, l0, l1, l2, l3}));
   std::vector<double> swing_deg, pitch_lift;
   for (int i = 0; i <= 400; ++i) {
     const double s = model.start_rad() + (model.end_rad() - model.start_rad()) * i / 400.0;
@@ -135,7 +135,7 @@ void stage_swing_outputs(io::OutputTransaction& out, const OptimizeOptions& o, c
     swing_deg.push_back(s * 180.0 / kPi);
     pitch_lift.push_back(h[0]);
   }
-  out.stage("swing_pitch.csv", io::format_csv({"swing_deg", "pitch_lift_mm"}, {swing_deg, pitch_lift}, 12));
+  out.stage("swing_pitch.csv", io::format_csv({"swing_deg", "pitch_lift_mm"}, {swing_deg, pitch_lift}));
   nlohmann::json per_position = nlohmann::json::array();
   for (std::size_t k = 0; k < peak.size(); ++k)
     per_position.push_back({{"control", model.positions()[k]}, {"max_lift_mm", peak[k]}});
@@ -226,8 +226,7 @@ void stage_swing_outputs(io::OutputTransaction& out, const OptimizeOptions& o, c
 }
 
 void run_optimize(const OptimizeOptions& o) {
-  check_inputs_outside(o.out_dir, {o.design, o.constraints},
-                       {"lift.csv", "swing_pitch.csv", "profile.csv", "report.json", "design.toml", "profile.dxf", "grinding.csv"});
+  check_inputs_outside(o.out_dir, {o.design, o.constraints}, kOptimizeOutputs);
   const DesignSpec spec = io::load_design(o.design);
   opt::OptimizationSpec set = io::load_constraints(o.constraints);
   set.cam = o.cam;
@@ -288,7 +287,7 @@ void run_optimize(const OptimizeOptions& o) {
       report["loads"]["overrides"][ov.key] = {{"constraint_set", ov.set_value}, {"design", ov.design_value}};
   }
 
-  io::OutputTransaction out(o.out_dir);
+  io::OutputTransaction out = open_outputs(o.out_dir, kOptimizeOutputs);
   if (result.status.code == StatusCode::infeasible || result.u.empty()) {
     // which limits conflict, from the feasibility phase (opt/feasibility.hpp): an irreducible
     // set of the user's keys, each with the nearest value at which the other limits hold
@@ -357,7 +356,7 @@ void run_optimize(const OptimizeOptions& o) {
   }
   const PeriodicSpline lift_spline = PeriodicSpline::interpolate(knots, values, 2 * kPi);
   out.stage("lift.csv", io::format_csv({"cam_deg", "lift_mm", "vel_mm_per_deg", "acc_mm_per_deg2", "jerk_mm_per_deg3"},
-                                       {cam_deg, l0, l1, l2, l3}, 12));
+                                       {cam_deg, l0, l1, l2, l3}));
 
   // the cam for it, as synthesize delivers it
   synthesis::SynthesisOptions so_syn;

@@ -1,7 +1,5 @@
 #include "profile_exports.hpp"
 
-#include <filesystem>
-
 #include "camopt/io/csv.hpp"
 #include "camopt/io/design_rewrite.hpp"
 #include "camopt/io/dxf.hpp"
@@ -40,12 +38,12 @@ void stage_profile_exports(io::OutputTransaction& out, const std::string& out_di
                        {"grinding_master", master > 0 ? "roller" : "flat"}};
 
   out.stage("profile.dxf", io::dxf_closed_polyline(res.x_mm, res.y_mm, "CAM_" + res.profile.name));
-  if (st.ok()) out.stage("grinding.csv", io::format_csv({"cam_deg", "master_lift_mm"}, {grind_deg, grind_lift}, 12));
+  if (st.ok()) out.stage("grinding.csv", io::format_csv({"cam_deg", "master_lift_mm"}, {grind_deg, grind_lift}));
   out.stage("profile.csv",
             io::format_csv({"angle_deg", "radius_mm", "excess_radius_mm", "x_mm", "y_mm", "radius_of_curvature_mm"},
-                           {res.angle_deg, res.radius_mm, excess, res.x_mm, res.y_mm, res.radius_of_curvature_mm}, 12));
-  const std::string profile_path = std::filesystem::absolute(std::filesystem::path(out_dir) / "profile.csv").string();
-  out.stage("design.toml", io::design_with_profile_file(design_path, res.profile.name, profile_path));
+                           {res.angle_deg, res.radius_mm, excess, res.x_mm, res.y_mm, res.radius_of_curvature_mm}));
+  // design.toml names profile.csv beside it, so the folder can be moved or handed on
+  out.stage("design.toml", io::design_with_profile_file(design_path, res.profile.name, "profile.csv", out_dir));
 }
 
 }  // namespace camopt::cli

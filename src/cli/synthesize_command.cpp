@@ -99,8 +99,7 @@ void run_synthesize(const SynthesizeOptions& o) {
 
   // target: the valve lift (cam or crank degrees, explicit in the header), or the motion
   // of another node with --target-node
-  check_inputs_outside(o.out_dir, {o.design, o.target_csv},
-                       {"profile.csv", "report.json", "design.toml", "profile.dxf", "grinding.csv"});
+  check_inputs_outside(o.out_dir, {o.design, o.target_csv}, kSynthesizeOutputs);
   const io::CsvTable table = io::read_csv(o.target_csv);
   const bool valve_target = o.target_node.empty() || o.target_node == spec.output_node;
   if (valve_target && mech.nodes[mech.output_node].kind != NodeKind::translational)
@@ -244,7 +243,7 @@ void run_synthesize(const SynthesizeOptions& o) {
   report["checks"] = checks;
   report["notes"] = res.notes;
 
-  io::OutputTransaction out(o.out_dir);
+  io::OutputTransaction out = open_outputs(o.out_dir, kSynthesizeOutputs);
   stage_profile_exports(out, o.out_dir, o.design, spec, res, o.master_radius_mm, o.grinding_step_deg, report);
   out.stage("report.json", report.dump(2) + "\n");
   out.commit();

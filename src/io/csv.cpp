@@ -306,17 +306,15 @@ void require_full_cycle(const AngleTable& table, double period_deg) {
                      "; give exactly one cycle");
 }
 
-std::string format_csv(const std::vector<std::string>& header, const std::vector<std::vector<double>>& columns,
-                       int significant_digits) {
-  return format_csv(header, columns, std::vector<bool>(columns.size(), false), significant_digits);
+std::string format_csv(const std::vector<std::string>& header, const std::vector<std::vector<double>>& columns) {
+  return format_csv(header, columns, std::vector<bool>(columns.size(), false));
 }
 
 std::string format_csv(const std::vector<std::string>& header, const std::vector<std::vector<double>>& columns,
-                       const std::vector<bool>& may_be_empty, int significant_digits) {
+                       const std::vector<bool>& may_be_empty) {
   CAMOPT_ASSERT(!header.empty());
   CAMOPT_ASSERT(header.size() == columns.size());
   CAMOPT_ASSERT(may_be_empty.size() == columns.size());
-  CAMOPT_ASSERT(significant_digits >= 1 && significant_digits <= 17);
   for (const auto& name : header)
     CAMOPT_ASSERT_MSG(!name.empty() && name.find_first_of(",#\r\n") == std::string::npos,
                       "write_csv: header names must be non-empty without ',', '#' or newlines");
@@ -331,14 +329,12 @@ std::string format_csv(const std::vector<std::string>& header, const std::vector
   }
 
   std::string text = join(header, ",") + "\n";
-  char buffer[64];
   for (std::size_t r = 0; r < rows; ++r) {
     for (std::size_t c = 0; c < columns.size(); ++c) {
       if (c > 0) text += ',';
       if (std::isnan(columns[c][r])) continue;  // an empty cell (checked above)
       // + 0.0 turns a negative zero (e.g. a lift of -0 at rest) into 0
-      std::snprintf(buffer, sizeof buffer, "%.*g", significant_digits, columns[c][r] + 0.0);
-      text += buffer;
+      text += format_number(columns[c][r] + 0.0);
     }
     text += '\n';
   }
@@ -346,8 +342,8 @@ std::string format_csv(const std::vector<std::string>& header, const std::vector
 }
 
 void write_csv(const std::string& path, const std::vector<std::string>& header,
-               const std::vector<std::vector<double>>& columns, int significant_digits) {
-  write_text_atomic(path, format_csv(header, columns, significant_digits));
+               const std::vector<std::vector<double>>& columns) {
+  write_text_atomic(path, format_csv(header, columns));
 }
 
 }  // namespace camopt::io

@@ -1,6 +1,6 @@
 #include "camopt/io/dxf.hpp"
 
-#include <cstdio>
+#include <charconv>
 
 #include "camopt/core/error.hpp"
 
@@ -12,10 +12,11 @@ std::string dxf_closed_polyline(const std::vector<double>& x, const std::vector<
   auto pair = [&](int code, const std::string& value) {
     out += std::to_string(code) + "\n" + value + "\n";
   };
+  // the shortest fixed-point text that reads back to the same double (no exponent, no locale)
   auto number = [](double v) {
-    char b[40];
-    std::snprintf(b, sizeof b, "%.10f", v);
-    return std::string(b);
+    char b[400];
+    const auto r = std::to_chars(b, b + sizeof b, v + 0.0, std::chars_format::fixed);
+    return std::string(b, r.ptr);
   };
   pair(999, "camopt cam profile [mm]");
   pair(0, "SECTION");

@@ -785,7 +785,7 @@ disc_radius_mm = 20
 )";
   const std::string design = dir.write("design.toml", original);
   const std::string table = dir.write("profile.csv", "angle_deg,radius_mm\n0,20\n60,21\n120,24\n180,25\n240,24\n300,21\n");
-  const std::string rewritten = io::design_with_profile_file(design, "lobe", table);
+  const std::string rewritten = io::design_with_profile_file(design, "lobe", "profile.csv", dir.path().string());
   INFO(rewritten);
   const camopt::DesignSpec a = io::parse_design(original, "design.toml", dir.path().string());
   const camopt::DesignSpec b = io::parse_design(rewritten, "rewritten.toml", dir.path().string());
@@ -837,6 +837,7 @@ disc_radius_mm = 20
   const std::string open = dir.write("open.toml", kBase + "seat = false\n[[profile]]\nname = \"lobe\"\nform = \"circle\"\n"
                                                   "disc_radius_mm = 20\n");
   const camopt::DesignSpec c =
-      io::parse_design(io::design_with_profile_file(open, "lobe", table), "open.toml", dir.path().string());
+      io::parse_design(io::design_with_profile_file(open, "lobe", "profile.csv", dir.path().string()), "open.toml",
+                        dir.path().string());
   CHECK_FALSE(c.nodes[1].seat.enabled);
 }

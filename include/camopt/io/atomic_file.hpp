@@ -1,6 +1,9 @@
 #pragma once
 // every output is written to a temporary file in the same directory, then renamed, so
-// no partial file survives an error.
+// no partial file survives an error or a SIGINT / SIGTERM / SIGHUP / SIGQUIT. Only a
+// regular file is ever replaced: a symbolic link, device, fifo or directory at an output
+// path is an InputError naming it.
+#include <functional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -8,25 +11,40 @@
 namespace camopt::io {
 
 // write `content` to `path` atomically (temp file + rename); throws InputError naming
-// the path when the directory is missing or not writable
+// the path when the directory is missing or not writable, or when `path` exists and is
+// not a regular file (nothing is created then)
 void write_text_atomic(const std::string& path, std::string_view content);
 
-// a set of output files committed together: stage() writes each to a temp file,
-// commit() renames them all; the destructor removes any temp file not committed.
+// the set of output files of one run, committed together into one directory.
+// The constructor makes the directory (if missing; it must be a real directory, not a
+// symbolic link), locks it against other camopt runs (flock on the directory: a second run
+// waits, after calling `on_wait` with a message naming the directory, until the first has
+// committed or died), and checks the output paths. stage() writes a file to a temp file;
+// commit() checks every output path before the first rename, renames the staged files, and
+// removes the files of `may_write` this run did not stage (a previous run's): the folder
+// then holds exactly this run's set. Without commit() (an error) the destructor removes the
+// temp files and the folder keeps the previous run's set untouched.
 class OutputTransaction {
  public:
-  explicit OutputTransaction(std::string directory);  // creates the directory if missing
+  // may_write: every file name the command can write into the directory
+  OutputTransaction(std::string directory, std::vector<std::string> may_write,
+                    const std::function<void(const std::string&)>& on_wait = {});
   ~OutputTransaction();
   OutputTransaction(const OutputTransaction&) = delete;
   OutputTransaction& operator=(const OutputTransaction&) = delete;
 
-  void stage(const std::string& file_name, std::string_view content);
+  void stage(const std::string& file_name, std::string_view content);  // file_name: one of may_write
   void commit();
   const std::string& directory() const { return directory_; }
 
  private:
+  std::string path_of(const std::string& file_name) const;
+  void release_lock();
+
   std::string directory_;
+  std::vector<std::string> may_write_;
   std::vector<std::pair<std::string, std::string>> staged_;  // temp path, final path
+  int lock_fd_ = -1;  // the directory, opened and flock'ed
   bool committed_ = false;
 };
 

@@ -52,18 +52,19 @@ AngleTable read_angle_table(const CsvTable& table, const std::vector<std::string
 // throws InputError naming the file and the covered range when it does not
 void require_full_cycle(const AngleTable& table, double period_deg);
 
-// csv text of columns (header names must carry units); a non-finite value is a kernel bug
-// and throws std::logic_error naming the column and row
-std::string format_csv(const std::vector<std::string>& header, const std::vector<std::vector<double>>& columns,
-                       int significant_digits = 10);
+// csv text of columns (header names must carry units); every number is the shortest text
+// that reads back to the same double (std::to_chars, no locale), so a table written and read
+// back is bit-for-bit the same. A non-finite value is a kernel bug and throws
+// std::logic_error naming the column and row
+std::string format_csv(const std::vector<std::string>& header, const std::vector<std::vector<double>>& columns);
 // the same, where a NaN in a column flagged in may_be_empty (one flag per column) is written
 // as an empty cell: a quantity that does not exist at that row, such as the film thickness of
 // an open contact. Any other non-finite value still throws.
 std::string format_csv(const std::vector<std::string>& header, const std::vector<std::vector<double>>& columns,
-                       const std::vector<bool>& may_be_empty, int significant_digits = 10);
+                       const std::vector<bool>& may_be_empty);
 
 // write columns (header names must carry units) to `path` atomically
 void write_csv(const std::string& path, const std::vector<std::string>& header,
-               const std::vector<std::vector<double>>& columns, int significant_digits = 10);
+               const std::vector<std::vector<double>>& columns);
 
 }  // namespace camopt::io
