@@ -68,6 +68,23 @@ TEST_CASE("camopt dynamics: missing mass is an input error naming the field",
   CHECK((!fs::exists(out) || fs::is_empty(out)));
 }
 
+namespace {
+// the columns of a CSV by name
+std::map<std::string, std::vector<double>> columns_of(const std::string& csv) {
+  const auto lines = split_lines(csv);
+  std::vector<std::string> names;
+  std::stringstream head(lines[0]);
+  for (std::string n; std::getline(head, n, ',');) names.push_back(n);
+  std::map<std::string, std::vector<double>> out;
+  for (std::size_t i = 1; i < lines.size(); ++i) {
+    std::stringstream row(lines[i]);
+    std::size_t k = 0;
+    for (std::string v; std::getline(row, v, ','); ++k) out[names[k]].push_back(std::stod(v));
+  }
+  return out;
+}
+}  // namespace
+
 TEST_CASE("camopt dynamics --model flexible: valve motion, seat, surge and an rpm map", "[dynamics][cli]") {
   TempDir tmp;
   const fs::path out = tmp / "out";
@@ -87,9 +104,30 @@ TEST_CASE("camopt dynamics --model flexible: valve motion, seat, surge and an rp
   const auto j = nlohmann::json::parse(read_file(out / "summary.json"));
   REQUIRE(j["results"].size() == 2);
   REQUIRE(j["speed_map"].size() == 2);
+  // the CSV's rows of one speed (one reported revolution each)
+  const auto c = columns_of(csv);
   for (const auto& res : j["results"]) {
-    // the valve opens within a few percent of the kinematic lift, seats once per revolution
+    const double rpm = res["rpm"].get<double>();
+    INFO(rpm << " rpm");
+    // the valve opens within a few percent of the kinematic lift
     CHECK(res["max_lift_mm"].get<double>() == Approx(res["max_lift_kinematic_mm"].get<double>()).epsilon(0.05));
+    // and seats once per revolution: in the reported revolution the seat opens once and
+    // closes once (events located by CVODE's root finding), and the CSV's seat force goes
+    // from zero to a load once around the revolution (cyclically)
+    int seat_opens = 0, seat_closes = 0;
+    for (const auto& e : res["events"])
+      if (e["what"] == "valve seat") ++(e["event"] == "opens" ? seat_opens : seat_closes);
+    CHECK(seat_opens == 1);
+    CHECK(seat_closes == 1);
+    std::vector<double> seat;
+    for (std::size_t i = 0; i < c.at("rpm").size(); ++i)
+      if (c.at("rpm")[i] == rpm) seat.push_back(c.at("seat_force_N")[i]);
+    REQUIRE(seat.size() == 361);
+    seat.pop_back();  // 360 deg is 0 deg again
+    int seatings = 0;
+    for (std::size_t i = 0; i < seat.size(); ++i) seatings += seat[i] > 0.0 && seat[(i + seat.size() - 1) % seat.size()] <= 0.0;
+    CHECK(seatings == 1);
+    CHECK(res["bounce_count"] == 0);
     CHECK(res["seating_velocity_m_per_s"].is_number());
     CHECK(res["springs"]["valve_spring"]["surge_amplitude_N"].get<double>() >= 0.0);
     CHECK(res["springs"]["valve_spring"]["segments"] == 5);
@@ -115,23 +153,6 @@ TEST_CASE("camopt dynamics --contacts compliant integrates mode (b) and lists it
   CHECK(j["results"][0]["events"].empty());
   CHECK(j["results"][0]["connections"]["cam_tappet"]["min_force_N"].get<double>() > 0.0);
 }
-
-namespace {
-// the columns of a CSV by name
-std::map<std::string, std::vector<double>> columns_of(const std::string& csv) {
-  const auto lines = split_lines(csv);
-  std::vector<std::string> names;
-  std::stringstream head(lines[0]);
-  for (std::string n; std::getline(head, n, ',');) names.push_back(n);
-  std::map<std::string, std::vector<double>> out;
-  for (std::size_t i = 1; i < lines.size(); ++i) {
-    std::stringstream row(lines[i]);
-    std::size_t k = 0;
-    for (std::string v; std::getline(row, v, ','); ++k) out[names[k]].push_back(std::stod(v));
-  }
-  return out;
-}
-}  // namespace
 
 TEST_CASE("camopt dynamics --model flexible: valve velocity and acceleration are the lift's derivatives, every "
           "default is in the summary", "[dynamics][cli]") {
