@@ -111,23 +111,38 @@ TEST_CASE("camopt dynamics --model flexible: valve motion, seat, surge and an rp
     INFO(rpm << " rpm");
     // the valve opens within a few percent of the kinematic lift
     CHECK(res["max_lift_mm"].get<double>() == Approx(res["max_lift_kinematic_mm"].get<double>()).epsilon(0.05));
-    // and seats once per revolution: in the reported revolution the seat opens once and
-    // closes once (events located by CVODE's root finding), and the CSV's seat force goes
-    // from zero to a load once around the revolution (cyclically)
+    // and seats once per revolution: the valve comes back from its lift to the seat once. Its
+    // seat is compliant and damped, so it may bounce off it by micrometres (this design closes
+    // without a ramp: 1.6 um at 2000 rpm, 14 um at 6000): a seating is the valve landing on
+    // its seat (seat force > 0 in the CSV) after it was open by more than kOpen since it last
+    // sat there, counted around the revolution from a seated point
+    constexpr double kOpen = 0.1;  // [mm], above any bounce
+    CHECK(res["bounce_height_mm"].get<double>() < kOpen);
+    std::vector<double> lift, seat;
+    for (std::size_t i = 0; i < c.at("rpm").size(); ++i)
+      if (c.at("rpm")[i] == rpm) lift.push_back(c.at("lift_mm")[i]), seat.push_back(c.at("seat_force_N")[i]);
+    REQUIRE(seat.size() == 361);
+    lift.pop_back(), seat.pop_back();  // 360 deg is 0 deg again
+    const std::size_t n = seat.size();
+    std::size_t first = 0;
+    while (first < n && !(seat[first] > 0.0)) ++first;
+    REQUIRE(first < n);
+    int seatings = 0;
+    bool opened = false;
+    for (std::size_t k = 1; k <= n; ++k) {
+      const std::size_t i = (first + k) % n;
+      if (lift[i] > kOpen) opened = true;
+      if (seat[i] > 0.0 && opened) ++seatings, opened = false;
+    }
+    CHECK(seatings == 1);
+    // the events (CVODE's root finding) agree: the seat opens as often as it closes, and
+    // every closing after the first is a bounce
     int seat_opens = 0, seat_closes = 0;
     for (const auto& e : res["events"])
       if (e["what"] == "valve seat") ++(e["event"] == "opens" ? seat_opens : seat_closes);
-    CHECK(seat_opens == 1);
-    CHECK(seat_closes == 1);
-    std::vector<double> seat;
-    for (std::size_t i = 0; i < c.at("rpm").size(); ++i)
-      if (c.at("rpm")[i] == rpm) seat.push_back(c.at("seat_force_N")[i]);
-    REQUIRE(seat.size() == 361);
-    seat.pop_back();  // 360 deg is 0 deg again
-    int seatings = 0;
-    for (std::size_t i = 0; i < seat.size(); ++i) seatings += seat[i] > 0.0 && seat[(i + seat.size() - 1) % seat.size()] <= 0.0;
-    CHECK(seatings == 1);
-    CHECK(res["bounce_count"] == 0);
+    CHECK(seat_closes >= 1);
+    CHECK(seat_opens == seat_closes);
+    CHECK(res["bounce_count"] == seat_closes - 1);
     CHECK(res["seating_velocity_m_per_s"].is_number());
     CHECK(res["springs"]["valve_spring"]["surge_amplitude_N"].get<double>() >= 0.0);
     CHECK(res["springs"]["valve_spring"]["segments"] == 5);
