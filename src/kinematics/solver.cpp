@@ -1594,6 +1594,7 @@ Status solve(const Mechanism& mech, Workspace& ws, double driver, const Request&
   CAMOPT_ASSERT(!request.contacts || request.derivative_order >= 1);
   if (ws.history == 0 && !at_drawing(mech, ws.controls(), driver))
     return solve_fresh(mech, ws, driver, request, drawing);
+  if (ws.history == 0) CamProfile::clear_thread_memo();  // the drawing does not depend on the thread's past
   Status st = step_to(mech, ws, driver, request);
   if (!st.ok()) ws.reset();
   return st;

@@ -492,8 +492,8 @@ TEST_CASE("flexible: the CVVL at 10 rpm is quasi-static (mode (a) forces) and it
   // not reproducible in its last digits: after the valve opens (113 deg) and closes (247 deg)
   // a ~1 kHz train mode rings at about the integration tolerance, and CVODE resolves it (about
   // 500 steps per deg) for 7 to 70 deg depending on round-off; over 25 profiles that differ
-  // from the design's in one ulp of one polar radius it took 11.6k to 45.5k steps, always with
-  // the same 12 events. So the budget, not a step count, is the bound: st.ok() fails above it.
+  // from the design's in one ulp of one polar radius it took 11.6k to 45.5k steps (14.1k for the
+  // design itself). So the budget, not a step count, is the bound: st.ok() fails above it.
   opt.max_steps = 100000;
   dynamics::FlexibleResult res;
   const Status st = dynamics::run_flexible(mech, model, {0.0}, 10, 0, 360, 1, opt, res);
@@ -512,15 +512,50 @@ TEST_CASE("flexible: the CVVL at 10 rpm is quasi-static (mode (a) forces) and it
       peak = std::max(peak, a.force_at(i, c, w));
     }
   for (std::size_t i = 0; i < res.lift.size(); ++i) loss = std::max(loss, res.lift_kinematic[i] - res.lift[i]);
-  int seat_events = 0;
-  for (const auto& e : res.events) seat_events += e.what == "valve seat";
   INFO("max |flexible - (a)| " << worst << " N of " << peak << " N at " << at << " deg; lift loss " << loss << " mm; steps "
-                               << res.steps << ", seat events " << seat_events);
+                               << res.steps << ", events " << res.events.size());
   CHECK(worst < 0.01 * peak);
   CHECK(loss > 0);  // the train's static deflection
   CHECK(loss < 0.1);
-  CHECK(seat_events <= 10);
-  CHECK(res.events.size() <= 12);  // seat and contact events together (measured 12 in every run above)
+  // per revolution the physics gives four transitions: as the lift starts the lash closes
+  // (pad_valve) and the valve leaves its seat; as it ends the valve lands on its seat and the
+  // lash opens. At 10 rpm each contact closes at almost zero speed, and the compliant contact
+  // may touch and part again within a few millidegrees: how often depends on round-off (10
+  // events measured here; 12 in builds and runs whose round-off differs). So the events are
+  // counted as transitions: a run of one contact's events within kCluster of each other,
+  // ending in its new state. Two runs of one contact farther apart would be chatter.
+  constexpr double kCluster = 0.05;  // [cam deg]
+  struct Transition {
+    std::string what;
+    bool opens;
+    double first, last;  // [cam deg]
+  };
+  std::vector<Transition> transitions;
+  for (const auto& e : res.events) {
+    INFO(e.what << (e.opens ? " opens" : " closes") << " at cam " << e.cam_deg << " deg");
+    auto same = std::find_if(transitions.rbegin(), transitions.rend(), [&](const Transition& t) { return t.what == e.what; });
+    if (same != transitions.rend()) CHECK(same->opens != e.opens);  // a contact's events alternate
+    if (same != transitions.rend() && e.cam_deg - same->last < kCluster) {
+      same->opens = e.opens;
+      same->last = e.cam_deg;
+    } else {
+      transitions.push_back({e.what, e.opens, e.cam_deg, e.cam_deg});
+    }
+  }
+  REQUIRE(transitions.size() == 4);
+  CHECK(transitions[0].what == "pad_valve");
+  CHECK_FALSE(transitions[0].opens);
+  CHECK(transitions[1].what == "valve seat");
+  CHECK(transitions[1].opens);
+  CHECK(transitions[2].what == "valve seat");
+  CHECK_FALSE(transitions[2].opens);
+  CHECK(transitions[3].what == "pad_valve");
+  CHECK(transitions[3].opens);
+  // the lash closes and opens where the kinematic path's lash kinks are, shifted by the
+  // train's static deflection (the lift loss above, over the lash take-up's slope: < 1 deg)
+  REQUIRE(res.kink_deg.size() == 2);
+  CHECK(std::abs(transitions[0].first - res.kink_deg[0]) < 1.0);
+  CHECK(std::abs(transitions[3].last - res.kink_deg[1]) < 1.0);
 }
 
 TEST_CASE("flexible: the train frequency (the component damping's reference) against the two-mass closed form") {

@@ -241,6 +241,62 @@ TEST_CASE("rigid (a): a damped valve spring: F = m a + k (x + x0) + c v, separat
   CHECK(std::abs(min_at) < 1e-9 * c.preload);
 }
 
+TEST_CASE("rigid (a): separation speed with the gas force acting where the valve decelerates",
+          "[dynamics][rigid]") {
+  // an exhaust valve whose cylinder pressure pushes on its head while it is open, also over
+  // the nose of the lift where the inertia pulls the tappet off the cam and, with the
+  // spring's damper, on the closing flank where the damper unloads it: the gas force loads
+  // the contact where it separates, so it raises the separation speed. per point the
+  // smallest positive root w of m y'' w^2 + c y' w + (k x + F0 + gas) = 0, written here from
+  // the quadratic formula with the gas table interpolated here: 0 N at 0 crank deg, 300 N
+  // from 100 to 600, 0 N again at 700 (cam 50 .. 300 deg at 300 N)
+  ValveCase c;
+  const oracles::EccentricFlatFollower o{c.R, c.e, c.phase};
+  auto gas_force = [](double crank_deg) {
+    const double x = std::fmod(crank_deg, 720.0);
+    if (x <= 100) return 300 * x / 100;
+    if (x <= 600) return 300.0;
+    if (x <= 700) return 300 * (700 - x) / 100;
+    return 0.0;
+  };
+  for (const double damping : {0.0, 400.0}) {  // [N s/m]
+    INFO("spring damping " << damping << " N s/m");
+    DesignSpec d = valve_design(c, o.face_height(0)[0]);
+    d.springs[0].damping_N_s_per_m = damping;
+    GasForceSpec g;
+    g.node = "tappet";
+    g.crank_angle_deg = {0, 100, 600, 700, 720};
+    g.force_N = {0, 300, 300, 0, 0};
+    d.gas_forces = {g};
+    const Compiled m(d);
+    const auto s = sweep_of(m);
+    const double m_eff = 1e-3 * (c.mass + c.spring_mass / 3.0), cd = damping * 1e-3;  // [N per mm/s^2], [N s/mm]
+    // the smallest positive root over the sweep, with and without the gas force
+    auto first_zero = [&](bool gas, double& at_deg) {
+      double w_min = INFINITY;
+      for (std::size_t i = 0; i < s.points(); ++i) {
+        const auto y = o.face_height(s.cam_deg[i] * deg);
+        const double rest = c.rate * (y[0] - o.face_height(0)[0]) + c.preload + (gas ? gas_force(2 * s.cam_deg[i]) : 0.0);
+        const double qa = m_eff * y[2], qb = cd * y[1], disc = qb * qb - 4 * qa * rest;
+        if (std::abs(qa) < 1e-15 || disc < 0) continue;
+        for (double root : {(-qb + std::sqrt(disc)) / (2 * qa), (-qb - std::sqrt(disc)) / (2 * qa)})
+          if (root > 0 && root < w_min) w_min = root, at_deg = s.cam_deg[i];
+      }
+      return dynamics::engine_rpm(w_min, 2.0);
+    };
+    double at = -1, at_no_gas = -1;
+    const double rpm = first_zero(true, at), no_gas = first_zero(false, at_no_gas);
+    const auto sep = dynamics::separation_speed(s, m.model, 0);
+    INFO("separation " << sep.engine_rpm << " rpm at cam " << sep.cam_deg << " deg; closed form " << rpm << " rpm at "
+                       << at << " deg, " << no_gas << " rpm without the gas force");
+    // the gas force acts where the contact separates, and moves the separation speed
+    REQUIRE(gas_force(2 * at) == 300.0);
+    REQUIRE(rpm > 1.02 * no_gas);
+    CHECK(sep.engine_rpm == Approx(rpm).epsilon(1e-9));
+    CHECK(sep.cam_deg == at);
+  }
+}
+
 TEST_CASE("rigid (a): spring margin is the load a spring can lose before a contact it loads opens",
           "[dynamics][rigid]") {
   // rocker arm: the valve spring loads the pad and, through the rocker, the cam roller
