@@ -199,7 +199,11 @@ void stage_swing_outputs(io::OutputTransaction& out, const OptimizeOptions& o, c
       const kin::SweepResult sr = kin::sweep(mech, sw);
       if (!sr.positions[0].status.ok()) throw NumericalError(sr.positions[0].status);
       const kin::PositionSummary sum = kin::summarize(mech, sr, 0);
-      worst = std::max(worst, std::abs(sum.max_lift - peak[k]));
+      // the optimiser's peak is the largest of its grid points: compare with the same grid's
+      double grid_peak = -1e300;
+      for (std::size_t i = 0; i < sr.driver.size(); ++i)
+        grid_peak = std::max(grid_peak, sr.positions[0].at(i, nv, out_var, 0) - rest);
+      worst = std::max(worst, std::abs(grid_peak - peak[k]));
       // the model's points of this position sit on the sweep's grid (cam angles unwrapped past 360)
       for (std::size_t i = 0; i < model.points().size(); ++i) {
         if (model.points()[i].position != static_cast<int>(k)) continue;
