@@ -293,9 +293,14 @@ void setup_kinematics(CLI::App& app) {
       j.update(position_summary_json(s, heights, summary_units));
       if (sel.order >= 1 || sel.contacts) {
         j["max_condition_number"] = s.max_condition;
-        j["near_toggle"] = s.max_condition > 1e6;
         j["grid_values"].push_back("max_condition_number");
       }
+      // the closest approach to a singular configuration, whatever the outputs (taken at the
+      // solved points)
+      j["near_toggle"] = s.near_toggle;
+      j["min_toggle_margin"] = s.min_toggle_margin;
+      j["min_toggle_margin_at_" + driver_unit] = s.min_toggle_margin_at;
+      j["grid_values"].push_back("min_toggle_margin");
       if (has_lash) {
         j["lift_loss_from_lash_" + u.base] = no_lash_summary[p].max_lift - s.max_lift;
         j["lift_area_loss_from_lash_" + u.base + "_" + driver_unit] = no_lash_summary[p].lift_area - s.lift_area;
@@ -303,9 +308,12 @@ void setup_kinematics(CLI::App& app) {
       info("kinematics: " + (mech.controls.empty() ? std::string() : "control " + format_value(control_values[p], 6) +
                                                                       " " + control_unit + ": ") +
            position_summary_line(s, heights, summary_units));
-      if (s.max_condition > 1e6)
-        info("warning: near-toggle configuration (condition number " + std::to_string(s.max_condition) + " at " +
-             std::to_string(s.max_condition_at) + " " + driver_unit + ")");
+      if (s.near_toggle)
+        info("warning: near a singular configuration (a linkage at toggle or a pressure angle near 90 deg): toggle "
+             "margin " + format_value(s.min_toggle_margin, 3) + " < " + format_value(kin::near_singular_margin, 3) +
+             " at " + format_value(s.min_toggle_margin_at, 6) + " " + driver_unit +
+             (mech.controls.empty() ? "" : ", control " + mech.controls[0].name + " = " + format_value(control_values[p], 6)) +
+             "; the motion there is sensitive to the link lengths");
       positions.push_back(j);
     }
     summary["positions"] = positions;

@@ -6,11 +6,13 @@
 #include <numbers>
 #include <sstream>
 
+#include "camopt/kinematics/detail/branch_guard.hpp"
 
 namespace camopt::kin {
 
 using detail::connection_residual;
 using detail::node_pose;
+using detail::TrustOutcome;
 using detail::surface_point;
 using detail::V2;
 
@@ -28,24 +30,10 @@ constexpr double trust_length_fraction = 0.02;  // [mm variables] of Mechanism::
 constexpr double trust_angle_rad = 0.05;        // [rad variables] about 2.9 deg
 constexpr double min_step_rad = 1e-6;           // smallest driver step of the halving [rad, or x length_scale mm]
 constexpr double min_control_fraction = 1e-6;   // smallest control step, of the control move
+// the taylor order every point is solved to, whatever is requested: the predictor and the
+// step control depend on it (Request)
+constexpr int continuation_order = 3;
 
-// the outcome of the trust check of one point (Workspace::trust_radius)
-struct TrustOutcome {
-  bool rejected = false;
-  bool prediction = false;  // rejected before solving: the predictor's highest terms were too large
-  int variable = -1;
-  double distance = 0.0, radius = 0.0;
-  void reject(bool before_solve, int v, double d, double r) {
-    if (rejected) return;
-    rejected = true;
-    prediction = before_solve;
-    variable = v;
-    distance = d;
-    radius = r;
-  }
-};
-
-double value_of(double x) { return x; }
 template <int N>
 double value_of(const Jet<N>& x) {
   return x.value();
@@ -148,9 +136,11 @@ void block_residual(const Mechanism& m, const Workspace::Block& b, const T* vars
 
 class Kernel {
  public:
-  // trust: check the point against the prediction (nullptr: accept any converged point)
-  Kernel(const Mechanism& m, Workspace& ws, const Request& rq, TrustOutcome* trust = nullptr)
-      : m_(m), ws_(ws), rq_(rq), trust_(trust) {}
+  // trust: check the point against the prediction (nullptr: accept any converged point);
+  // smallest_step: the step from the last accepted point cannot be halved further
+  Kernel(const Mechanism& m, Workspace& ws, const Request& rq, TrustOutcome* trust = nullptr,
+         bool smallest_step = false)
+      : m_(m), ws_(ws), rq_(rq), trust_(trust), smallest_step_(smallest_step) {}
 
   // the plan step `step` is not solved: `node`'s variables are set from `vars` (see
   // solve_prescribed), the step's contact parameters keep their values
@@ -200,6 +190,10 @@ class Kernel {
     ws_.values[var] = v;
     ws_.vars[var] = Jet3(v);
   }
+  void note_margin(double margin) { ws_.toggle_margin = std::min(ws_.toggle_margin, margin); }
+  // the branch guard and the step control's bookkeeping of an accepted point
+  bool guard(double driver);
+  void accept(double driver);
   void contact_outputs(int step_index);
   // the pose of a node solved before this step: on jets through the point's jet-3 pose
   // cache (the contact outputs then truncate it instead of computing it again)
@@ -218,6 +212,7 @@ class Kernel {
   Workspace& ws_;
   const Request& rq_;
   TrustOutcome* trust_;
+  bool smallest_step_;
   int prescribed_step_ = -1, prescribed_node_ = -1;
   const Jet3* prescribed_vars_ = nullptr;
 };
@@ -314,7 +309,7 @@ bool Kernel::broyden(Workspace::Block& b, double tol) {
       b.dx[i] = -b.dx[i];
       b.x[i] += b.dx[i];
     }
-    const bool speculate = rq_.derivative_order > 0 && (it == 0 || norm * b.contraction <= tol);
+    const bool speculate = it == 0 || norm * b.contraction <= tol;
     const double new_norm = speculate ? jacobian(b, b.x, b.f_new) : evaluate(b, b.x, b.f_new);
     b.jacobian_at_x = speculate;
     if (!std::isfinite(new_norm) || new_norm > 4.0 * norm) {
@@ -515,15 +510,6 @@ Status Kernel::solve_values(Workspace::Block& b, double driver) {
     st = newton(b, tol, driver);
     if (!st.ok()) return st;
   }
-  if (rq_.derivative_order == 0) {
-    // the exact jacobian's inverse starts the next point's broyden iteration (with
-    // derivatives, differentiate() factors it anyway)
-    jacobian(b, b.x, b.f_new);
-    b.lu.factor(n, b.jacobian);
-    b.lu.inverse(b.inverse);
-    remember_jacobian(b, driver);
-    b.have_inverse = b.inverse.topLeftCorner(n, n).allFinite();
-  }
   return Status::success();
 }
 
@@ -540,6 +526,9 @@ Status Kernel::differentiate(Workspace::Block& b, double driver) {
   remember_jacobian(b, driver);
   b.have_inverse = std::isfinite(cond);
   ws_.max_condition = std::max(ws_.max_condition, cond);
+  b.margin = detail::scaled_margin(m_, ws_, n, b.unknowns.data(), b.jacobian, b.inverse, b.r1.data());
+  b.sign = b.lu.determinant_sign();
+  note_margin(b.margin);
   if (!(cond < 1e13)) {
     std::string names;
     for (int ci : b.connections) names += (names.empty() ? "'" : ", '") + m_.connections[ci].name + "'";
@@ -556,7 +545,7 @@ Status Kernel::differentiate(Workspace::Block& b, double driver) {
   b.lu.solve(rhs, xk);
   for (int i = 0; i < n; ++i) ws_.vars[b.unknowns[i]].c[1] = xk[i];
   ++ws_.stats.taylor_orders;
-  if (rq_.derivative_order >= 2) {
+  {
     // order 2 needs only second-order jets: the known variables truncated to Jet<2>
     for (std::size_t v = 0; v < ws_.values.size(); ++v) ws_.vars2[v] = truncate<2>(ws_.vars[v]);
     Jet<2> out2[Workspace::max_block];
@@ -567,7 +556,7 @@ Status Kernel::differentiate(Workspace::Block& b, double driver) {
     for (int i = 0; i < n; ++i) ws_.vars[b.unknowns[i]].c[2] = xk[i];
     ++ws_.stats.taylor_orders;
   }
-  if (rq_.derivative_order >= 3) {
+  {
     Jet3 out[Workspace::max_block];
     block_residual(m_, b, ws_.vars.data(), ws_.pivots.data(), ws_.poses3, ws_.point_id, ws_.residual_buffer3.data(),
                    out);
@@ -624,7 +613,7 @@ template <int M>
   const Surface& curve = oc.curve_on_a ? c.surface_a : c.surface_b;
   const Node& node = m_.nodes[oc.unknown_node];
   const Eigen::Vector2d pivot = ws_.pivots[oc.unknown_node];
-  const int order = rq_.derivative_order;
+  constexpr int order = continuation_order;
   solved = false;
   const auto& pose3 = detail::CachedPoses<Jet3>{m_, ws_.vars.data(), ws_.pivots.data(), ws_.poses3, ws_.point_id,
                                                 b.solving}
@@ -671,14 +660,14 @@ template <int M>
   }
   if (!converged) return Status::success();
   // the contact outputs evaluate the curve at the shifted u
-  if (order > 0 && u != evaluated_at) m_.profiles[curve.profile].shift_memo(evaluated_at, u - evaluated_at);
+  if (u != evaluated_at) m_.profiles[curve.profile].shift_memo(evaluated_at, u - evaluated_at);
   // the curve's unit tangent: along dC/du (the offset curve is parallel to the curve; a
   // reversed sign leaves the condition number below unchanged)
   const double centre_u_norm = std::sqrt(centre_u.x * centre_u.x + centre_u.y * centre_u.y);
   const V2<double> tangent{centre_u.x / centre_u_norm, centre_u.y / centre_u_norm};
   // the block's 2 x 2 jacobian of (tangency, closure) in (displacement, u), for its
   // condition: d/dq = (X_q . t, X_q . n), d/du = (-C_u . t, 0) with n = (t_y, -t_x)
-  if (order > 0) {
+  {
     const V2<double> xq = rotational ? V2<double>{-(centre.y - pivot.y()), centre.x - pivot.x()}
                                      : V2<double>{node.direction.x(), node.direction.y()};
     const V2<double> n{tangent.y, -tangent.x};
@@ -689,6 +678,10 @@ template <int M>
     const double cond = std::max(std::abs(a) + std::abs(cc), std::abs(bb)) *
                         std::max(std::abs(cc), std::abs(bb) + std::abs(a)) / std::abs(det);
     ws_.max_condition = std::max(ws_.max_condition, cond);
+    // the cosine of the pressure angle: the normal against the centre's direction of motion
+    b.margin = std::abs(cc) / std::sqrt(detail::dot(xq, xq));
+    b.sign = det > 0 ? 2 : det < 0 ? -2 : 0;
+    note_margin(b.margin);
     if (!(cond < 1e13))
       return {StatusCode::singular,
               "connection(s) '" + c.name + "' are singular (condition number " + fmt(cond) +
@@ -746,8 +739,7 @@ template <int M>
   // the body's displacement from its circle centre
   Jet3 qn;
   if (rotational) {
-    qn = order > 0 ? atan2(cy - pivot.y(), cx - pivot.x()) - oc.arm_angle
-                   : Jet3(atan2_by_atan(cy.value() - pivot.y(), cx.value() - pivot.x()) - oc.arm_angle);
+    qn = atan2(cy - pivot.y(), cx - pivot.x()) - oc.arm_angle;
     // the branch nearest the prediction (the general solver tracks it continuously)
     const double turns = std::round((ws_.values[oc.node_variable] - qn.value()) / (2 * pi));
     qn.c[0] += turns * 2 * pi;
@@ -759,7 +751,6 @@ template <int M>
   } else {
     qn = node.direction.x() * (cx - oc.centre.x()) + node.direction.y() * (cy - oc.centre.y());
   }
-  for (int k = order + 1; k <= 3; ++k) qn.c[k] = 0.0;
   ws_.values[oc.curve_variable] = u;
   ws_.values[oc.node_variable] = qn.value();
   ws_.vars[oc.curve_variable] = uj;
@@ -800,6 +791,8 @@ Status Kernel::distance_closed_form(const SolveStep& step, const T* vars, T& q, 
                   "] mm of arm " + fmt(rho) + " mm and distance " + fmt(L) + " mm",
               driver_text(m_, driver)};
     ws_.max_condition = std::max(ws_.max_condition, 1.0 / std::max(1e-300, std::sqrt(1.0 - cb * cb)));
+    // the transmission angle mu at the unknown pin: sin mu / dist = sin beta / L (law of sines)
+    note_margin(std::min(1.0, value_of(dist) * std::sqrt(1.0 - cb * cb) / L));
     if (std::abs(cb) == 1.0)
       return {StatusCode::singular, what() + " is exactly at toggle (transmission angle 0 or 180 deg)",
               driver_text(m_, driver)};
@@ -818,6 +811,7 @@ Status Kernel::distance_closed_form(const SolveStep& step, const T* vars, T& q, 
     if (value_of(disc) == 0.0)
       return {StatusCode::singular, what() + " is at toggle (perpendicular to the slide)", driver_text(m_, driver)};
     ws_.max_condition = std::max(ws_.max_condition, L / std::sqrt(value_of(disc)));
+    note_margin(std::sqrt(value_of(disc)) / L);  // the cosine of the link's angle to the slide
     q = -w + double(step.branch) * sqrt(disc);
   }
   return Status::success();
@@ -865,6 +859,7 @@ Status Kernel::line_closed_form(const SolveStep& step, const T* vars, T& s_out, 
                 "' (pressure angle 90 deg)",
             driver_text(m_, driver)};
   ws_.max_condition = std::max(ws_.max_condition, 1.0 / std::abs(kv));
+  note_margin(std::abs(kv));  // the cosine of the pressure angle
   s_out = -closure0 / k;
   gap_at_rest = value_of(closure0) + kv * node.rest;
   // foot of the centre on the face, in the face's own parameter
@@ -879,20 +874,8 @@ Status Kernel::closed_form(const SolveStep& step, int step_index, double driver)
   const int var = m_.nodes[step.output_node].first_variable;
   const bool out_b = step.output_node == c.node_b;
   const int ia = m_.nodes[c.node_a].first_variable, ib = m_.nodes[c.node_b].first_variable;
-  const bool jets = rq_.derivative_order > 0;
   Jet3 q;
   ws_.open[step_index] = false;
-  // evaluates f on jets (derivatives requested) or on values
-  auto on_best_type = [&](auto&& f, Jet3& result) -> Status {
-    if (jets) {
-      ++ws_.stats.jet_closed_forms;
-      return f(ws_.vars.data(), result);
-    }
-    double v = 0.0;
-    Status st = f(ws_.values.data(), v);
-    result = Jet3(v);
-    return st;
-  };
   auto hold_at_rest = [&](double gap) {
     ws_.open[step_index] = true;
     ws_.contacts[step.connections[0]].gap = gap;
@@ -932,9 +915,8 @@ Status Kernel::closed_form(const SolveStep& step, int step_index, double driver)
         pin_k = u == c.node_a ? c.pin_b : c.pin_a;
       }
       const double previous = ws_.values[var];
-      Status st = on_best_type(
-          [&](const auto* vars, auto& out) { return distance_closed_form(step, vars, out, driver, pin_u, k, pin_k, L); },
-          q);
+      ++ws_.stats.jet_closed_forms;
+      Status st = distance_closed_form(step, ws_.vars.data(), q, driver, pin_u, k, pin_k, L);
       if (!st.ok()) return st;
       if (m_.nodes[step.output_node].kind == NodeKind::rotational) {
         // keep the angle continuous with the previous value
@@ -947,16 +929,8 @@ Status Kernel::closed_form(const SolveStep& step, int step_index, double driver)
       const Surface& line = c.surface_a.kind == SurfaceKind::line ? c.surface_a : c.surface_b;
       Jet3 u;
       double gap_at_rest = 0.0;
-      Status st;
-      if (jets) {
-        ++ws_.stats.jet_closed_forms;
-        st = line_closed_form(step, ws_.vars.data(), q, u, gap_at_rest, driver);
-      } else {
-        double qv = 0, uv = 0;
-        st = line_closed_form(step, ws_.values.data(), qv, uv, gap_at_rest, driver);
-        q = Jet3(qv);
-        u = Jet3(uv);
-      }
+      ++ws_.stats.jet_closed_forms;
+      Status st = line_closed_form(step, ws_.vars.data(), q, u, gap_at_rest, driver);
       if (!st.ok()) return st;
       if (c.one_sided && gap_at_rest > 0.0) {
         // open: the follower rests; the face parameter is the foot of the centre at rest
@@ -969,13 +943,11 @@ Status Kernel::closed_form(const SolveStep& step, int step_index, double driver)
         const double du = (line_moves ? -1.0 : 1.0) * shift * (node.direction.x() * tx + node.direction.y() * ty);
         hold_at_rest(gap_at_rest);
         u = Jet3(u.value() + du);
-        for (int k = rq_.derivative_order + 1; k <= 3; ++k) u.c[k] = 0.0;
         ws_.vars[line.variable] = u;
         ws_.values[line.variable] = u.value();
         return Status::success();
       }
       if (c.one_sided) ws_.contacts[step.connections[0]].gap = 0.0;
-      for (int k = rq_.derivative_order + 1; k <= 3; ++k) u.c[k] = 0.0;
       ws_.vars[line.variable] = u;
       ws_.values[line.variable] = u.value();
       break;
@@ -992,7 +964,6 @@ Status Kernel::closed_form(const SolveStep& step, int step_index, double driver)
     case StepMethod::implicit:
       CAMOPT_ASSERT(false);
   }
-  for (int k = rq_.derivative_order + 1; k <= 3; ++k) q.c[k] = 0.0;
   ws_.vars[var] = q;
   ws_.values[var] = q.value();
   ws_.invalidate_pose(step.output_node);
@@ -1004,60 +975,51 @@ Status Kernel::run(double driver) {
   const bool fresh = ws_.history == 0;
   ++ws_.point_id;  // every cached pose is stale
   const bool check = trust_ != nullptr && ws_.history >= 1;
-  // predictor for the warm start: taylor series from the last point, else extrapolation
+  // predictor for the warm start: the taylor series (continuation_order) from the last point
   if (ws_.history >= 1) {
     const double h = driver - ws_.prev_driver, step = ws_.prev_driver - ws_.prev2_driver;
     const bool two = ws_.history >= 2 && step != 0.0;
     // quartic term from the change of the cubic coefficient: d c_3 / dt = 4 c_4
-    const double quartic = two && ws_.prev_order == 3 && ws_.prev2_order == 3 ? h * h * h * h / (4.0 * step) : 0.0;
-    const double linear = two ? h / step : 0.0;  // without jets: linear extrapolation
-    const int order = ws_.prev_order;
-    // the highest terms taken estimate the predictor's error: the cubic (+ quartic) term
-    // of a third-order jet, the quadratic of a second-order one, the linear of a first
-    const double t1 = order == 1 ? h : 0.0, t2 = order == 2 ? h * h : 0.0, t3 = order == 3 ? h * h * h : 0.0;
+    const double quartic = two ? h * h * h * h / (4.0 * step) : 0.0;
+    const double cubic = h * h * h;
     const Jet3* jets = ws_.prev_jets.data();
     const Jet3* jets2 = ws_.prev2_jets.data();
     const double* prev = ws_.prev_values.data();
-    const double* prev2 = ws_.prev2_values.data();
     const double* radius = ws_.trust_radius.data();
     double* x = ws_.values.data();
     double* predicted = ws_.predicted.data();
+    double* error = ws_.predicted_error.data();
     bool beyond = false;
     for (int v = 0; v < nv; ++v) {
       const Jet3& j = jets[v];
-      double xv = prev[v];
-      if (order >= 1) {
-        const double q = (j.c[3] - jets2[v].c[3]) * quartic;
-        xv += h * (j.c[1] + h * ((order >= 2 ? j.c[2] : 0.0) + h * (order >= 3 ? j.c[3] : 0.0)));
-        xv += q;
-        beyond |= std::abs(t1 * j.c[1] + t2 * j.c[2] + t3 * j.c[3] + q) > radius[v];
-      } else {
-        xv += (prev[v] - prev2[v]) * linear;
-      }
+      const double q = (j.c[3] - jets2[v].c[3]) * quartic;
+      const double xv = prev[v] + h * (j.c[1] + h * (j.c[2] + h * j.c[3])) + q;
+      // the highest terms taken, cubic and quartic, estimate the predictor's error
+      error[v] = std::abs(cubic * j.c[3] + q);
+      beyond |= error[v] > radius[v];
       x[v] = xv;
       predicted[v] = xv;
     }
     // a step beyond the predictor's reach is halved before any solve
     if (check && beyond) {
-      for (int v = 0; v < nv && !trust_->rejected; ++v) {
-        const Jet3& j = jets[v];
-        const double tail = std::abs(t1 * j.c[1] + t2 * j.c[2] + t3 * j.c[3] + (j.c[3] - jets2[v].c[3]) * quartic);
-        if (tail > radius[v]) trust_->reject(true, v, tail, radius[v]);
-      }
+      for (int v = 0; v < nv && !trust_->rejected; ++v)
+        if (error[v] > radius[v]) trust_->reject(TrustOutcome::Kind::predicted, v, error[v], radius[v]);
       return Status::success();
     }
   }
   // known variables: driver and control-set nodes
   ws_.values[m_.driver_variable()] = driver;
-  ws_.vars[m_.driver_variable()] = Jet3::variable(driver, rq_.derivative_order > 0 ? 1.0 : 0.0);
+  ws_.vars[m_.driver_variable()] = Jet3::variable(driver, 1.0);
   for (const auto& n : m_.nodes)
     if (n.control >= 0) {
       const double cv = ws_.controls()[n.control];
       set_constant(n.first_variable, m_.controls[n.control].is_angle ? cv * pi / 180.0 : cv);
     }
   ws_.max_condition = 0.0;
+  ws_.toggle_margin = 1.0;
   for (std::size_t si = 0; si < m_.plan.size(); ++si) {
     const SolveStep& step = m_.plan[si];
+    ws_.full_blocks[si].solved = false;
     if (static_cast<int>(si) == prescribed_step_) {
       // the node as given; the contact parameters stay where they were last solved
       const Node& node = m_.nodes[static_cast<std::size_t>(prescribed_node_)];
@@ -1065,7 +1027,6 @@ Status Kernel::run(double driver) {
       for (int k = 0; k < node.dof; ++k) {
         const int v = node.first_variable + k;
         ws_.vars[v] = prescribed_vars_[k];
-        for (int o = rq_.derivative_order + 1; o <= 3; ++o) ws_.vars[v].c[o] = 0.0;
         ws_.values[v] = ws_.vars[v].value();
       }
       ws_.invalidate_pose(prescribed_node_);
@@ -1100,11 +1061,10 @@ Status Kernel::run(double driver) {
       if (st.ok() && gap > 0.0) {
         ws_.open[si] = true;
         set_constant(var, m_.nodes[step.output_node].rest);
-        if (rq_.derivative_order > 0 && !t.unknowns.empty()) {
+        if (!t.unknowns.empty()) {
           Status dst = differentiate(t, driver);
           if (!dst.ok()) return dst;
-        } else
-          for (int v : t.unknowns) ws_.vars[v] = Jet3(ws_.values[v]);
+        }
         ws_.contacts[step.connections[0]].gap = gap;
         ws_.invalidate_pose(step.output_node);
         continue;
@@ -1115,11 +1075,11 @@ Status Kernel::run(double driver) {
     }
     if (b.offset.active && !fresh && ws_.offset_contacts) {
       bool solved = false;
-      // values need the centre's series to order 1 in u, derivatives to order 4 (see there)
-      Status st = rq_.derivative_order > 0 ? solve_offset_contact<4>(b, driver, solved)
-                                           : solve_offset_contact<1>(b, driver, solved);
+      // the derivatives need the centre's series to order 4 in u (see there)
+      Status st = solve_offset_contact<4>(b, driver, solved);
       if (!st.ok()) return st;
       if (solved) {
+        b.solved = true;
         finish_block(b);
         continue;
       }
@@ -1129,12 +1089,9 @@ Status Kernel::run(double driver) {
     }
     Status st = solve_values(b, driver);
     if (!st.ok()) return st;
-    if (rq_.derivative_order > 0) {
-      Status dst = differentiate(b, driver);
-      if (!dst.ok()) return dst;
-    } else {
-      for (int v : b.unknowns) ws_.vars[v] = Jet3(ws_.values[v]);
-    }
+    Status dst = differentiate(b, driver);
+    if (!dst.ok()) return dst;
+    b.solved = true;
     finish_block(b);
   }
   for (int v = 0; v < nv; ++v) {
@@ -1142,37 +1099,59 @@ Status Kernel::run(double driver) {
       return {StatusCode::no_convergence, "variable '" + m_.variables[v].name + "' is not finite",
               driver_text(m_, driver)};
   }
-  if (check) {
-    // a converged point outside the trust region may be another assembly branch
-    const double* x = ws_.values.data();
-    const double* predicted = ws_.predicted.data();
-    const double* radius = ws_.trust_radius.data();
-    bool outside = false;
-    for (int v = 0; v < nv; ++v) outside |= std::abs(x[v] - predicted[v]) > radius[v];
-    if (outside) {
-      for (int v = 0; v < nv && !trust_->rejected; ++v)
-        if (std::abs(x[v] - predicted[v]) > radius[v]) trust_->reject(false, v, std::abs(x[v] - predicted[v]), radius[v]);
-      return Status::success();
-    }
+  // a converged point off the predicted branch is rejected: the step is halved
+  if (check && !guard(driver)) return Status::success();
+  accept(driver);
+  return Status::success();
+}
+
+// the trust radius, then the branch guard (detail/branch_guard.hpp); false: rejected
+bool Kernel::guard(double driver) {
+  const int nv = static_cast<int>(m_.variables.size());
+  // a converged point outside the trust region may be another assembly branch
+  const double* x = ws_.values.data();
+  const double* predicted = ws_.predicted.data();
+  const double* radius = ws_.trust_radius.data();
+  bool outside = false;
+  for (int v = 0; v < nv; ++v) outside |= std::abs(x[v] - predicted[v]) > radius[v];
+  if (outside) {
+    for (int v = 0; v < nv && !trust_->rejected; ++v)
+      if (std::abs(x[v] - predicted[v]) > radius[v])
+        trust_->reject(TrustOutcome::Kind::moved, v, std::abs(x[v] - predicted[v]), radius[v]);
+    return false;
   }
+  detail::guard_branch(m_, ws_, driver != ws_.prev_driver && !ws_.controls_moved, smallest_step_, *trust_);
+  return !trust_->rejected;
+}
+
+// an accepted point: the requested outputs, then the history for the next predictor
+void Kernel::accept(double driver) {
+  const int nv = static_cast<int>(m_.variables.size());
   if (rq_.contacts) {
     // contact quantities need values and first-order rates only (curvature is taken
     // from values of d1 and d2): first-order jets suffice
     for (int v = 0; v < nv; ++v) ws_.vars1[v] = truncate<1>(ws_.vars[v]);
     for (std::size_t si = 0; si < m_.plan.size(); ++si) contact_outputs(static_cast<int>(si));
   }
-  // history for the next predictor
   ws_.prev2_values.swap(ws_.prev_values);
   ws_.prev_values = ws_.values;
   ws_.prev2_jets.swap(ws_.prev_jets);
   ws_.prev_jets = ws_.vars;
-  ws_.prev2_order = ws_.prev_order;
   ws_.prev2_driver = ws_.prev_driver;
   ws_.prev_driver = driver;
-  ws_.prev_order = rq_.derivative_order;
   ws_.history = std::min(ws_.history + 1, 2);
+  ws_.prev_open = ws_.open;
+  ws_.controls_moved = false;
+  detail::accept_branch(ws_);
+  if (ws_.toggle_margin < ws_.path_margin) {
+    ws_.path_margin = ws_.toggle_margin;
+    ws_.path_margin_at = driver;
+  }
   ++ws_.stats.points;
-  return Status::success();
+  // the orders not requested are not returned
+  if (rq_.derivative_order < continuation_order)
+    for (Jet3& j : ws_.vars)
+      for (int k = rq_.derivative_order + 1; k <= continuation_order; ++k) j.c[k] = 0.0;
 }
 
 // velocity [per driver] of the material point at drawing position `local` of a body with this pose
@@ -1336,6 +1315,7 @@ Workspace::Workspace(const Mechanism& mech) {
   std::apply([nv](auto&... v) { (v.assign(nv, {}), ...); }, dual_vars);
   contacts.assign(mech.connections.size(), ContactState{});
   open.assign(mech.plan.size(), false);
+  prev_open.assign(mech.plan.size(), false);
   residual_buffer.assign(4, 0.0);
   residual_buffer2.assign(4, Jet<2>(0.0));
   residual_buffer3.assign(4, Jet3(0.0));
@@ -1353,6 +1333,7 @@ Workspace::Workspace(const Mechanism& mech) {
   poses1.resize(mech.nodes.size());
   no_node_solving.assign(mech.nodes.size(), 0);
   predicted.assign(nv, 0.0);
+  predicted_error.assign(nv, 0.0);
   trust_radius.assign(nv, INFINITY);
   for (int s = 0; s < 2 * static_cast<int>(mech.connections.size()); ++s) {
     // surface parameters: a curve's is an angle, a flat face's a length
@@ -1361,6 +1342,15 @@ Workspace::Workspace(const Mechanism& mech) {
     if (c.kind == ConnectionKind::contact && f.variable >= 0)
       trust_radius[f.variable] =
           f.kind == SurfaceKind::curve ? trust_angle_rad : trust_length_fraction * mech.length_scale;
+  }
+  variable_scale.assign(nv, 1.0);
+  for (std::size_t v = 0; v < nv; ++v)
+    if (mech.variables[v].is_angle) variable_scale[v] = 1.0 / mech.length_scale;
+  for (int s = 0; s < 2 * static_cast<int>(mech.connections.size()); ++s) {
+    const Connection& c = mech.connections[s / 2];
+    const Surface& f = s % 2 ? c.surface_b : c.surface_a;
+    if (c.kind == ConnectionKind::contact && f.variable >= 0 && f.kind != SurfaceKind::curve)
+      variable_scale[f.variable] = 1.0;  // a flat face's parameter is a length
   }
   for (std::size_t v = 0; v < nv; ++v) {
     const int node = mech.variables[v].node;
@@ -1388,12 +1378,14 @@ void Workspace::reset() {
   history = 0;
   std::fill(values.begin(), values.end(), 0.0);
   drop_block_warm_starts(*this);
+  for (auto& b : full_blocks) b.accepted_sign = 0;
 }
 
 void Workspace::set_controls(std::span<const double> values_in, bool keep_warm_start) {
   CAMOPT_ASSERT(values_in.size() == controls_.size());
   std::copy(values_in.begin(), values_in.end(), controls_.begin());
   pivots_stale = true;
+  controls_moved = true;
   if (!keep_warm_start) reset();
 }
 
@@ -1417,11 +1409,13 @@ void place_pivots(const Mechanism& mech, Workspace& ws) {
 }
 
 // one point with the trust check; on rejection the blocks' warm starts (jacobians of the
-// rejected point) are dropped, the history of accepted points is kept
-Status attempt(const Mechanism& m, Workspace& ws, double driver, const Request& rq, TrustOutcome& trust) {
+// rejected point) are dropped, the history of accepted points is kept. smallest: the step
+// cannot be halved further (Kernel)
+Status attempt(const Mechanism& m, Workspace& ws, double driver, const Request& rq, TrustOutcome& trust,
+               bool smallest) {
   place_pivots(m, ws);
   trust = TrustOutcome{};
-  Status st = Kernel(m, ws, rq, &trust).run(driver);
+  Status st = Kernel(m, ws, rq, &trust, smallest).run(driver);
   if (trust.rejected) {
     ++ws.stats.rejected_steps;
     drop_block_warm_starts(ws);
@@ -1436,11 +1430,31 @@ Status jump_status(const Mechanism& m, const TrustOutcome& t, double driver, con
     if (std::find(step.unknowns.begin(), step.unknowns.end(), t.variable) != step.unknowns.end())
       for (int ci : step.connections) names += (names.empty() ? "'" : ", '") + m.connections[ci].name + "'";
   const std::string unit = m.variables[t.variable].is_angle && m.variables[t.variable].node >= 0 ? " rad" : "";
+  const std::string name = "'" + m.variables[t.variable].name + "' ";
+  std::string what;
+  switch (t.kind) {
+    case TrustOutcome::Kind::predicted:
+      what = name + "is predicted to change by " + fmt(t.distance) + unit + ", beyond the trust radius " +
+             fmt(t.radius) + unit;
+      break;
+    case TrustOutcome::Kind::moved:
+      what = name + "moved " + fmt(t.distance) + unit + " from its prediction, beyond the trust radius " +
+             fmt(t.radius) + unit;
+      break;
+    case TrustOutcome::Kind::disagrees:
+      what = name + "moved " + fmt(t.distance) + unit + " from its taylor prediction, beyond " +
+             fmt(detail::taylor_agreement_factor) + " times the prediction's error estimate (" + fmt(t.radius) +
+             unit + ")";
+      break;
+    case TrustOutcome::Kind::flipped:
+      what = "the jacobian's determinant changed sign with the toggle margin at " + fmt(t.radius) +
+             ", not near a singular configuration (" + name + "moved " + fmt(t.distance) + unit +
+             " from its prediction)";
+      break;
+  }
   return {StatusCode::no_convergence,
-          "connection(s) " + names + " jump: '" + m.variables[t.variable].name + "' " +
-              (t.prediction ? "is predicted to change by " : "moved ") + fmt(t.distance) + unit +
-              (t.prediction ? "" : " from its prediction") + ", beyond the trust radius " + fmt(t.radius) + unit +
-              ", even at a step of " + step_text + " (another assembly branch, or the contact leaves the surface)",
+          "connection(s) " + names + " jump: " + what + ", even at a step of " + step_text +
+              " (another assembly branch, or the contact leaves the surface)",
           driver_text(m, driver) + ", residual " + fmt(t.distance)};
 }
 
@@ -1460,7 +1474,7 @@ Status subdivide(const Mechanism& m, Workspace& ws, double target, const Request
     const bool last = std::abs(target - from) <= std::abs(h);
     const double at = last ? target : from + h;
     TrustOutcome trust;
-    Status st = attempt(m, ws, at, last ? rq : inner, trust);
+    Status st = attempt(m, ws, at, last ? rq : inner, trust, std::abs(at - from) <= min_step);
     if (!st.ok() && !last) {
       // the way to the target is blocked: reported at the target, with where it stopped
       const std::string at_text = driver_text(m, at);
@@ -1484,8 +1498,9 @@ Status step_to(const Mechanism& m, Workspace& ws, double target, const Request& 
   place_pivots(m, ws);
   if (ws.history == 0) return Kernel(m, ws, rq).run(target);
   const double start = ws.prev_driver;
+  const double min_step = m.driver_is_angle() ? min_step_rad : min_step_rad * m.length_scale;
   TrustOutcome first;
-  Status st = attempt(m, ws, target, rq, first);
+  Status st = attempt(m, ws, target, rq, first, std::abs(target - start) <= min_step);
   if (st.ok() && first.rejected) st = subdivide(m, ws, target, rq, first, start);
   return st;
 }
@@ -1506,7 +1521,7 @@ Status continue_from_drawing(const Mechanism& m, Workspace& ws, const std::vecto
       controls[i] = next == 1.0 ? target[i] : defaults[i] + next * (target[i] - defaults[i]);
     ws.set_controls(controls, true);
     TrustOutcome trust;
-    Status st = attempt(m, ws, 0.0, inner, trust);
+    Status st = attempt(m, ws, 0.0, inner, trust, next - done <= min_control_fraction);
     if (!st.ok()) return st;
     if (!trust.rejected) {
       done = next;
@@ -1517,6 +1532,7 @@ Status continue_from_drawing(const Mechanism& m, Workspace& ws, const std::vecto
       return jump_status(m, trust, 0.0, "1e-6 of the control move");
     step *= 0.5;
   }
+  ws.path_margin = INFINITY;  // the path at the target controls starts here
   return step_to(m, ws, driver, rq);
 }
 
@@ -1535,6 +1551,7 @@ Status solve_fresh(const Mechanism& mech, Workspace& ws, double driver, const Re
   if (st.ok()) return st;
   // the drawing does not assemble or continue: assemble at the point directly
   ws.set_controls(target);
+  ws.path_margin = INFINITY;
   st = step_to(mech, ws, driver, request);
   if (!st.ok()) ws.reset();
   return st;
@@ -1566,6 +1583,7 @@ Status solve_prescribed(const Mechanism& mech, Workspace& ws, double driver, con
   CAMOPT_ASSERT(step >= 0 && static_cast<int>(node_vars.size()) == mech.nodes[static_cast<std::size_t>(node)].dof);
   CAMOPT_ASSERT(ws.history >= 1 && !request.contacts);
   place_pivots(mech, ws);
+  ws.path_margin = INFINITY;
   TrustOutcome trust;
   Kernel kernel(mech, ws, request, &trust);
   kernel.prescribe(step, node, node_vars.data());
@@ -1584,6 +1602,7 @@ Status solve_drawing(const Mechanism& mech, Workspace& ws) {
   CamProfile::clear_thread_memo();  // the drawing does not depend on the thread's past
   ws.set_controls(mech.default_controls());
   place_pivots(mech, ws);
+  ws.path_margin = INFINITY;
   Status st = Kernel(mech, ws, Request{3, false}).run(0.0);
   if (!st.ok()) ws.reset();
   return st;
@@ -1592,6 +1611,7 @@ Status solve_drawing(const Mechanism& mech, Workspace& ws) {
 Status solve(const Mechanism& mech, Workspace& ws, double driver, const Request& request, const Workspace* drawing) {
   CAMOPT_ASSERT(request.derivative_order >= 0 && request.derivative_order <= 3);
   CAMOPT_ASSERT(!request.contacts || request.derivative_order >= 1);
+  ws.path_margin = INFINITY;
   if (ws.history == 0 && !at_drawing(mech, ws.controls(), driver))
     return solve_fresh(mech, ws, driver, request, drawing);
   if (ws.history == 0) CamProfile::clear_thread_memo();  // the drawing does not depend on the thread's past

@@ -268,6 +268,11 @@ PositionSummary summarize(const Mechanism& m, const SweepResult& r, std::size_t 
   // the worst conditioned solve (grid value)
   for (std::size_t i = 0; i < r.driver.size(); ++i)
     if (p.condition[i] > s.max_condition) s.max_condition = p.condition[i], s.max_condition_at = r.driver[i];
+  // the closest approach to a singular configuration (on the way to each point)
+  for (std::size_t i = 0; i < r.driver.size(); ++i)
+    if (p.toggle_margin[i] < s.min_toggle_margin)
+      s.min_toggle_margin = p.toggle_margin[i], s.min_toggle_margin_at = p.toggle_margin_at[i];
+  s.near_toggle = s.min_toggle_margin < near_singular_margin;
   // lash gaps that open
   for (std::size_t step = 0; step < m.plan.size(); ++step) {
     if (!m.plan[step].one_sided) continue;

@@ -32,6 +32,8 @@ void run_position(const Mechanism& m, const SweepSpec& spec, const std::vector<d
   out.condition.reserve(driver.size());
   out.lash_open.clear();
   out.lash_open.reserve(driver.size());
+  out.toggle_margin.clear();
+  out.toggle_margin_at.clear();
   out.contacts.clear();
   if (spec.request.contacts) out.contacts.reserve(driver.size() * nc);
   const double unit = m.driver_is_angle() ? deg : 1.0;  // driver deg -> rad
@@ -54,11 +56,15 @@ void run_position(const Mechanism& m, const SweepSpec& spec, const std::vector<d
     out.data.insert(out.data.end(), row.begin(), row.end());
     out.condition.push_back(ws.max_condition);
     out.lash_open.push_back(lash_mask(ws));
+    out.toggle_margin.push_back(ws.path_margin);
+    out.toggle_margin_at.push_back(ws.path_margin_at / unit);
     if (spec.request.contacts) out.contacts.insert(out.contacts.end(), ws.contacts.begin(), ws.contacts.end());
   }
   out.data.resize(driver.size() * nv * 4, 0.0);
   out.condition.resize(driver.size(), 0.0);
   out.lash_open.resize(driver.size(), 0);
+  out.toggle_margin.resize(driver.size(), 1.0);
+  out.toggle_margin_at.resize(driver.size(), 0.0);
   if (spec.request.contacts) out.contacts.resize(driver.size() * nc, ContactState{});
   out.stats = ws.stats;
 }

@@ -38,6 +38,17 @@ class SmallLU {
   bool ok() const { return ok_; }
   int size() const { return n_; }
 
+  // sign of the determinant (+1 / -1), 0 when the factorisation failed
+  int determinant_sign() const {
+    if (!ok_) return 0;
+    int sign = 1;
+    for (int k = 0; k < n_; ++k) {
+      if (piv_[k] != k) sign = -sign;
+      if (lu_[k][k] < 0.0) sign = -sign;
+    }
+    return sign;
+  }
+
   // x = A^-1 b (x may alias b)
   void solve(const double* b, double* x) const {
     switch (n_) {

@@ -4,6 +4,7 @@
 // taylor coefficients with respect to the driver [per rad or per mm of driver], exact:
 // closed forms run on jets, implicit blocks use implicit differentiation J x_k = -r_k.
 #include <Eigen/Core>
+#include <cmath>
 #include <span>
 #include <tuple>
 #include <vector>
@@ -18,10 +19,19 @@ namespace camopt::kin {
 
 using Jet3 = Jet<3>;
 
+// what a solve returns. The continuation itself always solves the Taylor series to order 3
+// (its predictor and step control need them), whatever is requested: the request only
+// decides what is kept (Workspace::vars beyond the order are zeroed) and what is computed
+// after a point is accepted (contact quantities).
 struct Request {
   int derivative_order = 3;  // 0: positions only, up to 3: jerk
   bool contacts = false;     // per-contact quantities (needs order >= 1)
 };
+
+// toggle margin (Workspace::toggle_margin) below which a point counts as near a singular
+// configuration (a linkage at toggle, a pressure angle near 90 deg): about the sine of a
+// 1.7 deg transmission angle
+inline constexpr double near_singular_margin = 0.02;
 
 // per-contact kinematic quantities; rates are per rad (or mm) of driver
 struct ContactState {
@@ -63,6 +73,16 @@ class Workspace {
   std::vector<Jet3> vars;             // every variable's jet w.r.t. the driver
   std::vector<ContactState> contacts; // per connection (contacts only meaningful)
   double max_condition = 0.0;         // largest block condition estimate at this point
+  // margin from a singular configuration at this point, the smallest over its solve steps
+  // (1: well conditioned, 0: singular): for a block solved simultaneously 1 / (1-norm
+  // condition number of its jacobian with every angle measured as arc length at
+  // Mechanism::length_scale), for a closed-form step the sine of its transmission angle
+  // (between the link, or the contact normal, and the unknown pin's direction of motion)
+  double toggle_margin = 1.0;
+  // the smallest toggle_margin over the points accepted by the last solve() at its controls
+  // (the point, and the driver continuation and halved steps leading to it), and where
+  // [driver rad or mm]
+  double path_margin = INFINITY, path_margin_at = 0.0;
   SolveStats stats;
 
   // ---- internals used by the kernel ----
@@ -80,6 +100,12 @@ class Workspace {
     Matrix jacobian;            // exact jacobian at x when jacobian_at_x
     bool jacobian_at_x = false;
     double contraction = 0.0;   // last residual reduction of a broyden step (|f_new| / |f|)
+    // branch guard: solved at this point (by either form), its toggle margin, and the sign
+    // of its jacobian's determinant (general form +-1, one-equation form +-2, 0 unknown)
+    // here and at the last accepted point
+    bool solved = false;
+    double margin = 1.0, accepted_margin = 1.0;
+    int sign = 0, accepted_sign = 0;
     // exact jacobians at the last two solved points, extrapolated linearly in the driver
     // to start broyden at the next one
     Matrix last_jacobian, prev_jacobian;
@@ -132,13 +158,17 @@ class Workspace {
   std::vector<bool> open;  // per plan step: lash gap open
   // step control: a point is accepted only if no solved variable moved farther than its
   // trust radius from the prediction and the prediction's highest taylor terms are within
-  // it too; otherwise the step from the last accepted point is halved
-  std::vector<double> trust_radius;  // per variable [rad or mm]; infinite for known ones
-  std::vector<double> predicted;     // per variable: the predictor's value at this point
+  // it too, and the branch guard (detail/branch_guard.hpp) finds it on the predicted
+  // branch; otherwise the step from the last accepted point is halved
+  std::vector<double> trust_radius;     // per variable [rad or mm]; infinite for known ones
+  std::vector<double> variable_scale;   // per variable: 1 / length_scale for angles and curve parameters, else 1
+  std::vector<double> predicted;        // per variable: the predictor's value at this point
+  std::vector<double> predicted_error;  // per variable: its error estimate (the highest terms taken)
+  std::vector<bool> prev_open;          // per plan step: lash gap open at the last accepted point
+  bool controls_moved = false;          // set_controls since the last accepted point
   bool offset_contacts = true;  // use the one-equation form where it applies (off: tests compare)
   double prev_driver = 0.0, prev2_driver = 0.0;
   int history = 0;  // number of previous points available for prediction
-  int prev_order = 0, prev2_order = 0;
   std::vector<double> residual_buffer;
   std::vector<Jet<2>> residual_buffer2;
   std::vector<Jet3> residual_buffer3;

@@ -31,6 +31,9 @@ struct PositionResult {
   std::vector<double> condition;       // largest block condition estimate per point
   // per point: bit s set while plan step s holds a lash gap open (steps from 63 on share bit 63)
   std::vector<std::uint64_t> lash_open;
+  // per point: the smallest toggle margin on the way to it (Workspace::path_margin) and
+  // where [driver deg or mm]
+  std::vector<double> toggle_margin, toggle_margin_at;
   SolveStats stats;
 
   double at(std::size_t point, std::size_t variables, int v, int k) const { return data[(point * variables + v) * 4 + k]; }
@@ -101,6 +104,11 @@ struct PositionSummary {
   double max_roller_speed = 0;   // |roller spin| [rad per driver deg]
   double max_sliding = 0;        // |scrub| [mm per driver deg]
   double max_condition = 0, max_condition_at = 0;
+  // the closest approach to a singular configuration: the smallest toggle margin
+  // (Workspace::toggle_margin) and where [driver deg or mm]; near_toggle when it is below
+  // near_singular_margin
+  double min_toggle_margin = 1.0, min_toggle_margin_at = 0;
+  bool near_toggle = false;
   std::vector<Separation> separations;  // lash contacts that open
 
   double duration_at(double height) const;  // the duration at one of the options' heights
