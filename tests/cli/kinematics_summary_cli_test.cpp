@@ -57,9 +57,10 @@ TEST_CASE("kinematics summary: durations at 1 and 0.1 mm by default, refined to 
   CHECK(std::abs(j["duration_at_1mm_cam_deg"].get<double>() - duration(1.0)) <= kRefinedRel * duration(1.0));
   CHECK(std::abs(j["duration_at_0.1mm_cam_deg"].get<double>() - duration(0.1)) <= kRefinedRel * duration(0.1));
   CHECK(std::abs(j["max_lift_mm"].get<double>() - kE) <= kRefinedRel * kE);
-  // every lift value is refined; nothing here is a grid value
-  CHECK(j["grid_values"].size() == 1);  // max_condition_number
+  // every lift value is refined; nothing here is a grid value but the solver's conditioning
+  CHECK(j["grid_values"].size() == 2);
   CHECK(j["grid_values"][0] == "max_condition_number");
+  CHECK(j["grid_values"][1] == "min_toggle_margin");
   CHECK(j["notes"].empty());
 }
 
