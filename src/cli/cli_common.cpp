@@ -94,6 +94,12 @@ void check_inputs_outside(const std::string& out_dir, std::initializer_list<std:
   }
 }
 
+bool progress_line_wanted() {
+  const GlobalOptions& g = global_options();
+  if (g.quiet || g.progress == "never") return false;
+  return g.progress == "always" || isatty(STDERR_FILENO) == 1;
+}
+
 namespace {
 
 bool progress_line_drawn = false;  // a Progress line is on the terminal, without its newline
@@ -120,7 +126,7 @@ void detail(const std::string& message) {
 
 Progress::Progress(std::string label, long total)
     : label_(std::move(label)), total_(total),
-      enabled_(total > 0 && !global_options().quiet && isatty(STDERR_FILENO) == 1) {
+      enabled_(total > 0 && progress_line_wanted()) {
   if (enabled_) draw();
 }
 

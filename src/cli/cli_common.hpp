@@ -34,10 +34,12 @@ class VerificationFailed : public std::runtime_error {
 struct GlobalOptions {
   bool quiet = false;
   bool verbose = false;
-  int threads = 0;  // 0 = all hardware threads
+  int threads = 0;               // 0 = all hardware threads
+  std::string progress = "auto";  // auto (when stderr is a terminal), always, never
 };
 
 GlobalOptions& global_options();
+bool progress_line_wanted();  // draw progress lines in place on stderr (--progress, --quiet)
 int thread_count();  // resolved --threads
 
 // largest and smallest value of a series and where (e.g. the cam angle) each occurred

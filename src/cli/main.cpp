@@ -42,6 +42,10 @@ int main(int argc, char** argv) {
   app.add_flag("-v,--verbose", global.verbose, "print solver details on stderr");
   app.add_option("--threads", global.threads, "worker threads for sweeps [count]; 0 = all cores")
       ->check(non_negative_number());
+  app.add_option("--progress", global.progress,
+                 "progress on stderr: auto (a line redrawn in place when stderr is a terminal, else one line per "
+                 "optimiser phase), always (redrawn in place), never")
+      ->check(CLI::IsMember({"auto", "always", "never"}));
 
   setup_validate(app);
   setup_kinematics(app);
@@ -53,7 +57,7 @@ int main(int argc, char** argv) {
   // a first word that names no subcommand (a typo): say so, with the subcommands
   for (int i = 1; i < argc; ++i) {
     const std::string word = argv[i];
-    if (word == "--threads") ++i;
+    if (word == "--threads" || word == "--progress") ++i;
     if (word.empty() || word[0] == '-') continue;
     std::string names;
     bool known = false;

@@ -83,8 +83,8 @@ ProgressCallback make_progress_printer(std::FILE* out, bool terminal) {
 }
 
 ProgressCallback make_progress_printer() {
-  if (global_options().quiet) return {};
-  return make_progress_printer(stderr, isatty(STDERR_FILENO) == 1);
+  if (global_options().quiet || global_options().progress == "never") return {};
+  return make_progress_printer(stderr, progress_line_wanted());
 }
 
 }  // namespace camopt::cli

@@ -111,20 +111,15 @@ TEST_CASE("NUL, control and non-UTF-8 bytes of an input are escaped in the messa
   CHECK(terminal_safe(v.err));
 }
 
-TEST_CASE("on a terminal, the progress line is cleared before the next message and says when outputs are written",
+TEST_CASE("a progress line drawn in place is cleared before the next message and says when outputs are written",
           "[cli][messages]") {
-  // script(1) is in bsdutils, an essential Debian package
-  REQUIRE(std::system("script --version >/dev/null 2>&1") == 0);
   const std::string rff = (source_dir() / "designs/roller_finger_follower.toml").string();
   TempDir tmp;
-  // script(1) gives camopt a pseudo-terminal, so that it draws its progress line
-  const std::string inner = shell_quote(camopt_binary().string()) + " kinematics " + shell_quote(rff) +
-                            " --step 0.25 --out " + shell_quote((tmp / "out").string());
-  const std::string log = (tmp / "terminal.log").string();
-  const std::string command = "script -qec " + shell_quote(inner) + " " + shell_quote(log) + " >/dev/null 2>&1";
-  REQUIRE(std::system(command.c_str()) == 0);
-  const std::string screen = read_file(log);
-  INFO(screen);
+  // --progress always: the line a terminal would show, written to the captured stderr
+  const auto r = run_camopt({"--progress", "always", "kinematics", rff, "--step", "0.25", "--out", (tmp / "out").string()});
+  INFO(r.command << "\n" << r.all());
+  REQUIRE(r.exit_code == cli_ok);
+  const std::string& screen = r.err;
   const std::string bar_end = "100%, writing the outputs ...";
   const std::size_t bar = screen.find(bar_end);
   REQUIRE(bar != std::string::npos);
@@ -134,4 +129,16 @@ TEST_CASE("on a terminal, the progress line is cleared before the next message a
   CHECK(after.size() > 4);
   CHECK(std::isalpha(static_cast<unsigned char>(after[4])));
   CHECK(after.find("kinematics: 1 position(s)") != std::string::npos);
+
+  // auto on a file and never: no line drawn in place
+  for (const char* mode : {"auto", "never"}) {
+    const auto q = run_camopt({"--progress", mode, "kinematics", rff, "--out", (tmp / mode).string()});
+    INFO(q.command << "\n" << q.all());
+    CHECK(q.exit_code == cli_ok);
+    CHECK(q.err.find('\r') == std::string::npos);
+    CHECK(q.err.find("kinematics: 1 position(s)") != std::string::npos);
+  }
+  const auto bad = run_camopt({"--progress", "sometimes", "kinematics", rff, "--out", (tmp / "bad").string()});
+  CHECK(bad.exit_code == cli_input_error);
+  CHECK(bad.err.find("--progress") != std::string::npos);
 }
