@@ -41,6 +41,10 @@ void assertion_failed(const char* expr, const char* file, int line, const char* 
   std::abort();
 }
 
+void precondition_failed(const char* expr, const std::string& message) {
+  throw InputError(message + " (rule: " + expr + ")");
+}
+
 std::string format_value(double value, int digits) {
   std::ostringstream s;
   s.precision(digits);

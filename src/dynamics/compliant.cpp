@@ -248,7 +248,8 @@ Status run_compliant(const kin::Mechanism& mech, const Model& model, const std::
   p.seat_k.assign(p.nc, 0.0);
   p.seat_damping.assign(p.nc, 0.0);
   const double f_ref = options.reference_force > 0 ? options.reference_force : kDefaultReferenceForce;
-  solve_rigid(mech, model, ws, p.theta0);  // contact curvatures and rest loads at the start
+  // contact curvatures and rest loads at the start
+  if (const Status st = solve_rigid(mech, model, ws, p.theta0); !st.ok()) return st;
   for (int c = 0; c < p.nc; ++c) {
     const ContactData& cd = model.contacts[c];
     if (!cd.is_contact) continue;

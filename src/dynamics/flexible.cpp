@@ -172,7 +172,7 @@ class Run {
  private:
   Status advance(double tout);
   Status on_roots(double t);
-  Status on_kink(double t);
+  void on_kink(double t);
   void set_stop_time();
   Status record(std::size_t i, double deg, double tout);
   bool periodic_check();
@@ -261,14 +261,13 @@ void Run::set_stop_time() {
 
 // a kink: the piece after it becomes the active one and the deviation's rate jumps by minus
 // the path's, so the bodies keep their velocities
-Status Run::on_kink(double t) {
+void Run::on_kink(double t) {
   const int before = s_.piece_of(s_.theta0 + s_.omega * t);
   const int after = (before + 1) % static_cast<int>(s_.pieces.size());
   double* y = N_VGetArrayPointer(su_.y);
   for (int e = 0; e < s_.core(); ++e) y[s_.N + e] -= s_.piece_end_rate(after, 0, e) - s_.piece_end_rate(before, 1, e);
   s_.active_piece = after;
   s_.evaluated_theta = std::nan("");
-  return Status::success();
 }
 
 Status Run::on_roots(double t) {

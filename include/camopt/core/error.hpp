@@ -1,6 +1,12 @@
 #pragma once
-// the three error channels (STYLE.md §5): asserts for bugs, InputError for bad user
-// input, Status for numerical outcomes.
+// the error contract (STYLE.md §5), one channel per kind of failure:
+// - CAMOPT_ASSERT: a bug in camopt; aborts with the location in every build type.
+// - CAMOPT_THROW_UNLESS / InputError: a bad argument or bad user input; the message names
+//   the field, the value and the rule it broke.
+// - Status ([[nodiscard]]): the outcome of a numerical computation (no convergence,
+//   singular, ...) with the angle and residual where it failed. NumericalError carries a
+//   Status to the CLI; it is thrown only outside C callbacks, and never from a constructor
+//   (numerical objects come from factories that return a Status).
 #include <cstdio>
 #include <cstdlib>
 #include <stdexcept>
@@ -41,7 +47,7 @@ enum class StatusCode {
 const char* to_string(StatusCode code);
 
 // outcome of a numerical computation: code, message and where (angle, residual, ...)
-struct Status {
+struct [[nodiscard]] Status {
   StatusCode code = StatusCode::ok;
   std::string message;
   std::string where;
@@ -67,6 +73,9 @@ std::string format_value(double value, int digits = 10);
 
 [[noreturn]] void assertion_failed(const char* expr, const char* file, int line, const char* msg);
 
+// throws InputError("<message> (rule: <expr>)"); see CAMOPT_THROW_UNLESS
+[[noreturn]] void precondition_failed(const char* expr, const std::string& message);
+
 }  // namespace camopt
 
 // programmer bug: abort with location (active in every build type)
@@ -77,4 +86,11 @@ std::string format_value(double value, int digits = 10);
 #define CAMOPT_ASSERT_MSG(cond, msg)                                               \
   do {                                                                             \
     if (!(cond)) ::camopt::assertion_failed(#cond, __FILE__, __LINE__, msg);       \
+  } while (0)
+
+// public precondition on an argument: throws InputError naming the field, its value and the
+// rule, e.g. CAMOPT_THROW_UNLESS(step > 0, "sweep step_deg = " + format_value(step) + " must be > 0")
+#define CAMOPT_THROW_UNLESS(cond, message)                                         \
+  do {                                                                             \
+    if (!(cond)) ::camopt::precondition_failed(#cond, message);                    \
   } while (0)
