@@ -30,19 +30,19 @@ std::vector<int> drive_side(const kin::Mechanism& mech, int node) {
 }
 
 // a contact or seat law from its design keys; hertz needs length and e_star set by the caller
-ForceLaw make_law(const ContactLawSpec& spec, const FlexibleOptions& opt, const std::string& who, const SourceRef& where) {
+ForceLaw make_law(const ContactLawSpec& keys, const FlexibleOptions& opt, const std::string& who, const SourceRef& where) {
   ForceLaw law;
-  law.law = spec.law;
-  law.damping_law = spec.damping_law;
+  law.law = keys.law;
+  law.damping_law = keys.damping_law;
   law.scale = opt.contact_stiffness_scale;
-  const double alpha_default = hunt_crossley_alpha(spec.restitution.value_or(opt.contact_restitution),
+  const double alpha_default = hunt_crossley_alpha(keys.restitution.value_or(opt.contact_restitution),
                                                    opt.restitution_speed_m_per_s * 1e3);
-  const std::optional<double> c = spec.damping_N_s_per_m ? std::optional<double>(*spec.damping_N_s_per_m * kMilli)
+  const std::optional<double> c = keys.damping_N_s_per_m ? std::optional<double>(*keys.damping_N_s_per_m * kMilli)
                                                          : std::nullopt;  // [N s/mm]
-  if (spec.law == ContactLaw::linear) {
-    if (!spec.stiffness_N_per_mm)
+  if (keys.law == ContactLaw::linear) {
+    if (!keys.stiffness_N_per_mm)
       throw InputError(where, who + ": law = \"linear\" needs stiffness_N_per_mm");
-    law.k = *spec.stiffness_N_per_mm;
+    law.k = *keys.stiffness_N_per_mm;
     law.c = c.value_or(0.0);
     return law;
   }

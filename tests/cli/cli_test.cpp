@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "camopt/core/units.hpp"
 #include "cli/cli_support.hpp"
 
 #if __has_include(<nlohmann/json.hpp>)
@@ -672,7 +673,7 @@ TEST_CASE("synthesize rejects a noisy target for interpolation, naming the row a
   // 9 mm cycloidal rise and fall over 240 cam deg, rows 1 deg apart, +-0.01 mm alternating on the event
   std::string text = "cam_deg,lift_mm\n";
   for (int i = 0; i < 360; ++i) {
-    const auto unit = [](double x) { return x - std::sin(2 * M_PI * x) / (2 * M_PI); };
+    const auto unit = [](double x) { return x - std::sin(2 * camopt::pi * x) / (2 * camopt::pi); };
     double y = i < 120 ? 9 * unit(i / 120.0) : i < 240 ? 9 * (1 - unit((i - 120) / 120.0)) : 0.0;
     if (y > 0.05) y += i % 2 ? 0.01 : -0.01;
     text += std::to_string(i) + "," + std::to_string(y) + "\n";
