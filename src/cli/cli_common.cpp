@@ -8,6 +8,9 @@
 #include <thread>
 
 #include "camopt/core/error.hpp"
+#include "camopt/io/design_file.hpp"
+#include "camopt/kinematics/drawing_check.hpp"
+#include "range_option.hpp"
 
 namespace camopt::cli {
 
@@ -72,6 +75,65 @@ long sweep_points(const std::string& option, double start, double stop, double s
                      " points = " + format_value(points * positions, 6) + " (at most " +
                      format_value(kMaxTotalPoints, 6) + ")");
   return static_cast<long>(points);
+}
+
+kin::Mechanism load_mechanism(const std::string& design_path) {
+  kin::Mechanism mech = kin::compile(io::load_design(design_path));
+  for (const auto& note : kin::check_drawing(mech)) info(design_path + ": warning: " + note);
+  return mech;
+}
+
+DriverRange driver_range(const DesignSpec& spec, double step_option) {
+  DriverRange r;
+  r.start = spec.driver.start_deg;
+  r.stop = spec.driver.stop_deg;
+  r.step = step_option > 0 ? step_option : spec.driver.step_deg;
+  if (r.step > r.stop - r.start)
+    throw InputError("--step: value " + std::to_string(r.step) + " exceeds the driver range " +
+                     std::to_string(r.stop - r.start));
+  return r;
+}
+
+ControlPositions resolve_controls(const kin::Mechanism& mech, const std::string& design_path,
+                                  const std::string& control_option) {
+  ControlPositions c;
+  if (!control_option.empty()) {
+    if (mech.controls.empty()) throw InputError("--control: design '" + design_path + "' has no [[control]]");
+    const auto& c0 = mech.controls[0];
+    c.values = parse_range("--control", control_option);
+    for (double v : c.values)
+      if (v < c0.min - 1e-12 || v > c0.max + 1e-12)
+        throw InputError("--control: value " + format_value(v, 12) + " is outside control '" + c0.name +
+                         "' range [" + format_value(c0.min, 12) + ", " + format_value(c0.max, 12) + "]");
+  } else {
+    c.values.push_back(mech.controls.empty() ? 0.0 : mech.controls[0].default_value);
+  }
+  const std::vector<double> defaults = mech.default_controls();
+  for (double v : c.values) {
+    auto pos = defaults;
+    if (!pos.empty()) pos[0] = v;
+    c.positions.push_back(pos);
+  }
+  c.unit = mech.controls.empty() || mech.controls[0].is_angle ? "deg" : "mm";
+  return c;
+}
+
+void fail_at_position(const kin::Mechanism& mech, const ControlPositions& controls, Status status,
+                      std::size_t position) {
+  if (!mech.controls.empty())
+    status.where += ", control " + mech.controls[0].name + " = " + format_value(controls.values[position], 12);
+  throw NumericalError(status);
+}
+
+void write_outputs(const std::string& out_dir, const std::vector<std::string>& output_set,
+                   const std::vector<std::pair<std::string, std::string>>& files) {
+  io::OutputTransaction out = open_outputs(out_dir, output_set);
+  for (const auto& [name, contents] : files) out.stage(name, contents);
+  out.commit();
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 io::OutputTransaction open_outputs(const std::string& out_dir, const std::vector<std::string>& outputs) {

@@ -1,13 +1,16 @@
 #pragma once
 // shared by the subcommands: exit codes, global options, progress bar, messages.
+#include <chrono>
 #include <cstdio>
 #include <initializer_list>
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "camopt/io/atomic_file.hpp"
+#include "camopt/kinematics/mechanism.hpp"
 
 namespace CLI {
 class App;
@@ -79,6 +82,39 @@ inline const std::vector<std::string> kOptimizeOutputs = {"lift.csv",    "swing_
 // the output set of a run into `out_dir` (one of the lists above), the folder locked
 // against other camopt runs; a run that has to wait says so on stderr
 io::OutputTransaction open_outputs(const std::string& out_dir, const std::vector<std::string>& outputs);
+
+// the steps the commands share
+// the design file parsed and compiled; the drawing check's warnings on stderr
+kin::Mechanism load_mechanism(const std::string& design_path);
+
+// the driver range of the design and the step: --step when given (> 0), else driver.step_deg;
+// InputError when the step exceeds the range
+struct DriverRange {
+  double start = 0.0, stop = 0.0, step = 0.0;  // [driver deg, or mm for a translational driver]
+};
+DriverRange driver_range(const DesignSpec& spec, double step_option);
+
+// the control positions of a run: the design's first control at each value of --control (a
+// value, a list a,b,c or START:STOP:COUNT, inside the control's range), the others at their
+// defaults; without --control the first control's default (0 without controls)
+struct ControlPositions {
+  std::vector<double> values;                  // the first control's values
+  std::vector<std::vector<double>> positions;  // every control, per value
+  std::string unit;                            // "deg" or "mm"
+};
+ControlPositions resolve_controls(const kin::Mechanism& mech, const std::string& design_path,
+                                  const std::string& control_option);
+
+// a numerical failure at one control position: its Status named with the control's value
+[[noreturn]] void fail_at_position(const kin::Mechanism& mech, const ControlPositions& controls, Status status,
+                                   std::size_t position);
+
+// the files of one output set (name, contents) staged into out_dir and committed together
+void write_outputs(const std::string& out_dir, const std::vector<std::string>& output_set,
+                   const std::vector<std::pair<std::string, std::string>>& files);
+
+// seconds of wall time since t0
+double seconds_since(std::chrono::steady_clock::time_point t0);
 
 // InputError when an input file is one of the files the run writes into its output folder
 // (`--out`): the run would overwrite its own input

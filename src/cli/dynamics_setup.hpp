@@ -1,22 +1,48 @@
 #pragma once
-// what every `camopt dynamics` model reads from the design and the options
+// what every `camopt dynamics` model reads from the design and the options, and the grid of
+// time-integrated runs (rpm x control position) of the compliant and flexible models
+#include <cstddef>
 #include <string>
 #include <vector>
 
-#include "camopt/core/design_spec.hpp"
+#include "camopt/core/error.hpp"
 #include "camopt/dynamics/model.hpp"
 #include "camopt/kinematics/mechanism.hpp"
+#include "cli_common.hpp"
 
 namespace camopt::cli {
 
 struct DynamicsSetup {
-  DesignSpec spec;
-  kin::Mechanism mech;
-  dynamics::Model model;
-  std::vector<double> rpms, control_values;    // engine speeds [rpm]; the first control's positions
-  std::vector<std::vector<double>> positions;  // every control, per control position
-  double start = 0, stop = 0, step = 0;        // cam angle range and step [cam deg]
-  std::string control_unit;                    // "deg" or "mm"
+  kin::Mechanism mech;         // the design (mech.spec) compiled
+  dynamics::Model model;       // its dynamics data
+  std::vector<double> rpms;    // engine speeds [rpm]
+  ControlPositions controls;   // the first control's positions, every control per position
+  DriverRange range;           // cam angle range and step [cam deg]
 };
+
+// one time-integrated run per (rpm, control position) of the setup, in that nesting order
+template <class Result>
+struct GridRun {
+  double rpm;
+  std::size_t position;
+  Result result;
+};
+
+// runs `integrate(rpm, controls, result)` over the grid with a progress bar; a failure stops
+// with its control position named
+template <class Result, class Integrate>
+std::vector<GridRun<Result>> run_grid(const DynamicsSetup& su, Integrate&& integrate) {
+  std::vector<GridRun<Result>> runs;
+  Progress progress("dynamics", static_cast<long>(su.rpms.size() * su.controls.positions.size()));
+  for (double rpm : su.rpms)
+    for (std::size_t p = 0; p < su.controls.positions.size(); ++p) {
+      GridRun<Result> r{rpm, p, {}};
+      const Status st = integrate(rpm, su.controls.positions[p], r.result);
+      if (!st.ok()) fail_at_position(su.mech, su.controls, st, p);
+      runs.push_back(std::move(r));
+      progress.advance();
+    }
+  return runs;
+}
 
 }  // namespace camopt::cli

@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numbers>
 
+#include "camopt/core/units.hpp"
 #include "cli_common.hpp"
 
 namespace camopt::cli {
@@ -108,7 +108,7 @@ nlohmann::json flexible_run_summary(const kin::Mechanism& mech, const dynamics::
     const std::size_t ne = r.element_names.size();
     for (std::size_t i = 0; i < r.cam_deg.size(); ++i) worst = std::max(worst, std::abs(r.deformation[i * ne + e]));
     const bool angle = mech.nodes[mech.node_index(r.element_names[e])].kind != NodeKind::translational;
-    j["deformation"][r.element_names[e]] = {{std::string("max_") + (angle ? "deg" : "mm"), angle ? worst * 180.0 / std::numbers::pi : worst}};
+    j["deformation"][r.element_names[e]] = {{std::string("max_") + (angle ? "deg" : "mm"), angle ? worst * 180.0 / pi : worst}};
   }
   nlohmann::json events = nlohmann::json::array();
   for (const auto& e : r.events)

@@ -1,20 +1,18 @@
-// camopt kinematics: kinematic sweep of a design over the cam cycle and control range.
+// camopt kinematics: kinematic sweep of a design over the cam cycle and control range,
+// written as kinematics.csv (long format) and summary.json.
 #include <CLI/CLI.hpp>
 #include <chrono>
 #include <cmath>
-#include <nlohmann/json.hpp>
 #include <mutex>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "camopt/io/atomic_file.hpp"
+#include "camopt/core/units.hpp"
 #include "camopt/io/csv.hpp"
-#include "camopt/io/design_file.hpp"
-#include "camopt/kinematics/drawing_check.hpp"
 #include "camopt/kinematics/sweep.hpp"
 #include "cli_common.hpp"
 #include "kinematics_summary.hpp"
 #include "validators.hpp"
-#include "range_option.hpp"
 
 namespace camopt::cli {
 
@@ -87,6 +85,286 @@ std::vector<kin::PositionSummary> summaries(const kin::Mechanism& mech, const ki
   return out;
 }
 
+// what the run writes, and the units of its columns and keys
+struct Run {
+  const KinematicsOptions& options;
+  const kin::Mechanism& mech;
+  OutputSelection sel;
+  ControlPositions controls;
+  std::vector<DurationHeight> heights;
+  bool output_is_angle = false;
+  std::string driver_unit;     // "deg" or "mm"
+  double cam_deg_per_s = 0.0;  // at --rpm [deg/s]
+  bool has_lash = false;
+};
+
+// the sweep over the driver range at every control position, to the asked derivative order
+kin::SweepSpec make_sweep(const Run& run) {
+  const DriverRange range = driver_range(run.mech.spec, run.options.step_deg);
+  kin::SweepSpec sweep;
+  sweep.start = range.start;
+  sweep.stop = range.stop;
+  sweep.step = range.step;
+  sweep.request.derivative_order = run.sel.contacts ? std::max(run.sel.order, 1) : run.sel.order;
+  sweep.request.contacts = run.sel.contacts;
+  sweep.threads = thread_count();
+  sweep.control_positions = run.controls.positions;
+  sweep_points(run.options.step_deg > 0 ? "--step" : "driver.step_deg", sweep.start, sweep.stop, sweep.step,
+               static_cast<double>(sweep.control_positions.size()));
+  return sweep;
+}
+
+// the sweep with a progress bar (one step per control position); seconds: its wall time
+kin::SweepResult run_sweep(const kin::Mechanism& mech, kin::SweepSpec sweep, double& seconds) {
+  Progress progress("kinematics", static_cast<long>(sweep.control_positions.size()));
+  std::mutex progress_mutex;
+  sweep.on_position_done = [&] {
+    std::lock_guard<std::mutex> lock(progress_mutex);
+    progress.advance();
+  };
+  const auto t0 = std::chrono::steady_clock::now();
+  kin::SweepResult result = kin::sweep(mech, sweep);
+  seconds = seconds_since(t0);
+  return result;
+}
+
+// lash: the same sweep without lash, for the lift loss and the lift-area loss
+std::vector<kin::PositionSummary> no_lash_summaries(const Run& run, const kin::SweepSpec& sweep) {
+  std::vector<kin::PositionSummary> out;
+  if (!run.has_lash) return out;
+  DesignSpec zero = run.mech.spec;
+  for (auto& c : zero.connections) c.lash_mm = 0.0;
+  const kin::Mechanism mech0 = kin::compile(zero);
+  kin::SweepSpec s0 = sweep;
+  s0.request = {sweep.request.derivative_order, false};  // refined as the summary below
+  s0.on_position_done = nullptr;
+  const kin::SweepResult r0 = kin::sweep(mech0, s0);
+  for (std::size_t p = 0; p < r0.positions.size(); ++p) {
+    if (!r0.positions[p].status.ok()) throw NumericalError(r0.positions[p].status);
+    out.push_back(kin::summarize(mech0, r0, p));
+  }
+  return out;
+}
+
+// kinematics.csv in long format: one row per (control position, driver point)
+class CsvColumns {
+ public:
+  CsvColumns(const Run& run, const kin::SweepResult& result) : run_(run), result_(result) {}
+  std::string csv();
+
+ private:
+  template <class ValueAt>
+  void add(std::string name, ValueAt&& value_at) {
+    header_.push_back(std::move(name));
+    std::vector<double> col;
+    col.reserve(result_.driver.size() * result_.positions.size());
+    for (std::size_t p = 0; p < result_.positions.size(); ++p)
+      for (std::size_t i = 0; i < result_.driver.size(); ++i) col.push_back(value_at(result_.positions[p], i));
+    cols_.push_back(std::move(col));
+  }
+  void add_control_and_driver();
+  void add_variable(int v, const std::string& prefix, bool relative_to_rest);
+  void add_contact(std::size_t c);
+
+  const Run& run_;
+  const kin::SweepResult& result_;
+  std::vector<std::string> header_;
+  std::vector<std::vector<double>> cols_;
+};
+
+void CsvColumns::add_control_and_driver() {
+  const kin::Mechanism& mech = run_.mech;
+  header_ = {"control_" + run_.controls.unit, mech.driver_is_angle() ? "cam_deg" : "driver_mm"};
+  cols_.resize(2);
+  for (std::size_t p = 0; p < result_.positions.size(); ++p)
+    for (std::size_t i = 0; i < result_.driver.size(); ++i) {
+      cols_[0].push_back(run_.controls.values[p]);
+      cols_[1].push_back(result_.driver[i]);
+    }
+}
+
+// a node variable and its derivatives per driver unit, and per second at --rpm
+void CsvColumns::add_variable(int v, const std::string& prefix, bool relative_to_rest) {
+  const kin::Mechanism& mech = run_.mech;
+  const std::size_t nv = mech.variables.size();
+  const Units u{mech.variables[v].is_angle ? "deg" : "mm", run_.driver_unit};
+  const int node = mech.variables[v].node;
+  double rest = 0.0;
+  if (relative_to_rest && node >= 0)
+    rest = mech.variables[v].is_angle ? mech.nodes[node].rest * 180.0 / pi : mech.nodes[node].rest;
+  add(prefix + u.derivative(0),
+      [nv, v, rest](const kin::PositionResult& r, std::size_t i) { return r.at(i, nv, v, 0) - rest; });
+  for (int k = 1; k <= run_.sel.order; ++k)
+    add(prefix + derivative_name(k) + "_" + u.derivative(k),
+        [nv, v, k](const kin::PositionResult& r, std::size_t i) { return r.at(i, nv, v, k); });
+  if (run_.options.rpm > 0 && mech.driver_is_angle())
+    for (int k = 1; k <= run_.sel.order; ++k) {
+      const double scale = std::pow(run_.cam_deg_per_s, k) * (u.base == "mm" ? 1e-3 : rad_per_deg);
+      add(prefix + derivative_name(k) + "_" + u.si(k),
+          [nv, v, k, scale](const kin::PositionResult& r, std::size_t i) { return r.at(i, nv, v, k) * scale; });
+    }
+}
+
+// a contact's point, local coordinates, pressure angle, radii, speeds and gap
+void CsvColumns::add_contact(std::size_t c) {
+  const kin::Mechanism& mech = run_.mech;
+  const std::size_t nc = mech.connections.size();
+  const double rate = mech.driver_is_angle() ? rad_per_deg : 1.0;  // per rad -> per deg
+  const std::string n = mech.connections[c].name + "_";
+  const std::string& driver_unit = run_.driver_unit;
+  auto cs = [nc, c](auto member) {
+    return [nc, c, member](const kin::PositionResult& r, std::size_t i) { return member(r.contacts[i * nc + c]); };
+  };
+  add(n + "x_mm", cs([](const kin::ContactState& s) { return s.x; }));
+  add(n + "y_mm", cs([](const kin::ContactState& s) { return s.y; }));
+  add(n + "a_local_x_mm", cs([](const kin::ContactState& s) { return s.local_a_x; }));
+  add(n + "a_local_y_mm", cs([](const kin::ContactState& s) { return s.local_a_y; }));
+  add(n + "b_local_x_mm", cs([](const kin::ContactState& s) { return s.local_b_x; }));
+  add(n + "b_local_y_mm", cs([](const kin::ContactState& s) { return s.local_b_y; }));
+  add(n + "pressure_angle_deg", cs([](const kin::ContactState& s) { return s.pressure_angle * 180.0 / pi; }));
+  add(n + "radius_a_mm", cs([](const kin::ContactState& s) { return radius_of(s.curvature_a); }));
+  add(n + "radius_b_mm", cs([](const kin::ContactState& s) { return radius_of(s.curvature_b); }));
+  add(n + "entrainment_mm_per_" + driver_unit, cs([rate](const kin::ContactState& s) { return s.entrainment * rate; }));
+  add(n + "sliding_mm_per_" + driver_unit, cs([rate](const kin::ContactState& s) { return s.sliding * rate; }));
+  add(n + "roller_speed_rad_per_" + driver_unit,
+      cs([rate](const kin::ContactState& s) { return s.roller_speed * rate; }));
+  if (run_.options.rpm > 0 && mech.driver_is_angle()) {
+    const double w = run_.cam_deg_per_s;
+    add(n + "entrainment_m_per_s", cs([rate, w](const kin::ContactState& s) { return s.entrainment * rate * w * 1e-3; }));
+    add(n + "sliding_m_per_s", cs([rate, w](const kin::ContactState& s) { return s.sliding * rate * w * 1e-3; }));
+    add(n + "roller_rpm",
+        cs([rate, w](const kin::ContactState& s) { return s.roller_speed * rate * w * 60.0 / (2 * pi); }));
+  }
+  add(n + "gap_mm", cs([](const kin::ContactState& s) { return s.gap; }));
+}
+
+std::string CsvColumns::csv() {
+  const kin::Mechanism& mech = run_.mech;
+  add_control_and_driver();
+  // the valve lift, its derivative columns named vel_, acc_, jerk_ without the lift prefix
+  add_variable(mech.nodes[mech.output_node].first_variable, "lift_", true);
+  for (std::size_t h = 2; h < header_.size(); ++h)
+    if (header_[h].rfind("lift_", 0) == 0 && header_[h] != "lift_mm" && header_[h] != "lift_deg")
+      header_[h] = header_[h].substr(5);
+  // every node variable but the driver's (the cam_deg column already)
+  if (run_.sel.nodes)
+    for (std::size_t v = 0; v < mech.variables.size(); ++v) {
+      if (mech.variables[v].node < 0 || mech.variables[v].node == mech.driver_node) continue;
+      std::string name = mech.variables[v].name;
+      std::replace(name.begin(), name.end(), '.', '_');
+      const auto kind = mech.nodes[mech.variables[v].node].kind;
+      add_variable(static_cast<int>(v),
+                   name + (kind == NodeKind::rotational      ? "_angle_"
+                           : kind == NodeKind::translational ? "_disp_"
+                                                             : "_"),
+                   false);
+    }
+  if (run_.sel.contacts)
+    for (std::size_t c = 0; c < mech.connections.size(); ++c)
+      if (mech.connections[c].kind == ConnectionKind::contact) add_contact(c);
+  return io::format_csv(header_, cols_);
+}
+
+// one control position's entry of summary.json, and its line (and a toggle warning) on stderr
+nlohmann::json position_entry(const Run& run, const kin::PositionSummary& s, const kin::PositionSummary* no_lash,
+                              std::size_t p, const SummaryUnits& summary_units) {
+  const kin::Mechanism& mech = run.mech;
+  const std::string& driver_unit = run.driver_unit;
+  const double control = run.controls.values[p];
+  const int out_var = mech.nodes[mech.output_node].first_variable;
+  const Units u{mech.variables[out_var].is_angle ? "deg" : "mm", driver_unit};
+  nlohmann::json j;
+  j["control_" + run.controls.unit] = control;
+  j["status"] = "ok";
+  j.update(position_summary_json(s, run.heights, summary_units));
+  if (run.sel.order >= 1 || run.sel.contacts) {
+    j["max_condition_number"] = s.max_condition;
+    j["grid_values"].push_back("max_condition_number");
+  }
+  // the closest approach to a singular configuration, whatever the outputs (taken at the
+  // solved points)
+  j["near_toggle"] = s.near_toggle;
+  j["min_toggle_margin"] = s.min_toggle_margin;
+  j["min_toggle_margin_at_" + driver_unit] = s.min_toggle_margin_at;
+  j["grid_values"].push_back("min_toggle_margin");
+  if (no_lash) {
+    j["lift_loss_from_lash_" + u.base] = no_lash->max_lift - s.max_lift;
+    j["lift_area_loss_from_lash_" + u.base + "_" + driver_unit] = no_lash->lift_area - s.lift_area;
+  }
+  info("kinematics: " + (mech.controls.empty() ? std::string() : "control " + format_value(control, 6) + " " +
+                                                                  run.controls.unit + ": ") +
+       position_summary_line(s, run.heights, summary_units));
+  if (s.near_toggle)
+    info("warning: near a singular configuration (a linkage at toggle or a pressure angle near 90 deg): toggle "
+         "margin " + format_value(s.min_toggle_margin, 3) + " < " + format_value(kin::near_singular_margin, 3) +
+         " at " + format_value(s.min_toggle_margin_at, 6) + " " + driver_unit +
+         (mech.controls.empty() ? "" : ", control " + mech.controls[0].name + " = " + format_value(control, 6)) +
+         "; the motion there is sensitive to the link lengths");
+  return j;
+}
+
+// summary.json: the run, every control position's summary, the cam profiles' radii
+nlohmann::json summary_json(const Run& run, const kin::SweepSpec& sweep, const kin::SweepResult& result,
+                            const std::vector<kin::PositionSummary>& no_lash, double seconds) {
+  const kin::Mechanism& mech = run.mech;
+  nlohmann::json summary;
+  summary["design"] = mech.spec.name;
+  summary["design_file"] = run.options.design;
+  summary["driver"] = mech.nodes[mech.driver_node].name;
+  summary["step_" + run.driver_unit] = sweep.step;
+  summary["points_per_position"] = result.driver.size();
+  if (run.options.rpm > 0) summary["engine_speed_rpm"] = run.options.rpm;
+  summary["run_time_s"] = seconds;
+  const std::vector<kin::PositionSummary> position_summaries = summaries(mech, result, run.heights);
+  const std::string lift_unit = run.output_is_angle ? "deg" : "mm";
+  if (!run.options.duration_at.empty()) check_duration_heights(run.heights, position_summaries, lift_unit);
+  const SummaryUnits summary_units{lift_unit, run.driver_unit, run.sel.order,
+                                   run.options.rpm > 0 && mech.driver_is_angle() ? run.cam_deg_per_s : 0.0};
+  nlohmann::json positions = nlohmann::json::array();
+  for (std::size_t p = 0; p < result.positions.size(); ++p)
+    positions.push_back(position_entry(run, position_summaries[p], run.has_lash ? &no_lash[p] : nullptr, p,
+                                       summary_units));
+  summary["positions"] = positions;
+  nlohmann::json profiles = nlohmann::json::array();
+  for (const auto& prof : mech.profiles)
+    profiles.push_back({{"name", prof.name()},
+                        {"base_circle_radius_mm", prof.base_radius_mm()},
+                        {"max_radius_mm", prof.max_radius_mm()},
+                        {"max_excess_radius_mm", prof.max_radius_mm() - prof.base_radius_mm()}});
+  summary["profiles"] = profiles;
+  return summary;
+}
+
+void run_kinematics(const KinematicsOptions& o) {
+  // the outputs asked for, the design and the --duration-at heights
+  const OutputSelection sel = parse_outputs(o.outputs);
+  const kin::Mechanism mech = load_mechanism(o.design);
+  Run run{o, mech, sel, {}, {}, false, "", 0.0, false};
+  run.output_is_angle = mech.variables[mech.nodes[mech.output_node].first_variable].is_angle;
+  run.heights = parse_duration_heights(o.duration_at.empty() ? "1,0.1" : o.duration_at, run.output_is_angle);
+  // the sweep: driver range, derivative order, control positions
+  run.controls = resolve_controls(mech, o.design, o.control);
+  const kin::SweepSpec sweep = make_sweep(run);
+  // run it; a failed position stops the run, named
+  double seconds = 0.0;
+  const kin::SweepResult result = run_sweep(mech, sweep, seconds);
+  for (std::size_t p = 0; p < result.positions.size(); ++p)
+    if (!result.positions[p].status.ok()) fail_at_position(mech, run.controls, result.positions[p].status, p);
+  // lash: the same sweep without it
+  for (const auto& c : mech.connections) run.has_lash |= c.one_sided;
+  const std::vector<kin::PositionSummary> no_lash = no_lash_summaries(run, sweep);
+  // the units of the columns and keys
+  run.driver_unit = mech.driver_is_angle() ? "deg" : "mm";
+  run.cam_deg_per_s = o.rpm / mech.spec.driver.crank_per_cam * 6.0;  // [deg/s]
+  // kinematics.csv and summary.json, committed together
+  const std::string csv = CsvColumns(run, result).csv();
+  const nlohmann::json summary = summary_json(run, sweep, result, no_lash, seconds);
+  write_outputs(o.out_dir, kKinematicsOutputs, {{"kinematics.csv", csv}, {"summary.json", summary.dump(2) + "\n"}});
+  info("kinematics: " + std::to_string(result.positions.size()) + " position(s) x " +
+       std::to_string(result.driver.size()) + " points in " + std::to_string(seconds * 1e3) + " ms -> " + o.out_dir +
+       "/kinematics.csv, summary.json");
+}
+
 }  // namespace
 
 void setup_kinematics(CLI::App& app) {
@@ -108,230 +386,7 @@ void setup_kinematics(CLI::App& app) {
   cmd->add_option("--duration-at", opts->duration_at,
                   "lift heights for the durations in summary.json [mm, or in when written 0.040in; deg for a "
                   "rotating output node]: a comma list, e.g. 1,0.1 (the default) or 0.040in,0.004in");
-  cmd->callback([opts] {
-    const auto& o = *opts;
-    const OutputSelection sel = parse_outputs(o.outputs);
-    const DesignSpec spec = io::load_design(o.design);
-    const kin::Mechanism mech = kin::compile(spec);
-    for (const auto& note : kin::check_drawing(mech)) info(o.design + ": warning: " + note);
-    const bool output_is_angle = mech.variables[mech.nodes[mech.output_node].first_variable].is_angle;
-    const std::vector<DurationHeight> heights =
-        parse_duration_heights(o.duration_at.empty() ? "1,0.1" : o.duration_at, output_is_angle);
-
-    kin::SweepSpec sweep;
-    sweep.start = spec.driver.start_deg;
-    sweep.stop = spec.driver.stop_deg;
-    sweep.step = o.step_deg > 0 ? o.step_deg : spec.driver.step_deg;
-    if (sweep.step > sweep.stop - sweep.start)
-      throw InputError("--step: value " + std::to_string(sweep.step) + " exceeds the driver range " +
-                       std::to_string(sweep.stop - sweep.start));
-    sweep.request.derivative_order = sel.contacts ? std::max(sel.order, 1) : sel.order;
-    sweep.request.contacts = sel.contacts;
-    sweep.threads = thread_count();
-    const std::vector<double> defaults = mech.default_controls();
-    std::vector<double> control_values;
-    if (!o.control.empty()) {
-      if (mech.controls.empty()) throw InputError("--control: design '" + o.design + "' has no [[control]]");
-      const auto& c0 = mech.controls[0];
-      control_values = parse_range("--control", o.control);
-      for (double v : control_values)
-        if (v < c0.min - 1e-12 || v > c0.max + 1e-12)
-          throw InputError("--control: value " + std::to_string(v) + " is outside control '" + c0.name + "' range [" +
-                           std::to_string(c0.min) + ", " + std::to_string(c0.max) + "]");
-    } else {
-      control_values.push_back(mech.controls.empty() ? 0.0 : mech.controls[0].default_value);
-    }
-    for (double v : control_values) {
-      auto pos = defaults;
-      if (!pos.empty()) pos[0] = v;
-      sweep.control_positions.push_back(pos);
-    }
-    sweep_points(o.step_deg > 0 ? "--step" : "driver.step_deg", sweep.start, sweep.stop, sweep.step,
-                 static_cast<double>(sweep.control_positions.size()));
-    Progress progress("kinematics", static_cast<long>(sweep.control_positions.size()));
-    std::mutex progress_mutex;
-    sweep.on_position_done = [&] {
-      std::lock_guard<std::mutex> lock(progress_mutex);
-      progress.advance();
-    };
-    const auto t0 = std::chrono::steady_clock::now();
-    const kin::SweepResult result = kin::sweep(mech, sweep);
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    for (std::size_t p = 0; p < result.positions.size(); ++p) {
-      const auto& st = result.positions[p].status;
-      if (!st.ok()) {
-        Status s = st;
-        if (!mech.controls.empty())
-          s.where += ", control " + mech.controls[0].name + " = " + std::to_string(control_values[p]);
-        throw NumericalError(s);
-      }
-    }
-
-    // lash: the same sweep without lash gives lift loss and lift-area loss
-    bool has_lash = false;
-    for (const auto& c : mech.connections) has_lash |= c.one_sided;
-    std::vector<kin::PositionSummary> no_lash_summary;
-    if (has_lash) {
-      DesignSpec zero = spec;
-      for (auto& c : zero.connections) c.lash_mm = 0.0;
-      const kin::Mechanism mech0 = kin::compile(zero);
-      kin::SweepSpec s0 = sweep;
-      s0.request = {sweep.request.derivative_order, false};  // refined as the summary below
-      s0.on_position_done = nullptr;
-      const kin::SweepResult r0 = kin::sweep(mech0, s0);
-      for (std::size_t p = 0; p < r0.positions.size(); ++p) {
-        if (!r0.positions[p].status.ok()) throw NumericalError(r0.positions[p].status);
-        no_lash_summary.push_back(kin::summarize(mech0, r0, p));
-      }
-    }
-
-    // ---- kinematics.csv (long format) ----
-    const std::string driver_unit = mech.driver_is_angle() ? "deg" : "mm";
-    const std::string control_unit = mech.controls.empty() || mech.controls[0].is_angle ? "deg" : "mm";
-    const double cam_deg_per_s = o.rpm / spec.driver.crank_per_cam * 6.0;  // [deg/s]
-    std::vector<std::string> header{"control_" + control_unit, mech.driver_is_angle() ? "cam_deg" : "driver_mm"};
-    std::vector<std::vector<double>> cols(2);
-    const std::size_t nv = mech.variables.size(), nc = mech.connections.size(), np = result.driver.size();
-    auto add_column = [&](std::string name, auto&& value_at) {
-      header.push_back(std::move(name));
-      std::vector<double> col;
-      col.reserve(np * result.positions.size());
-      for (std::size_t p = 0; p < result.positions.size(); ++p)
-        for (std::size_t i = 0; i < np; ++i) col.push_back(value_at(result.positions[p], i));
-      cols.push_back(std::move(col));
-    };
-    for (std::size_t p = 0; p < result.positions.size(); ++p)
-      for (std::size_t i = 0; i < np; ++i) {
-        cols[0].push_back(control_values[p]);
-        cols[1].push_back(result.driver[i]);
-      }
-    auto add_variable = [&](int v, const std::string& prefix, bool relative_to_rest) {
-      const Units u{mech.variables[v].is_angle ? "deg" : "mm", driver_unit};
-      const int node = mech.variables[v].node;
-      double rest = 0.0;
-      if (relative_to_rest && node >= 0)
-        rest = mech.variables[v].is_angle ? mech.nodes[node].rest * 180.0 / M_PI : mech.nodes[node].rest;
-      add_column(prefix + u.derivative(0), [&, v, rest](const kin::PositionResult& r, std::size_t i) {
-        return r.at(i, nv, v, 0) - rest;
-      });
-      for (int k = 1; k <= sel.order; ++k)
-        add_column(prefix + derivative_name(k) + "_" + u.derivative(k),
-                   [&, v, k](const kin::PositionResult& r, std::size_t i) { return r.at(i, nv, v, k); });
-      if (o.rpm > 0 && mech.driver_is_angle())
-        for (int k = 1; k <= sel.order; ++k) {
-          const double scale = std::pow(cam_deg_per_s, k) * (u.base == "mm" ? 1e-3 : M_PI / 180.0);
-          add_column(prefix + derivative_name(k) + "_" + u.si(k),
-                     [&, v, k, scale](const kin::PositionResult& r, std::size_t i) { return r.at(i, nv, v, k) * scale; });
-        }
-    };
-    const int out_var = mech.nodes[mech.output_node].first_variable;
-    add_variable(out_var, "lift_", true);
-    // the valve-lift derivative names: vel_, acc_, jerk_ without the lift prefix
-    for (std::size_t h = 2; h < header.size(); ++h)
-      if (header[h].rfind("lift_", 0) == 0 && header[h] != "lift_mm" && header[h] != "lift_deg")
-        header[h] = header[h].substr(5);
-    if (sel.nodes)
-      for (std::size_t v = 0; v < nv; ++v) {
-        // the driver is the cam_deg column already
-        if (mech.variables[v].node < 0 || mech.variables[v].node == mech.driver_node) continue;
-        std::string name = mech.variables[v].name;
-        std::replace(name.begin(), name.end(), '.', '_');
-        const auto kind = mech.nodes[mech.variables[v].node].kind;
-        add_variable(static_cast<int>(v), name + (kind == NodeKind::rotational ? "_angle_" : kind == NodeKind::translational ? "_disp_" : "_"), false);
-      }
-    if (sel.contacts) {
-      const double rate = mech.driver_is_angle() ? M_PI / 180.0 : 1.0;  // per rad -> per deg
-      for (std::size_t c = 0; c < nc; ++c) {
-        const auto& conn = mech.connections[c];
-        if (conn.kind != ConnectionKind::contact) continue;
-        const std::string n = conn.name + "_";
-        auto cs = [&, c](auto member) {
-          return [&, c, member](const kin::PositionResult& r, std::size_t i) { return member(r.contacts[i * nc + c]); };
-        };
-        add_column(n + "x_mm", cs([](const kin::ContactState& s) { return s.x; }));
-        add_column(n + "y_mm", cs([](const kin::ContactState& s) { return s.y; }));
-        add_column(n + "a_local_x_mm", cs([](const kin::ContactState& s) { return s.local_a_x; }));
-        add_column(n + "a_local_y_mm", cs([](const kin::ContactState& s) { return s.local_a_y; }));
-        add_column(n + "b_local_x_mm", cs([](const kin::ContactState& s) { return s.local_b_x; }));
-        add_column(n + "b_local_y_mm", cs([](const kin::ContactState& s) { return s.local_b_y; }));
-        add_column(n + "pressure_angle_deg", cs([](const kin::ContactState& s) { return s.pressure_angle * 180.0 / M_PI; }));
-        add_column(n + "radius_a_mm", cs([](const kin::ContactState& s) { return radius_of(s.curvature_a); }));
-        add_column(n + "radius_b_mm", cs([](const kin::ContactState& s) { return radius_of(s.curvature_b); }));
-        add_column(n + "entrainment_mm_per_" + driver_unit, cs([rate](const kin::ContactState& s) { return s.entrainment * rate; }));
-        add_column(n + "sliding_mm_per_" + driver_unit, cs([rate](const kin::ContactState& s) { return s.sliding * rate; }));
-        add_column(n + "roller_speed_rad_per_" + driver_unit, cs([rate](const kin::ContactState& s) { return s.roller_speed * rate; }));
-        if (o.rpm > 0 && mech.driver_is_angle()) {
-          const double w = cam_deg_per_s;
-          add_column(n + "entrainment_m_per_s", cs([rate, w](const kin::ContactState& s) { return s.entrainment * rate * w * 1e-3; }));
-          add_column(n + "sliding_m_per_s", cs([rate, w](const kin::ContactState& s) { return s.sliding * rate * w * 1e-3; }));
-          add_column(n + "roller_rpm", cs([rate, w](const kin::ContactState& s) { return s.roller_speed * rate * w * 60.0 / (2 * M_PI); }));
-        }
-        add_column(n + "gap_mm", cs([](const kin::ContactState& s) { return s.gap; }));
-      }
-    }
-
-    // ---- summary.json ----
-    nlohmann::json summary;
-    summary["design"] = spec.name;
-    summary["design_file"] = o.design;
-    summary["driver"] = mech.nodes[mech.driver_node].name;
-    summary["step_" + driver_unit] = sweep.step;
-    summary["points_per_position"] = np;
-    if (o.rpm > 0) summary["engine_speed_rpm"] = o.rpm;
-    summary["run_time_s"] = seconds;
-    nlohmann::json positions = nlohmann::json::array();
-    const std::vector<kin::PositionSummary> position_summaries = summaries(mech, result, heights);
-    if (!o.duration_at.empty()) check_duration_heights(heights, position_summaries, output_is_angle ? "deg" : "mm");
-    const SummaryUnits summary_units{output_is_angle ? "deg" : "mm", driver_unit, sel.order,
-                                     o.rpm > 0 && mech.driver_is_angle() ? cam_deg_per_s : 0.0};
-    for (std::size_t p = 0; p < result.positions.size(); ++p) {
-      const kin::PositionSummary& s = position_summaries[p];
-      const Units u{mech.variables[out_var].is_angle ? "deg" : "mm", driver_unit};
-      nlohmann::json j;
-      j["control_" + control_unit] = control_values[p];
-      j["status"] = "ok";
-      j.update(position_summary_json(s, heights, summary_units));
-      if (sel.order >= 1 || sel.contacts) {
-        j["max_condition_number"] = s.max_condition;
-        j["grid_values"].push_back("max_condition_number");
-      }
-      // the closest approach to a singular configuration, whatever the outputs (taken at the
-      // solved points)
-      j["near_toggle"] = s.near_toggle;
-      j["min_toggle_margin"] = s.min_toggle_margin;
-      j["min_toggle_margin_at_" + driver_unit] = s.min_toggle_margin_at;
-      j["grid_values"].push_back("min_toggle_margin");
-      if (has_lash) {
-        j["lift_loss_from_lash_" + u.base] = no_lash_summary[p].max_lift - s.max_lift;
-        j["lift_area_loss_from_lash_" + u.base + "_" + driver_unit] = no_lash_summary[p].lift_area - s.lift_area;
-      }
-      info("kinematics: " + (mech.controls.empty() ? std::string() : "control " + format_value(control_values[p], 6) +
-                                                                      " " + control_unit + ": ") +
-           position_summary_line(s, heights, summary_units));
-      if (s.near_toggle)
-        info("warning: near a singular configuration (a linkage at toggle or a pressure angle near 90 deg): toggle "
-             "margin " + format_value(s.min_toggle_margin, 3) + " < " + format_value(kin::near_singular_margin, 3) +
-             " at " + format_value(s.min_toggle_margin_at, 6) + " " + driver_unit +
-             (mech.controls.empty() ? "" : ", control " + mech.controls[0].name + " = " + format_value(control_values[p], 6)) +
-             "; the motion there is sensitive to the link lengths");
-      positions.push_back(j);
-    }
-    summary["positions"] = positions;
-    nlohmann::json profiles = nlohmann::json::array();
-    for (const auto& prof : mech.profiles)
-      profiles.push_back({{"name", prof.name()},
-                          {"base_circle_radius_mm", prof.base_radius_mm()},
-                          {"max_radius_mm", prof.max_radius_mm()},
-                          {"max_excess_radius_mm", prof.max_radius_mm() - prof.base_radius_mm()}});
-    summary["profiles"] = profiles;
-
-    io::OutputTransaction out = open_outputs(o.out_dir, kKinematicsOutputs);
-    out.stage("kinematics.csv", io::format_csv(header, cols));
-    out.stage("summary.json", summary.dump(2) + "\n");
-    out.commit();
-    info("kinematics: " + std::to_string(result.positions.size()) + " position(s) x " + std::to_string(np) +
-         " points in " + std::to_string(seconds * 1e3) + " ms -> " + o.out_dir + "/kinematics.csv, summary.json");
-  });
+  cmd->callback([opts] { run_kinematics(*opts); });
 }
 
 }  // namespace camopt::cli

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "camopt/core/error.hpp"
+#include "camopt/core/units.hpp"
 
 namespace camopt::cli {
 
@@ -87,7 +88,7 @@ void contact_keys(nlohmann::json& j, const kin::PositionSummary& s, const Summar
   put("max_roller_speed_rad_per_" + d, s.max_roller_speed);
   put("max_sliding_mm_per_" + d, s.max_sliding);
   if (u.cam_deg_per_s > 0) {
-    put("max_roller_speed_rpm", s.max_roller_speed * u.cam_deg_per_s * 60.0 / (2 * M_PI));
+    put("max_roller_speed_rpm", s.max_roller_speed * u.cam_deg_per_s * 60.0 / (2 * pi));
     put("max_sliding_m_per_s", s.max_sliding * u.cam_deg_per_s * 1e-3);
   }
 }

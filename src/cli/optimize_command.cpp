@@ -3,8 +3,8 @@
 #include <cmath>
 #include <memory>
 #include <nlohmann/json.hpp>
-#include <numbers>
 
+#include "camopt/core/units.hpp"
 #include "camopt/dynamics/flexible.hpp"
 #include "camopt/dynamics/model.hpp"
 #include "camopt/dynamics/rigid.hpp"
@@ -27,7 +27,6 @@ namespace camopt::cli {
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 // [mm] convex radius of a swing cam's untouched nose when the set has no radius limit
 constexpr double kNoseConvexRadius = 1.0;
 
@@ -101,16 +100,15 @@ nlohmann::json constraint_report(const opt::CamProblem& p, const opt::Evaluation
   return out;
 }
 
-// swing cam: the valve lift at every control position on the grid, the pitch curve, the
-// new swing profile with its exports, and (--verify) the kinematic solver on the new design
-void stage_swing_outputs(io::OutputTransaction& out, const OptimizeOptions& o, const DesignSpec& spec,
-                         const opt::OptimizationSpec& set, opt::CamProblem& problem, const opt::SolveResult& result,
-                         nlohmann::json& report, Verdict& verdict) {
-  opt::SwingCamLift& model = *problem.swing();
-  const std::vector<double> c = problem.coefficients(result.u);
-  std::vector<double> control, cam_deg, l0, l1, l2, l3;
+// swing cam: the valve lift at every control position on the optimiser's grid (lift.csv),
+// the pitch curve (swing_pitch.csv) and the working curve in the report; peak: the largest
+// lift per position, lift: the lift at every grid point [mm]
+void stage_swing_lift(io::OutputTransaction& out, opt::SwingCamLift& model, const std::vector<double>& c,
+                      nlohmann::json& report, std::vector<double>& peak, std::vector<double>& lift) {
+  std::vector<double> control, cam_deg, l1, l2, l3;
   Eigen::Matrix<double, 4, Eigen::Dynamic> rows(4, model.variables());
-  std::vector<double> peak(model.positions().size(), 0.0);
+  peak.assign(model.positions().size(), 0.0);
+  lift.clear();
   for (std::size_t i = 0; i < model.points().size(); ++i) {
     const opt::SwingPoint& sp = model.points()[i];
     double m[4];
@@ -118,7 +116,7 @@ void stage_swing_outputs(io::OutputTransaction& out, const OptimizeOptions& o, c
     if (!st.ok()) throw NumericalError(st);
     control.push_back(model.positions()[static_cast<std::size_t>(sp.position)]);
     cam_deg.push_back(std::fmod(sp.cam_deg, 360.0));
-    l0.push_back(m[0]);
+    lift.push_back(m[0]);
     l1.push_back(m[1]);
     l2.push_back(m[2]);
     l3.push_back(m[3]);
@@ -126,13 +124,13 @@ void stage_swing_outputs(io::OutputTransaction& out, const OptimizeOptions& o, c
   }
   out.stage("lift.csv", io::format_csv({"control", "cam_deg", "lift_mm", "vel_mm_per_deg", "acc_mm_per_deg2",
                                         "jerk_mm_per_deg3"},
-                                       {control, cam_deg, l0, l1, l2, l3}));
+                                       {control, cam_deg, lift, l1, l2, l3}));
   std::vector<double> swing_deg, pitch_lift;
   for (int i = 0; i <= 400; ++i) {
     const double s = model.start_rad() + (model.end_rad() - model.start_rad()) * i / 400.0;
     double h[5];
     model.pitch_lift(c, s, h);
-    swing_deg.push_back(s * 180.0 / kPi);
+    swing_deg.push_back(s * 180.0 / pi);
     pitch_lift.push_back(h[0]);
   }
   out.stage("swing_pitch.csv", io::format_csv({"swing_deg", "pitch_lift_mm"}, {swing_deg, pitch_lift}));
@@ -140,11 +138,15 @@ void stage_swing_outputs(io::OutputTransaction& out, const OptimizeOptions& o, c
   for (std::size_t k = 0; k < peak.size(); ++k)
     per_position.push_back({{"control", model.positions()[k]}, {"max_lift_mm", peak[k]}});
   report["swing"] = {{"connection", model.connection()},
-                     {"working_curve_deg", {model.start_rad() * 180.0 / kPi, model.end_rad() * 180.0 / kPi}},
+                     {"working_curve_deg", {model.start_rad() * 180.0 / pi, model.end_rad() * 180.0 / pi}},
                      {"dwell_pitch_radius_mm", model.dwell_radius_mm()},
                      {"positions", per_position}};
+}
 
-  // the swing cam's surface as a polar table, with the exports synthesize delivers
+// the swing cam's surface as a polar table, with what synthesize reports of a profile
+synthesis::SynthesisResult swing_profile(const OptimizeOptions& o, const DesignSpec& spec,
+                                         const opt::OptimizationSpec& set, opt::SwingCamLift& model,
+                                         const std::vector<double>& c) {
   synthesis::SynthesisResult res;
   for (const auto& p : spec.profiles)
     if (p.name == model.profile_name()) res.profile = p;
@@ -163,7 +165,7 @@ void stage_swing_outputs(io::OutputTransaction& out, const OptimizeOptions& o, c
   const kin::CamProfile cam = kin::CamProfile::build(res.profile);
   res.base_radius_mm = 1e300;
   for (std::size_t i = 0; i < res.profile.angle_deg.size(); ++i) {
-    const double a = res.profile.angle_deg[i] * kPi / 180.0, r = res.profile.radius_mm[i];
+    const double a = res.profile.angle_deg[i] * pi / 180.0, r = res.profile.radius_mm[i];
     const kin::CurvePoint<double> pt = cam.point(a, true);
     const double speed = std::hypot(pt.dx, pt.dy);
     const double cross = pt.dx * pt.ddy - pt.dy * pt.ddx;  // > 0 convex (counter-clockwise curve)
@@ -175,81 +177,80 @@ void stage_swing_outputs(io::OutputTransaction& out, const OptimizeOptions& o, c
     res.base_radius_mm = std::min(res.base_radius_mm, r);
     res.max_radius_mm = std::max(res.max_radius_mm, r);
   }
-  // the grinding table (a roller master around the whole swing cam, its unused far side
-  // included) is reported, not fatal
-  stage_profile_exports(out, o.out_dir, o.design, spec, res, std::nullopt, 0.25, report, true);
-
-  if (o.verify) {
-    // the kinematic solver on the new design at every position, on the optimiser's grid: its
-    // peak lift and its lift at every working point against the model's
-    const DesignSpec made = synthesis::with_profile(spec, res.profile);
-    const kin::Mechanism mech = kin::compile(made);
-    const std::size_t nv = mech.variables.size();
-    const int out_var = mech.nodes[static_cast<std::size_t>(mech.output_node)].first_variable;
-    const double rest = mech.nodes[static_cast<std::size_t>(mech.output_node)].rest;  // translational valve [mm]
-    nlohmann::json v = nlohmann::json::array();
-    double worst = 0.0, worst_curve = 0.0;
-    for (std::size_t k = 0; k < peak.size(); ++k) {
-      kin::SweepSpec sw;
-      sw.start = 0;
-      sw.stop = 360;
-      sw.step = problem.spec().grid_step_deg;
-      sw.control_positions = {model.controls(static_cast<int>(k))};
-      sw.request = {3, true};
-      const kin::SweepResult sr = kin::sweep(mech, sw);
-      if (!sr.positions[0].status.ok()) throw NumericalError(sr.positions[0].status);
-      const kin::PositionSummary sum = kin::summarize(mech, sr, 0);
-      // the optimiser's peak is the largest of its grid points: compare with the same grid's
-      double grid_peak = -1e300;
-      for (std::size_t i = 0; i < sr.driver.size(); ++i)
-        grid_peak = std::max(grid_peak, sr.positions[0].at(i, nv, out_var, 0) - rest);
-      worst = std::max(worst, std::abs(grid_peak - peak[k]));
-      // the model's points of this position sit on the sweep's grid (cam angles unwrapped past 360)
-      for (std::size_t i = 0; i < model.points().size(); ++i) {
-        if (model.points()[i].position != static_cast<int>(k)) continue;
-        const double deg = std::fmod(model.points()[i].cam_deg, 360.0);
-        const auto at = static_cast<std::size_t>(std::lround(deg / sw.step));
-        if (at >= sr.driver.size() || std::abs(sr.driver[at] - deg) > 1e-9) continue;
-        worst_curve = std::max(worst_curve, std::abs(sr.positions[0].at(at, nv, out_var, 0) - rest - l0[i]));
-      }
-      v.push_back({{"control", model.positions()[k]},
-                   {"max_lift_mm", sum.max_lift},
-                   {"max_pressure_angle_deg", sum.max_pressure_angle_deg},
-                   {"duration_at_1mm_deg", sum.duration_at(1.0)}});
-    }
-    report["verify"]["kinematics"] = {
-        {"positions", v}, {"max_lift_difference_mm", worst}, {"max_lift_curve_difference_mm", worst_curve}};
-    info("optimize --verify: the kinematic solver's peak lifts match the optimiser's to " + format_value(worst, 3) +
-         " mm, its lift at every working point to " + format_value(worst_curve, 3) + " mm, at " +
-         std::to_string(peak.size()) + " control positions");
-    verdict.bound("kinematic", "lift of the made cam against the optimised lift", "mm", worst_curve,
-                  set.verify.max_lift_error_mm, true, "every working point");
-    verify_swing_dynamics(made, problem, report, verdict);
-    record_verdict(verdict, report);
-  }
+  return res;
 }
 
-void run_optimize(const OptimizeOptions& o) {
-  check_inputs_outside(o.out_dir, {o.design, o.constraints}, kOptimizeOutputs);
-  const DesignSpec spec = io::load_design(o.design);
-  opt::OptimizationSpec set = io::load_constraints(o.constraints);
-  set.cam = o.cam;
-  opt::SolverOptions so;
-  so.solver = opt::parse_solver(o.solver);
-  so.max_iterations = o.max_iterations;
-  so.starts = o.starts;
-  so.progress = make_progress_printer();
-
-  std::unique_ptr<ValveTarget> target;
-  if (!set.objective.target_file.empty()) {
-    const io::CsvTable table = io::read_csv(set.objective.target_file);
-    target = std::make_unique<ValveTarget>(read_valve_target(table, set.objective.target_file, spec, {}));
+// --verify of a swing cam: the kinematic solver on the made design at every position, on the
+// optimiser's grid: its peak lift and its lift at every working point against the model's
+void verify_swing_kinematics(const kin::Mechanism& mech, const opt::CamProblem& problem, const opt::SwingCamLift& model,
+                             const std::vector<double>& peak, const std::vector<double>& lift,
+                             const opt::OptimizationSpec& set, nlohmann::json& report, Verdict& verdict) {
+  const std::size_t nv = mech.variables.size();
+  const int out_var = mech.nodes[static_cast<std::size_t>(mech.output_node)].first_variable;
+  const double rest = mech.nodes[static_cast<std::size_t>(mech.output_node)].rest;  // translational valve [mm]
+  nlohmann::json v = nlohmann::json::array();
+  double worst = 0.0, worst_curve = 0.0;
+  for (std::size_t k = 0; k < peak.size(); ++k) {
+    kin::SweepSpec sw;
+    sw.start = 0;
+    sw.stop = 360;
+    sw.step = problem.spec().grid_step_deg;
+    sw.control_positions = {model.controls(static_cast<int>(k))};
+    sw.request = {3, true};
+    const kin::SweepResult sr = kin::sweep(mech, sw);
+    if (!sr.positions[0].status.ok()) throw NumericalError(sr.positions[0].status);
+    const kin::PositionSummary sum = kin::summarize(mech, sr, 0);
+    // the optimiser's peak is the largest of its grid points: compare with the same grid's
+    double grid_peak = -1e300;
+    for (std::size_t i = 0; i < sr.driver.size(); ++i)
+      grid_peak = std::max(grid_peak, sr.positions[0].at(i, nv, out_var, 0) - rest);
+    worst = std::max(worst, std::abs(grid_peak - peak[k]));
+    // the model's points of this position sit on the sweep's grid (cam angles unwrapped past 360)
+    for (std::size_t i = 0; i < model.points().size(); ++i) {
+      if (model.points()[i].position != static_cast<int>(k)) continue;
+      const double deg = std::fmod(model.points()[i].cam_deg, 360.0);
+      const auto at = static_cast<std::size_t>(std::lround(deg / sw.step));
+      if (at >= sr.driver.size() || std::abs(sr.driver[at] - deg) > 1e-9) continue;
+      worst_curve = std::max(worst_curve, std::abs(sr.positions[0].at(at, nv, out_var, 0) - rest - lift[i]));
+    }
+    v.push_back({{"control", model.positions()[k]},
+                 {"max_lift_mm", sum.max_lift},
+                 {"max_pressure_angle_deg", sum.max_pressure_angle_deg},
+                 {"duration_at_1mm_deg", sum.duration_at(1.0)}});
   }
-  opt::CamProblem problem(spec, set, target ? &target->fit.lift : nullptr);
-  info("optimize: " + std::to_string(problem.variables()) + " variables, " + std::to_string(problem.rows().size()) +
-       " inequality constraints on a " + std::to_string(set.grid_step_deg) + " deg grid, solver " + o.solver);
-  const opt::SolveResult result = opt::optimize(problem, so);
+  report["verify"]["kinematics"] = {
+      {"positions", v}, {"max_lift_difference_mm", worst}, {"max_lift_curve_difference_mm", worst_curve}};
+  info("optimize --verify: the kinematic solver's peak lifts match the optimiser's to " + format_value(worst, 3) +
+       " mm, its lift at every working point to " + format_value(worst_curve, 3) + " mm, at " +
+       std::to_string(peak.size()) + " control positions");
+  verdict.bound("kinematic", "lift of the made cam against the optimised lift", "mm", worst_curve,
+                set.verify.max_lift_error_mm, true, "every working point");
+}
 
+// swing cam: the lift tables, the new swing profile with its exports, and (--verify) the
+// kinematic solver and the dynamics on the new design
+void stage_swing_outputs(io::OutputTransaction& out, const OptimizeOptions& o, const DesignSpec& spec,
+                         const opt::OptimizationSpec& set, opt::CamProblem& problem, const opt::SolveResult& result,
+                         nlohmann::json& report, Verdict& verdict) {
+  opt::SwingCamLift& model = *problem.swing();
+  const std::vector<double> c = problem.coefficients(result.u);
+  std::vector<double> peak, lift;
+  stage_swing_lift(out, model, c, report, peak, lift);
+  // the grinding table (a roller master around the whole swing cam, its unused far side
+  // included) is reported, not fatal
+  const synthesis::SynthesisResult res = swing_profile(o, spec, set, model, c);
+  stage_profile_exports(out, o.out_dir, o.design, spec, res, std::nullopt, 0.25, report, true);
+  if (!o.verify) return;
+  const DesignSpec made = synthesis::with_profile(spec, res.profile);
+  verify_swing_kinematics(kin::compile(made), problem, model, peak, lift, set, report, verdict);
+  verify_swing_dynamics(made, problem, report, verdict);
+  record_verdict(verdict, report);
+}
+
+// report.json's run: the inputs, the solver's outcome, the objective, the constraints with
+// their worst values and margins, the ramps fixed by [event], and the loads' source
+nlohmann::json run_report(const OptimizeOptions& o, const DesignSpec& spec, const opt::OptimizationSpec& set,
+                          const opt::CamProblem& problem, const opt::SolveResult& result) {
   nlohmann::json report;
   report["design"] = spec.name;
   report["design_file"] = o.design;
@@ -273,7 +274,7 @@ void run_optimize(const OptimizeOptions& o) {
   if (result.final.g.size() > 0) report["constraints"] = constraint_report(problem, result.final);
   // the ramps are fixed by [event]: their velocities at rpm, held before the solve
   if (!problem.is_swing()) {
-    const double to_m_per_s = problem.cam_speed_rad_per_s() * 180.0 / kPi * 1e-3;  // [mm/deg] -> [m/s]
+    const double to_m_per_s = problem.cam_speed_rad_per_s() * 180.0 / pi * 1e-3;  // [mm/deg] -> [m/s]
     auto ramp = [&](const char* name, double velocity, const std::optional<double>& limit) {
       if (!limit) return;
       report["constraints"][name] = {{"unit", "m/s"}, {"limit", *limit}, {"limit_is", "max"},
@@ -290,58 +291,46 @@ void run_optimize(const OptimizeOptions& o) {
     for (const opt::LoadOverride& ov : problem.load_overrides())
       report["loads"]["overrides"][ov.key] = {{"constraint_set", ov.set_value}, {"design", ov.design_value}};
   }
+  return report;
+}
 
-  io::OutputTransaction out = open_outputs(o.out_dir, kOptimizeOutputs);
-  if (result.status.code == StatusCode::infeasible || result.u.empty()) {
-    // which limits conflict, from the feasibility phase (opt/feasibility.hpp): an irreducible
-    // set of the user's keys, each with the nearest value at which the other limits hold
-    nlohmann::json conflicts = nlohmann::json::array();
-    std::string table;
-    for (const opt::ConflictingConstraint& c : result.infeasibility.conflicts) {
-      const bool known = std::isfinite(c.best_achievable);
-      conflicts.push_back({{"key", c.key},
-                           {"unit", c.unit},
-                           {"limit", c.limit},
-                           {"limit_is", c.limit_is_max ? "max" : "min"},
-                           {"best_achievable", known ? nlohmann::json(c.best_achievable) : nlohmann::json()},
-                           {"alone_suffices", c.alone_suffices},
-                           {"nearest", c.nearest}});
-      char row[240];
-      std::snprintf(row, sizeof row, "\n  %-36s %12s %-9s %15s%s%s", c.key.c_str(), format_value(c.limit, 6).c_str(),
-                    c.unit.c_str(), known ? format_value(c.best_achievable, 6).c_str() : "-",
-                    c.alone_suffices ? "" : "  (this conflict only; another remains)",
-                    c.nearest ? "" : "  (achievable, a nearer value may exist)");
-      table += row;
-    }
-    report["conflicting_constraints"] = conflicts;
-    report["feasibility_phase"] = {{"ran", result.infeasibility.diagnosed},
-                                   {"elastic_slack_normalised", result.infeasibility.elastic_slack},
-                                   {"solves", result.infeasibility.solves},
-                                   {"time_s", result.infeasibility.seconds}};
-    if (!table.empty())
-      info("optimize: these limits conflict; a best achievable value is the nearest setting of that limit alone at "
-           "which every other limit can be met:\n  " +
-           std::string("key                                         limit unit      best achievable") + table);
-    out.stage("report.json", report.dump(2) + "\n");
-    out.commit();
-    throw NumericalError(result.status);
+// an infeasible set: which limits conflict, from the feasibility phase (opt/feasibility.hpp):
+// an irreducible set of the user's keys, each with the nearest value at which the other
+// limits hold; in the report and as a table on stderr
+void report_conflicts(const opt::SolveResult& result, nlohmann::json& report) {
+  nlohmann::json conflicts = nlohmann::json::array();
+  std::string table;
+  for (const opt::ConflictingConstraint& c : result.infeasibility.conflicts) {
+    const bool known = std::isfinite(c.best_achievable);
+    conflicts.push_back({{"key", c.key},
+                         {"unit", c.unit},
+                         {"limit", c.limit},
+                         {"limit_is", c.limit_is_max ? "max" : "min"},
+                         {"best_achievable", known ? nlohmann::json(c.best_achievable) : nlohmann::json()},
+                         {"alone_suffices", c.alone_suffices},
+                         {"nearest", c.nearest}});
+    char row[240];
+    std::snprintf(row, sizeof row, "\n  %-36s %12s %-9s %15s%s%s", c.key.c_str(), format_value(c.limit, 6).c_str(),
+                  c.unit.c_str(), known ? format_value(c.best_achievable, 6).c_str() : "-",
+                  c.alone_suffices ? "" : "  (this conflict only; another remains)",
+                  c.nearest ? "" : "  (achievable, a nearer value may exist)");
+    table += row;
   }
+  report["conflicting_constraints"] = conflicts;
+  report["feasibility_phase"] = {{"ran", result.infeasibility.diagnosed},
+                                 {"elastic_slack_normalised", result.infeasibility.elastic_slack},
+                                 {"solves", result.infeasibility.solves},
+                                 {"time_s", result.infeasibility.seconds}};
+  if (!table.empty())
+    info("optimize: these limits conflict; a best achievable value is the nearest setting of that limit alone at "
+         "which every other limit can be met:\n  " +
+         std::string("key                                         limit unit      best achievable") + table);
+}
 
-  if (problem.is_swing()) {
-    Verdict verdict(set.verify.relative_tolerance);
-    stage_swing_outputs(out, o, spec, set, problem, result, report, verdict);
-    out.stage("report.json", report.dump(2) + "\n");
-    out.commit();
-    info("optimize: " + std::string(result.status.ok() ? "converged" : result.status.str()) + " in " +
-         std::to_string(result.iterations) + " iterations, " + std::to_string(result.seconds) + " s; objective " +
-         std::to_string(result.final.objective) + " -> " + o.out_dir +
-         "/lift.csv, swing_pitch.csv, profile.csv, report.json, design.toml, profile.dxf, grinding.csv");
-    if (!result.status.ok()) throw NumericalError(result.status);
-    if (o.verify) raise_if_failed(verdict);
-    return;
-  }
-
-  // the optimised lift over the cycle
+// the optimised lift over the cycle every 0.25 deg (lift.csv), and its quintic periodic
+// interpolation (the synthesis target)
+PeriodicSpline stage_rotational_lift(io::OutputTransaction& out, const opt::CamProblem& problem,
+                                     const opt::SolveResult& result) {
   const auto coef = problem.coefficients(result.u);
   const auto& lift = problem.lift_model();
   std::vector<double> cam_deg, l0, l1, l2, l3, knots, values;
@@ -354,15 +343,21 @@ void run_optimize(const OptimizeOptions& o) {
     l2.push_back(m.acc);
     l3.push_back(m.jerk);
   }
-  for (int i = 0; i < 1440; ++i) {  // quintic interpolation of the lift at 0.25 deg
-    knots.push_back(2 * kPi * i / 1440);
+  for (int i = 0; i < 1440; ++i) {
+    knots.push_back(2 * pi * i / 1440);
     values.push_back(l0[static_cast<std::size_t>(i)]);
   }
-  const PeriodicSpline lift_spline = PeriodicSpline::interpolate(knots, values, 2 * kPi);
   out.stage("lift.csv", io::format_csv({"cam_deg", "lift_mm", "vel_mm_per_deg", "acc_mm_per_deg2", "jerk_mm_per_deg3"},
                                        {cam_deg, l0, l1, l2, l3}));
+  return PeriodicSpline::interpolate(knots, values, 2 * pi);
+}
 
-  // the cam for it, as synthesize delivers it
+// rotational cam: the lift, the cam synthesized for it as synthesize delivers it, and
+// (--verify) the made design checked
+void stage_rotational_outputs(io::OutputTransaction& out, const OptimizeOptions& o, const DesignSpec& spec,
+                              const opt::OptimizationSpec& set, const opt::CamProblem& problem,
+                              const opt::SolveResult& result, nlohmann::json& report, Verdict& verdict) {
+  const PeriodicSpline lift_spline = stage_rotational_lift(out, problem, result);
   synthesis::SynthesisOptions so_syn;
   so_syn.points = o.points;
   so_syn.samples = o.points;
@@ -375,19 +370,56 @@ void run_optimize(const OptimizeOptions& o) {
     throw NumericalError(st);
   }
   stage_profile_exports(out, o.out_dir, o.design, spec, res, std::nullopt, 0.25, report);
+  if (!o.verify) return;
+  verify_rotational(synthesis::with_profile(spec, res.profile), res, lift_spline, so_syn.controls, problem, report,
+                    verdict);
+  record_verdict(verdict, report);
+}
 
-  Verdict verdict(set.verify.relative_tolerance);
-  if (o.verify) {
-    verify_rotational(synthesis::with_profile(spec, res.profile), res, lift_spline, so_syn.controls, problem, report,
-                      verdict);
-    record_verdict(verdict, report);
+void run_optimize(const OptimizeOptions& o) {
+  // the design, the constraint set, the solver and the target lift, if any
+  check_inputs_outside(o.out_dir, {o.design, o.constraints}, kOptimizeOutputs);
+  const DesignSpec spec = io::load_design(o.design);
+  opt::OptimizationSpec set = io::load_constraints(o.constraints);
+  set.cam = o.cam;
+  opt::SolverOptions so;
+  so.solver = opt::parse_solver(o.solver);
+  so.max_iterations = o.max_iterations;
+  so.starts = o.starts;
+  so.progress = make_progress_printer();
+  std::unique_ptr<ValveTarget> target;
+  if (!set.objective.target_file.empty()) {
+    const io::CsvTable table = io::read_csv(set.objective.target_file);
+    target = std::make_unique<ValveTarget>(read_valve_target(table, set.objective.target_file, spec, {}));
   }
+  // the problem and its solution
+  opt::CamProblem problem(spec, set, target ? &target->fit.lift : nullptr);
+  info("optimize: " + std::to_string(problem.variables()) + " variables, " + std::to_string(problem.rows().size()) +
+       " inequality constraints on a " + std::to_string(set.grid_step_deg) + " deg grid, solver " + o.solver);
+  const opt::SolveResult result = opt::optimize(problem, so);
+  nlohmann::json report = run_report(o, spec, set, problem, result);
+  // an infeasible set: the report with the conflicting limits, and the failure
+  io::OutputTransaction out = open_outputs(o.out_dir, kOptimizeOutputs);
+  if (result.status.code == StatusCode::infeasible || result.u.empty()) {
+    report_conflicts(result, report);
+    out.stage("report.json", report.dump(2) + "\n");
+    out.commit();
+    throw NumericalError(result.status);
+  }
+  // the lift, the profile and its exports, and --verify
+  Verdict verdict(set.verify.relative_tolerance);
+  if (problem.is_swing())
+    stage_swing_outputs(out, o, spec, set, problem, result, report, verdict);
+  else
+    stage_rotational_outputs(out, o, spec, set, problem, result, report, verdict);
   out.stage("report.json", report.dump(2) + "\n");
   out.commit();
   info("optimize: " + std::string(result.status.ok() ? "converged" : result.status.str()) + " in " +
        std::to_string(result.iterations) + " iterations, " + std::to_string(result.seconds) + " s; objective " +
-       std::to_string(result.final.objective) + " -> " + o.out_dir + "/lift.csv, profile.csv, report.json, design.toml, "
-       "profile.dxf, grinding.csv");
+       std::to_string(result.final.objective) + " -> " + o.out_dir +
+       (problem.is_swing() ? "/lift.csv, swing_pitch.csv, profile.csv, report.json, design.toml, profile.dxf, grinding.csv"
+                           : "/lift.csv, profile.csv, report.json, design.toml, profile.dxf, grinding.csv"));
+  // a solver failure, or a failed verification, once the outputs are written
   if (!result.status.ok()) throw NumericalError(result.status);
   if (o.verify) raise_if_failed(verdict);
 }

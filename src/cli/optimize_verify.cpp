@@ -3,8 +3,8 @@
 
 #include <cmath>
 #include <cstdio>
-#include <numbers>
 
+#include "camopt/core/units.hpp"
 #include "camopt/dynamics/flexible.hpp"
 #include "camopt/dynamics/model.hpp"
 #include "camopt/dynamics/rigid.hpp"
@@ -17,7 +17,6 @@ namespace camopt::cli {
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 // the valve counts as driven above this lift [mm], kinematic and dynamic: a contact that
 // opens while the valve already rests on its seat (landed early) is the seat taking the load
 constexpr double kDrivenLift = 1e-3;
@@ -201,8 +200,8 @@ void verify_rotational(const DesignSpec& made, const synthesis::SynthesisResult&
   const kin::SweepResult sr = kin::sweep(mech, sw);
   if (!sr.positions[0].status.ok()) throw NumericalError(sr.positions[0].status);
   const kin::PositionSummary s = kin::summarize(mech, sr, 0);
-  const double rpm_scale = problem.cam_speed_rad_per_s() * 60.0 / (2 * kPi);  // [rev/min per rad/rad]
-  const double roller_rpm = s.max_roller_speed * 180.0 / kPi * rpm_scale;
+  const double rpm_scale = problem.cam_speed_rad_per_s() * 60.0 / (2 * pi);  // [rev/min per rad/rad]
+  const double roller_rpm = s.max_roller_speed * 180.0 / pi * rpm_scale;
   report["verify"]["kinematics"] = {{"lift_error_max_mm", rt.max_error_mm},
                                     {"lift_error_max_at_cam_deg", rt.max_error_at_deg},
                                     {"max_lift_mm", s.max_lift},

@@ -66,7 +66,7 @@ dynamics::HertzLine hertz_at(const DynamicsSetup& su, const Sweep& s, std::size_
 void add_film_columns(const DynamicsSetup& su, RigidTable& t, const std::string& prefix, int ci) {
   const kin::Mechanism& mech = su.mech;
   const dynamics::Model& model = su.model;
-  const OilSpec& oil = *su.spec.oil;
+  const OilSpec& oil = *su.model.oil;
   t.add(
       prefix + "film_thickness_um",
       [&mech, &model, &oil, ci](const Sweep& s, std::size_t i, double w, double, std::size_t) {
@@ -113,7 +113,7 @@ void add_connection_columns(const DynamicsSetup& su, RigidTable& t) {
         t.add(n + "entrainment_m_per_s", [nc, ci](const Sweep& s, std::size_t i, double w, double, std::size_t) {
           return s.contact[i * nc + ci].entrainment * w * 1e-3;
         });
-        if (has_film(model, su.spec.oil, c)) add_film_columns(su, t, n, ci);
+        if (has_film(model, su.model.oil, c)) add_film_columns(su, t, n, ci);
         t.add(n + "gap_mm", [nc, ci](const Sweep& s, std::size_t i, double, double, std::size_t) {
           return s.contact[i * nc + ci].gap;
         });
@@ -224,8 +224,8 @@ RigidTable rigid_table(const DynamicsSetup& su, const std::vector<Sweep>& sweeps
   RigidTable t(su, sweeps);
   const double crank_per_cam = su.model.crank_per_cam;
   t.add("rpm", [](const Sweep&, std::size_t, double, double rpm, std::size_t) { return rpm; });
-  t.add("control_" + su.control_unit,
-        [&su](const Sweep&, std::size_t, double, double, std::size_t p) { return su.control_values[p]; });
+  t.add("control_" + su.controls.unit,
+        [&su](const Sweep&, std::size_t, double, double, std::size_t p) { return su.controls.values[p]; });
   t.add("cam_deg", [](const Sweep& s, std::size_t i, double, double, std::size_t) { return s.cam_deg[i]; });
   t.add("crank_deg", [crank_per_cam](const Sweep& s, std::size_t i, double, double, std::size_t) {
     return s.cam_deg[i] * crank_per_cam;
@@ -290,7 +290,7 @@ nlohmann::json connection_fields(const DynamicsSetup& su, const Sweep& s, std::s
       cj["max_hertz_at_cam_deg"] = hz.max_at;
     }
     cj["max_sliding_m_per_s"] = max_sliding;
-    if (has_film(su.model, su.spec.oil, c)) cj.update(film_fields(su.mech, s, su.model, *su.spec.oil, ci, w));
+    if (has_film(su.model, su.model.oil, c)) cj.update(film_fields(su.mech, s, su.model, *su.model.oil, ci, w));
     const bool opens = !cd.two_sided && std::isfinite(f.min) && f.min < 0.0;
     cj["separates"] = opens;
     separates |= opens;
@@ -306,7 +306,7 @@ nlohmann::json rigid_result(const DynamicsSetup& su, const Sweep& s, double rpm,
   const double w = dynamics::cam_speed_rad_per_s(rpm, model.crank_per_cam);
   nlohmann::json j;
   j["rpm"] = rpm;
-  j["control_" + su.control_unit] = su.control_values[p];
+  j["control_" + su.controls.unit] = su.controls.values[p];
   add_torque_fields(s, w, j);
   bool separates = false;
   for (std::size_t c = 0; c < mech.connections.size(); ++c)
@@ -350,17 +350,17 @@ nlohmann::json rigid_summary(const DynamicsSetup& su, const std::string& design_
   const kin::Mechanism& mech = su.mech;
   const dynamics::Model& model = su.model;
   nlohmann::json summary;
-  summary["design"] = su.spec.name;
+  summary["design"] = su.mech.spec.name;
   summary["design_file"] = design_file;
   summary["model"] = "rigid";
   summary["mode"] = "kinematically constrained inverse dynamics (a)";
-  summary["step_cam_deg"] = su.step;
+  summary["step_cam_deg"] = su.range.step;
   summary["points_per_position"] = sweeps[0].points();
   summary["run_time_s"] = seconds;
   nlohmann::json separation = nlohmann::json::array();
   for (std::size_t p = 0; p < sweeps.size(); ++p) {
     nlohmann::json j;
-    j["control_" + su.control_unit] = su.control_values[p];
+    j["control_" + su.controls.unit] = su.controls.values[p];
     for (std::size_t c = 0; c < mech.connections.size(); ++c) {
       if (!model.contacts[c].is_contact) continue;
       const auto sep = dynamics::separation_speed(sweeps[p], model, static_cast<int>(c));
@@ -375,9 +375,9 @@ nlohmann::json rigid_summary(const DynamicsSetup& su, const std::string& design_
   for (double rpm : su.rpms)
     for (std::size_t p = 0; p < sweeps.size(); ++p) results.push_back(rigid_result(su, sweeps[p], rpm, p));
   summary["results"] = results;
-  if (su.spec.oil)
+  if (su.model.oil)
     summary["film"] =
-        film_summary(mech, model, *su.spec.oil, sweeps, su.rpms, su.control_values, "control_" + su.control_unit);
+        film_summary(mech, model, *su.model.oil, sweeps, su.rpms, su.controls.values, "control_" + su.controls.unit);
   return summary;
 }
 

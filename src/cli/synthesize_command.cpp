@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
+#include "camopt/core/units.hpp"
 #include "camopt/io/atomic_file.hpp"
 #include "camopt/io/csv.hpp"
 #include "camopt/io/design_file.hpp"
@@ -62,16 +63,16 @@ PeriodicSpline fit_node_target(const io::CsvTable& table, const DesignSpec& spec
   std::vector<double> x, y;
   for (std::size_t i = 0; i < at.angle_deg.size(); ++i) {
     const double cam = at.angle_deg[i] / per_cam;
-    if (!x.empty() && cam * M_PI / 180 - x.front() >= 2 * M_PI - 1e-9) break;  // a repeated closing row
-    x.push_back(cam * M_PI / 180);
-    y.push_back(angle ? at.value[i] * M_PI / 180 : at.value[i]);
+    if (!x.empty() && cam * pi / 180 - x.front() >= 2 * pi - 1e-9) break;  // a repeated closing row
+    x.push_back(cam * pi / 180);
+    y.push_back(angle ? at.value[i] * pi / 180 : at.value[i]);
   }
   io::require_full_cycle(at, 360.0 * per_cam);
   if (x.size() < 6) throw InputError(table.file + ": a target motion needs at least 6 rows over one cycle");
-  return PeriodicSpline::interpolate(x, y, 2 * M_PI);
+  return PeriodicSpline::interpolate(x, y, 2 * pi);
 }
 
-// the control position of largest lift of the design as it stands (the default)
+// the control position of largest lift of the design as it stands (the default control)
 double max_lift_control(const kin::Mechanism& mech) {
   const auto& c0 = mech.controls[0];
   double best = c0.default_value, best_lift = -1e300;
@@ -93,43 +94,50 @@ double max_lift_control(const kin::Mechanism& mech) {
   return best;
 }
 
-void run_synthesize(const SynthesizeOptions& o) {
-  const DesignSpec spec = io::load_design(o.design);
-  const kin::Mechanism mech = kin::compile(spec);
+// the target motion: the valve lift (cam or crank degrees, explicit in the header), or the
+// motion of another node with --target-node
+struct Target {
+  bool valve = true;           // the valve's lift (else --target-node's motion)
+  io::AngleBasis basis = io::AngleBasis::cam;
+  synthesis::TargetLift lift;  // the valve's lift fitted
+  PeriodicSpline node_motion;  // --target-node's motion
+  std::size_t points = 0;      // rows of the table
+  const PeriodicSpline& motion() const { return valve ? lift.lift : node_motion; }
+};
 
-  // target: the valve lift (cam or crank degrees, explicit in the header), or the motion
-  // of another node with --target-node
-  check_inputs_outside(o.out_dir, {o.design, o.target_csv}, kSynthesizeOutputs);
+Target read_target(const SynthesizeOptions& o, const DesignSpec& spec, const kin::Mechanism& mech) {
   const io::CsvTable table = io::read_csv(o.target_csv);
-  const bool valve_target = o.target_node.empty() || o.target_node == spec.output_node;
-  if (valve_target && mech.nodes[mech.output_node].kind != NodeKind::translational)
+  Target t;
+  t.valve = o.target_node.empty() || o.target_node == spec.output_node;
+  if (t.valve && mech.nodes[mech.output_node].kind != NodeKind::translational)
     throw InputError("design.output_node '" + spec.output_node + "' is " +
                      to_string(mech.nodes[mech.output_node].kind) +
                      ", not a translating valve: give its motion with --target-node " + spec.output_node);
-  io::AngleBasis basis = io::AngleBasis::cam;
-  synthesis::TargetLift target;
-  PeriodicSpline node_target;
-  std::size_t target_points = table.rows();
-  if (valve_target) {
+  t.points = table.rows();
+  if (t.valve) {
     synthesis::TargetLiftOptions fit;
     fit.smooth = o.smooth;
     fit.smoothing_knot_spacing_deg = o.knot_spacing_deg;
     fit.closure_tolerance_mm = o.closure_tolerance_mm;
     ValveTarget vt = read_valve_target(table, o.target_csv, spec, fit);
-    basis = vt.basis;
-    target = std::move(vt.fit);
+    t.basis = vt.basis;
+    t.lift = std::move(vt.fit);
   } else {
-    node_target = fit_node_target(table, spec, o.target_node, basis);
+    t.node_motion = fit_node_target(table, spec, o.target_node, t.basis);
   }
-  const PeriodicSpline& motion = valve_target ? target.lift : node_target;
+  return t;
+}
 
+// the synthesis options: the cam, the resolution, the radius limits and the control
+// position (--control, else the position of largest lift)
+synthesis::SynthesisOptions synthesis_options(const SynthesizeOptions& o, const kin::Mechanism& mech, bool valve) {
   synthesis::SynthesisOptions opt;
   opt.cam = o.cam;
   opt.points = o.points;
   opt.samples = o.points;
   opt.wheel_radius_mm = o.wheel_radius_mm;
   opt.min_radius_mm = o.min_radius_mm;
-  if (!valve_target) opt.target_node = o.target_node;
+  if (!valve) opt.target_node = o.target_node;
   for (const auto& c : mech.controls) opt.controls.push_back(c.default_value);
   if (!mech.controls.empty()) {
     const auto& c0 = mech.controls[0];
@@ -146,45 +154,62 @@ void run_synthesize(const SynthesizeOptions& o) {
   } else if (o.control) {
     throw InputError("--control: design '" + o.design + "' has no [[control]]");
   }
+  return opt;
+}
 
-  // a failure where the target table's slope steps (a lift computed with lash) names the step
-  auto with_slope_step = [&](Status st) {
-    if (valve_target && target.slope_step_ratio > kSlopeStepHint)
-      st.message += "; the target's slope steps by " + format_value(target.slope_step_mm_per_deg, 3) +
-                    " mm/deg at cam " + format_value(target.slope_step_at_deg, 6) + " deg (" +
-                    format_value(target.slope_step_ratio, 3) +
-                    " of its steepest slope): a lift computed with lash steps where the lash is taken up, which no "
-                    "cam gives; give the lift without lash (lash_mm = 0), or smooth the table (--smooth)";
-    return st;
-  };
-  synthesis::SynthesisResult res;
-  Status st = synthesis::synthesize(spec, motion, opt, res);
-  if (!st.ok()) throw NumericalError(with_slope_step(st));
-  synthesis::RoundTrip rt;
-  st = synthesis::round_trip(synthesis::with_profile(spec, res.profile), motion, opt.controls, res.connection, rt,
-                             opt.target_node);
-  if (!st.ok()) {
-    st.message = "forward kinematics of the synthesized profile: " + st.message;
-    throw NumericalError(with_slope_step(st));
-  }
-  // round trip in the target's unit: mm for the valve, deg for a rotational target node
+// a failure where the target table's slope steps (a lift computed with lash) names the step
+Status with_slope_step(const Target& target, Status st) {
+  if (target.valve && target.lift.slope_step_ratio > kSlopeStepHint)
+    st.message += "; the target's slope steps by " + format_value(target.lift.slope_step_mm_per_deg, 3) +
+                  " mm/deg at cam " + format_value(target.lift.slope_step_at_deg, 6) + " deg (" +
+                  format_value(target.lift.slope_step_ratio, 3) +
+                  " of its steepest slope): a lift computed with lash steps where the lash is taken up, which no "
+                  "cam gives; give the lift without lash (lash_mm = 0), or smooth the table (--smooth)";
+  return st;
+}
+
+// the round trip's unit: mm for the valve, deg for a rotational --target-node
+struct RoundTripUnit {
+  std::string name = "mm";
+  double scale = 1.0;  // internal unit -> name
+};
+
+RoundTripUnit round_trip_unit(const SynthesizeOptions& o, const DesignSpec& spec, bool valve) {
   bool angle_target = false;
   for (const auto& n : spec.nodes)
-    if (!valve_target && n.name == o.target_node) angle_target = n.kind == NodeKind::rotational;
-  const std::string rt_unit = angle_target ? "deg" : "mm";
-  const double rt_scale = angle_target ? 180.0 / M_PI : 1.0;
-  // a profile whose forward kinematics does not follow the target is no answer (e.g. a
-  // target that steps in slope: the envelope folds, and the follower skips the fold)
-  if (!(rt.max_error_mm * rt_scale <= o.max_round_trip_error))
+    if (!valve && n.name == o.target_node) angle_target = n.kind == NodeKind::rotational;
+  return {angle_target ? "deg" : "mm", angle_target ? deg_per_rad : 1.0};
+}
+
+// the forward kinematics of the synthesized profile against the target; a profile that does
+// not follow the target is no answer (e.g. a target that steps in slope: the envelope folds,
+// and the follower skips the fold)
+synthesis::RoundTrip check_round_trip(const SynthesizeOptions& o, const DesignSpec& spec, const Target& target,
+                                      const synthesis::SynthesisOptions& opt, const synthesis::SynthesisResult& res,
+                                      const RoundTripUnit& unit) {
+  synthesis::RoundTrip rt;
+  Status st = synthesis::round_trip(synthesis::with_profile(spec, res.profile), target.motion(), opt.controls,
+                                    res.connection, rt, opt.target_node);
+  if (!st.ok()) {
+    st.message = "forward kinematics of the synthesized profile: " + st.message;
+    throw NumericalError(with_slope_step(target, st));
+  }
+  if (!(rt.max_error_mm * unit.scale <= o.max_round_trip_error))
     throw NumericalError(with_slope_step(
+        target,
         {StatusCode::infeasible,
          "the synthesized profile does not give the target: its forward kinematics misses it by " +
-             format_value(rt.max_error_mm * rt_scale, 3) + " " + rt_unit + " (rms " +
-             format_value(rt.rms_error_mm * rt_scale, 3) + " " + rt_unit + "), more than --max-round-trip-error " +
-             format_value(o.max_round_trip_error, 3) + " " + rt_unit,
+             format_value(rt.max_error_mm * unit.scale, 3) + " " + unit.name + " (rms " +
+             format_value(rt.rms_error_mm * unit.scale, 3) + " " + unit.name + "), more than --max-round-trip-error " +
+             format_value(o.max_round_trip_error, 3) + " " + unit.name,
          "cam " + format_value(rt.max_error_at_deg, 6) + " deg"}));
+  return rt;
+}
 
-  // ---- outputs ----
+// report.json's checks: undercut, radii against the limits, pressure angle, the flat
+// follower's face width, the round trip
+nlohmann::json checks_json(const SynthesizeOptions& o, const DesignSpec& spec, const synthesis::SynthesisResult& res,
+                           const synthesis::RoundTrip& rt, const RoundTripUnit& unit) {
   const bool flat = res.follower_shape == "line";
   double half_width = 0.0;
   for (const auto& c : spec.connections)
@@ -215,40 +240,46 @@ void run_synthesize(const SynthesizeOptions& o) {
     checks["face_width_needed_mm"] = needed;
     if (half_width > 0) checks["face_width_ok"] = needed <= 2.0 * half_width;
   }
-  checks["round_trip_max_error_" + rt_unit] = rt.max_error_mm * rt_scale;
+  checks["round_trip_max_error_" + unit.name] = rt.max_error_mm * unit.scale;
   checks["round_trip_max_error_at_cam_deg"] = rt.max_error_at_deg;
-  checks["round_trip_rms_error_" + rt_unit] = rt.rms_error_mm * rt_scale;
+  checks["round_trip_rms_error_" + unit.name] = rt.rms_error_mm * unit.scale;
+  return checks;
+}
 
+// report.json: the inputs, the synthesized cam, the target's fit, the checks and the notes
+nlohmann::json report_json(const SynthesizeOptions& o, const kin::Mechanism& mech, const Target& target,
+                           const synthesis::SynthesisOptions& opt, const synthesis::SynthesisResult& res,
+                           nlohmann::json checks) {
+  const DesignSpec& spec = mech.spec;
   nlohmann::json report;
   report["design"] = spec.name;
   report["design_file"] = o.design;
   report["target_file"] = o.target_csv;
-  report["target_angle_basis"] = io::to_string(basis);
-  report["target_node"] = valve_target ? spec.output_node : o.target_node;
+  report["target_angle_basis"] = io::to_string(target.basis);
+  report["target_node"] = target.valve ? spec.output_node : o.target_node;
   report["cam"] = o.cam;
   report["connection"] = res.connection;
   report["cam_node"] = res.cam_node;
   report["follower_node"] = res.follower_node;
   report["follower_shape"] = res.follower_shape;
   if (!mech.controls.empty()) report["control_" + std::string(mech.controls[0].is_angle ? "deg" : "mm")] = opt.controls[0];
-  report["target"] = {{"points", target_points},
-                      {"closed_on_base_circle", target.closed_on_base_circle},
-                      {"closure_message", target.closure_message},
+  const synthesis::TargetLift& fit = target.lift;
+  report["target"] = {{"points", target.points},
+                      {"closed_on_base_circle", fit.closed_on_base_circle},
+                      {"closure_message", fit.closure_message},
                       {"smoothed", o.smooth},
-                      {"residual_rms_mm", target.residual_rms_mm},
-                      {"residual_max_mm", target.residual_max_mm},
-                      {"residual_max_at_cam_deg", target.residual_max_at_deg},
-                      {"max_lift_mm", target.max_lift_mm},
-                      {"max_lift_at_cam_deg", target.max_lift_at_deg}};
-  report["checks"] = checks;
+                      {"residual_rms_mm", fit.residual_rms_mm},
+                      {"residual_max_mm", fit.residual_max_mm},
+                      {"residual_max_at_cam_deg", fit.residual_max_at_deg},
+                      {"max_lift_mm", fit.max_lift_mm},
+                      {"max_lift_at_cam_deg", fit.max_lift_at_deg}};
+  report["checks"] = std::move(checks);
   report["notes"] = res.notes;
+  return report;
+}
 
-  io::OutputTransaction out = open_outputs(o.out_dir, kSynthesizeOutputs);
-  stage_profile_exports(out, o.out_dir, o.design, spec, res, o.master_radius_mm, o.grinding_step_deg, report);
-  out.stage("report.json", report.dump(2) + "\n");
-  out.commit();
-
-  // each window of profile angle where a radius is too small, with the smallest there
+// each window of profile angle where a radius is too small, with the smallest there
+void warn_radii(const SynthesizeOptions& o, const synthesis::SynthesisResult& res, const nlohmann::json& checks) {
   auto smallest = [](const synthesis::FailureWindow& w) {
     return "down to " + format_value(w.worst, 4) + " mm at " + format_value(w.worst_at_deg, 5) + " deg";
   };
@@ -259,10 +290,36 @@ void run_synthesize(const SynthesizeOptions& o) {
     info("warning: concave radius " + std::to_string(res.min_concave_radius_mm) + " mm is below the grinding wheel "
          "radius " + std::to_string(o.wheel_radius_mm) + " mm in " +
          synthesis::describe_windows(res.concave_below_wheel, smallest) + " of profile angle");
+}
+
+void run_synthesize(const SynthesizeOptions& o) {
+  // the design, and the target motion (inputs outside the output folder)
+  const DesignSpec spec = io::load_design(o.design);
+  const kin::Mechanism mech = kin::compile(spec);
+  check_inputs_outside(o.out_dir, {o.design, o.target_csv}, kSynthesizeOutputs);
+  const Target target = read_target(o, spec, mech);
+  // the synthesis at the chosen control position
+  const synthesis::SynthesisOptions opt = synthesis_options(o, mech, target.valve);
+  synthesis::SynthesisResult res;
+  if (const Status st = synthesis::synthesize(spec, target.motion(), opt, res); !st.ok())
+    throw NumericalError(with_slope_step(target, st));
+  // the forward kinematics of the profile against the target
+  const RoundTripUnit unit = round_trip_unit(o, spec, target.valve);
+  const synthesis::RoundTrip rt = check_round_trip(o, spec, target, opt, res, unit);
+  // the checks and the report
+  const nlohmann::json checks = checks_json(o, spec, res, rt, unit);
+  nlohmann::json report = report_json(o, mech, target, opt, res, checks);
+  // profile.csv, profile.dxf, grinding.csv, design.toml and report.json, committed together
+  io::OutputTransaction out = open_outputs(o.out_dir, kSynthesizeOutputs);
+  stage_profile_exports(out, o.out_dir, o.design, spec, res, o.master_radius_mm, o.grinding_step_deg, report);
+  out.stage("report.json", report.dump(2) + "\n");
+  out.commit();
+  // warnings on the radii, and the summary line
+  warn_radii(o, res, checks);
   info("synthesize: profile '" + res.profile.name + "' on '" + res.cam_node + "' (" + res.connection + "), base circle " +
        std::to_string(res.base_radius_mm) + " mm, min radius of curvature " +
        std::to_string(res.min_radius_of_curvature_mm) + " mm; round trip max error " +
-       std::to_string(rt.max_error_mm * rt_scale) + " " + rt_unit + " -> " + o.out_dir +
+       std::to_string(rt.max_error_mm * unit.scale) + " " + unit.name + " -> " + o.out_dir +
        "/profile.csv, report.json, design.toml, profile.dxf, grinding.csv");
 }
 

@@ -9,6 +9,7 @@
 #include <sunmatrix/sunmatrix_dense.h>
 
 #include <cstdlib>
+#include <exception>
 #include <sstream>
 #include <string>
 
@@ -18,9 +19,8 @@ namespace camopt::dynamics::detail {
 
 // compiled kernels for the serial N_Vector's and the dense SUNMatrix's operations (replacing
 // the ops table entries; clones inherit them). The distribution's SUNDIALS libraries are built
-// without optimisation (-O0: ~15 instructions per element in N_VLinearSum), so on the small
-// systems here CVODE's vector and matrix work cost more than the model (CVVL flexible: 45 % of
-// all instructions). Same results to rounding: tests/dynamics/cvode_fast_ops_test.cpp.
+// without optimisation, so on the small systems here CVODE's vector and matrix work would
+// cost more than the model. Same results to rounding: tests/dynamics/cvode_fast_ops_test.cpp.
 void use_fast_ops(N_Vector v);
 void use_fast_ops(SUNMatrix a);
 
@@ -85,9 +85,29 @@ inline std::string cvode_flag_name(int flag) {
   return why;
 }
 
+// a C callback's exception, kept: its message goes into `error` ("<callback>: <what>") and the
+// callback returns -1, CVODE's fatal flag; the run's failure Status then carries the message
+// with the time and cam angle. Call it only inside a catch block.
+inline int keep_callback_error(std::string& error, const char* callback) noexcept {
+  try {
+    try {
+      throw;
+    } catch (const std::exception& e) {
+      error = std::string(callback) + ": " + e.what();
+    } catch (...) {
+      error = std::string(callback) + ": an exception that is not a std::exception";
+    }
+  } catch (...) {  // no memory for the message: the flag alone
+  }
+  return -1;
+}
+
+// " (<callback>: <what>)" for a failure message, or "" when no callback failed
+inline std::string callback_note(const std::string& error) { return error.empty() ? "" : " (" + error + ")"; }
+
 // the longest CVODE step [s] for a model whose cam forcing enters only through a kinematic
 // path tabulated every grid_step_rad: a longer step can pass over a whole lift event unseen
-// (found at 10-160 rpm, where the contact dynamics no longer limit the step)
+// (at low speed, 10-160 rpm, the contact dynamics no longer limit the step)
 inline double path_max_step_s(double grid_step_rad, double omega_rad_per_s) {
   return 4.0 * grid_step_rad / omega_rad_per_s;
 }

@@ -2,8 +2,8 @@
 // start (flexible_system.hpp)
 #include <Eigen/Eigenvalues>
 #include <algorithm>
-#include <numbers>
 
+#include "camopt/core/units.hpp"
 #include "camopt/dynamics/hertz.hpp"
 #include "camopt/dynamics/rigid.hpp"
 #include "cvode_support.hpp"
@@ -13,17 +13,8 @@ namespace camopt::dynamics::detail {
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-constexpr double kMilli = 1e-3;           // kg mm/s^2 -> N; N s/m -> N s/mm
-constexpr double kSeatReach = 0.01;       // [mm] a seated valve's kinematic rest within this of its seat
-constexpr double kSteelE = 210e3, kSteelNu = 0.3;  // [N/mm^2], [-] a seat insert without a material
-
-const NodeSpec& node_spec(const DesignSpec& spec, const std::string& name) {
-  for (const NodeSpec& ns : spec.nodes)
-    if (ns.name == name) return ns;
-  CAMOPT_ASSERT(false);
-  return spec.nodes.front();
-}
+constexpr double kMilli = 1e-3;      // kg mm/s^2 -> N; N s/m -> N s/mm
+constexpr double kSeatReach = 0.01;  // [mm] a seated valve's kinematic rest within this of its seat
 
 // the connections that solve a node in the kinematic plan (its drive side)
 std::vector<int> drive_side(const kin::Mechanism& mech, int node) {
@@ -39,19 +30,19 @@ std::vector<int> drive_side(const kin::Mechanism& mech, int node) {
 }
 
 // a contact or seat law from its design keys; hertz needs length and e_star set by the caller
-ForceLaw make_law(const ContactLawSpec& spec, const FlexibleOptions& opt, const std::string& who, const SourceRef& where) {
+ForceLaw make_law(const ContactLawSpec& keys, const FlexibleOptions& opt, const std::string& who, const SourceRef& where) {
   ForceLaw law;
-  law.law = spec.law;
-  law.damping_law = spec.damping_law;
+  law.law = keys.law;
+  law.damping_law = keys.damping_law;
   law.scale = opt.contact_stiffness_scale;
-  const double alpha_default = hunt_crossley_alpha(spec.restitution.value_or(opt.contact_restitution),
+  const double alpha_default = hunt_crossley_alpha(keys.restitution.value_or(opt.contact_restitution),
                                                    opt.restitution_speed_m_per_s * 1e3);
-  const std::optional<double> c = spec.damping_N_s_per_m ? std::optional<double>(*spec.damping_N_s_per_m * kMilli)
+  const std::optional<double> c = keys.damping_N_s_per_m ? std::optional<double>(*keys.damping_N_s_per_m * kMilli)
                                                          : std::nullopt;  // [N s/mm]
-  if (spec.law == ContactLaw::linear) {
-    if (!spec.stiffness_N_per_mm)
+  if (keys.law == ContactLaw::linear) {
+    if (!keys.stiffness_N_per_mm)
       throw InputError(where, who + ": law = \"linear\" needs stiffness_N_per_mm");
-    law.k = *spec.stiffness_N_per_mm;
+    law.k = *keys.stiffness_N_per_mm;
     law.c = c.value_or(0.0);
     return law;
   }
@@ -61,64 +52,38 @@ ForceLaw make_law(const ContactLawSpec& spec, const FlexibleOptions& opt, const 
   return law;
 }
 
-// E* of a seat: the valve's material (its side of a contact) against the insert's
-const MaterialSpec* find_material(const DesignSpec& spec, const std::string& name) {
-  for (const MaterialSpec& m : spec.materials)
-    if (m.name == name) return &m;
-  return nullptr;
-}
-double seat_modulus(const DesignSpec& spec, const std::string& node, const SeatSpec& seat) {
-  const MaterialSpec* valve = nullptr;
-  for (const ConnectionSpec& c : spec.connections) {
-    if (c.kind != ConnectionKind::contact) continue;
-    if (c.surface_a.node == node && !c.material_a.empty()) valve = find_material(spec, c.material_a);
-    if (c.surface_b.node == node && !c.material_b.empty()) valve = find_material(spec, c.material_b);
-    if (valve) break;
-  }
-  const MaterialSpec* insert = seat.material.empty() ? valve : find_material(spec, seat.material);
-  const double ev = valve ? valve->youngs_modulus_GPa * 1e3 : kSteelE, nv = valve ? valve->poisson_ratio : kSteelNu;
-  const double ei = insert ? insert->youngs_modulus_GPa * 1e3 : kSteelE, ni = insert ? insert->poisson_ratio : kSteelNu;
-  return contact_modulus(ev, nv, ei, ni);
-}
-
+// a far end for every compliant node the kinematic plan solves (a prescribed motion does not
+// deform the train)
 void add_elements(System& s, const Model& model) {
   const kin::Mechanism& mech = s.mech;
   int next = s.R;
-  for (const NodeSpec& ns : mech.spec.nodes) {
-    const std::optional<double> stiffness =
-        ns.torsional_stiffness_Nm_per_rad ? std::optional<double>(*ns.torsional_stiffness_Nm_per_rad * 1e3)
-                                          : ns.axial_stiffness_N_per_mm;
-    if (!stiffness) continue;
-    const int n = mech.node_index(ns.name);
-    const kin::Node& node = mech.nodes[n];
+  for (const NodeCompliance& nc : model.compliances) {
+    const kin::Node& node = mech.nodes[nc.node];
     if (node.kind == NodeKind::floating)
-      throw InputError(ns.where, "node '" + ns.name +
+      throw InputError(nc.where, "node '" + node.name +
                                      "': torsional_stiffness_Nm_per_rad on a floating node is not supported by the "
                                      "flexible model (split it into two nodes joined by a connection)");
-    if (n == mech.driver_node || node.control >= 0) continue;  // a prescribed motion does not deform the train
+    if (nc.node == mech.driver_node || node.control >= 0) continue;
     Element e;
-    e.node = n;
+    e.node = nc.node;
     e.near = model.row_of_variable[node.first_variable];
     e.far = next++;
-    e.k = *stiffness;
-    e.zeta = ns.damping_ratio.value_or(s.opt.component_damping_ratio);
-    if (ns.damping_N_s_per_m) e.c = *ns.damping_N_s_per_m * kMilli, e.damping_given = true;
-    if (ns.damping_Nm_s_per_rad) e.c = *ns.damping_Nm_s_per_rad * 1e3, e.damping_given = true;
+    e.k = nc.stiffness;
+    e.zeta = nc.damping_ratio.value_or(s.opt.component_damping_ratio);
+    if (nc.damping) e.c = *nc.damping, e.damping_given = true;
     s.far_of_row[e.near] = e.far;
     s.elements.push_back(e);
   }
   s.E = static_cast<int>(s.elements.size());
 }
 
-// every compression spring becomes a chain; its end mass goes to the node
+// every compression spring on a solved translational node becomes a chain; its end mass goes to the node
 void add_chains(System& s, const Model& model) {
   const kin::Mechanism& mech = s.mech;
   std::vector<Spring> kept;
   int next = s.R + s.E;
-  for (std::size_t i = 0; i < model.springs.size(); ++i) {
-    const Spring& sp = model.springs[i];
-    const SpringSpec& ss = mech.spec.springs[i];
-    // a valve spring becomes a chain; torsion springs and springs on floating bodies stay in the path
+  for (const Spring& sp : model.springs) {
+    // torsion springs and springs on floating bodies stay in the path
     if (sp.kind != SpringKind::compression || sp.on_point || mech.nodes[sp.node].control >= 0) {
       kept.push_back(sp);
       continue;
@@ -128,9 +93,9 @@ void add_chains(System& s, const Model& model) {
     ch.law = sp;
     ch.node = sp.node;
     ch.row = model.row_of_variable[mech.nodes[sp.node].first_variable];
-    ch.masses = ss.surge_masses;
-    ch.spring_damping = ss.damping_N_s_per_m.value_or(0.0) * kMilli;
-    const double spring_mass = ss.mass_kg.value_or(0.0);
+    ch.masses = sp.surge_masses;
+    ch.spring_damping = sp.damping;
+    const double spring_mass = sp.mass;
     if (ch.masses > 0) {
       // internal masses m/(N+1), half a segment's mass at each end; the rigid model had m/3
       s.flex.bodies[sp.node].mass += spring_mass / (2.0 * (ch.masses + 1)) - spring_mass / 3.0;
@@ -140,16 +105,16 @@ void add_chains(System& s, const Model& model) {
       ch.band = static_cast<int>(std::count_if(s.chains.begin(), s.chains.end(), [](const Chain& c) { return c.masses > 0; }));
       // coil-to-coil: a damper between adjacent coil masses, or stiffness-proportional damping
       // giving the first surge mode (fixed-fixed, w1 = pi sqrt(k/m)) the ratio: c = 2 zeta k / w1
-      if (ss.coil_damping_N_s_per_m) {
-        ch.coil_damping = *ss.coil_damping_N_s_per_m * kMilli / (ch.masses + 1.0);
+      if (sp.coil_damping) {
+        ch.coil_damping = *sp.coil_damping / (ch.masses + 1.0);
       } else {
         const double rate = sp.stiffness(0.0);
-        const double w1 = kPi * std::sqrt(rate / (kMilli * spring_mass));
-        ch.coil_damping = 2.0 * ss.coil_damping_ratio.value_or(s.opt.spring_damping_ratio) * rate / w1;
+        const double w1 = pi * std::sqrt(rate / (kMilli * spring_mass));
+        ch.coil_damping = 2.0 * sp.coil_damping_ratio.value_or(s.opt.spring_damping_ratio) * rate / w1;
       }
     }
     ch.segment_damping = ch.spring_damping + ch.coil_damping;
-    if (ss.installed_length_mm && ss.solid_length_mm) ch.solid_travel = *ss.installed_length_mm - *ss.solid_length_mm;
+    ch.solid_travel = sp.solid_travel;
     ch.table_index = static_cast<int>(s.chains.size());
     s.chains.push_back(ch);
   }
@@ -157,61 +122,55 @@ void add_chains(System& s, const Model& model) {
   s.N = next;
 }
 
-// the output node (a translational valve) and every node with a seat table
+// the model's seats on nodes the kinematic plan solves (a seat under a control is an error)
 void add_seats(System& s) {
   const kin::Mechanism& mech = s.mech;
-  const DesignSpec& spec = mech.spec;
-  for (int n = 0; n < static_cast<int>(mech.nodes.size()); ++n) {
-    const kin::Node& node = mech.nodes[n];
-    if (node.kind != NodeKind::translational || n == mech.driver_node) continue;
-    const NodeSpec& ns = node_spec(spec, node.name);
-    const bool output = n == mech.output_node;
-    if (!ns.seat.enabled || (!output && !ns.seat.given)) continue;
+  for (std::size_t i = 0; i < s.flex.seats.size(); ++i) {
+    const SeatData& sd = s.flex.seats[i];
+    const kin::Node& node = mech.nodes[sd.node];
     const int r = node.control >= 0 ? -1 : s.flex.row_of_variable[node.first_variable];
     if (r < 0) {
-      if (ns.seat.given) throw InputError(ns.seat.where, "node '" + node.name + "': seat: a node set by a control has no seat");
+      if (sd.given) throw InputError(sd.seat_where, "node '" + node.name + "': seat: a node set by a control has no seat");
       continue;
     }
     Seat st;
-    st.node = n;
+    st.node = sd.node;
+    st.source = static_cast<int>(i);
     st.near = r;
     st.row = s.far_of_row[r] >= 0 ? s.far_of_row[r] : r;
     st.table_index = static_cast<int>(s.seats.size());
-    const SeatSpec& sp = ns.seat;
-    st.law = make_law(sp.law, s.opt, "node '" + node.name + "': seat", sp.where.line ? sp.where : ns.where);
-    if (sp.law.law == ContactLaw::hertz) {
-      st.law.length = kPi * sp.diameter_mm;
-      st.law.e_star = seat_modulus(spec, node.name, sp);
-      st.cos_angle = std::cos(sp.angle_deg * kPi / 180.0);
-      st.radius = sp.crown_radius_mm;
+    st.law = make_law(sd.law, s.opt, "node '" + node.name + "': seat", sd.seat_where.line ? sd.seat_where : sd.node_where);
+    if (sd.law.law == ContactLaw::hertz) {
+      st.law.length = pi * sd.diameter;
+      st.law.e_star = sd.e_star;
+      st.cos_angle = std::cos(sd.angle_deg * pi / 180.0);
+      st.radius = sd.crown_radius;
     }
-    st.area = kPi * sp.diameter_mm * sp.width_mm;
+    st.area = pi * sd.diameter * sd.width;
     s.seats.push_back(st);
   }
 }
 
+// contacts: their force laws; links and gears: their stiffness
 void set_contact_laws(System& s) {
   const kin::Mechanism& mech = s.mech;
   s.laws.assign(s.C, ForceLaw{});
   s.link_k.assign(s.C, 0.0);
   s.link_c.assign(s.C, 0.0);
   for (int c = 0; c < s.C; ++c) {
-    const ConnectionSpec* cs = nullptr;
-    for (const ConnectionSpec& x : mech.spec.connections)
-      if (x.name == mech.connections[c].name) cs = &x;
-    CAMOPT_ASSERT(cs != nullptr);
     const ContactData& cd = s.flex.contacts[c];
     if (!cd.is_contact) {
-      const bool angular = cs->kind == ConnectionKind::gear || cs->kind == ConnectionKind::variable_gear;
-      s.link_k[c] = angular ? cs->stiffness_Nm_per_rad.value_or(s.opt.link_stiffness * 1e-3) * 1e3
-                            : cs->stiffness_N_per_mm.value_or(s.opt.link_stiffness);
+      const ConnectionKind kind = mech.connections[c].kind;
+      const bool angular = kind == ConnectionKind::gear || kind == ConnectionKind::variable_gear;
+      const LinkCompliance& link = s.flex.links[c];
+      s.link_k[c] = link.stiffness ? *link.stiffness : angular ? s.opt.link_stiffness * 1e-3 * 1e3 : s.opt.link_stiffness;
       continue;
     }
     const std::string who = "connection '" + mech.connections[c].name + "'";
-    if (cs->contact_law.law == ContactLaw::hertz && !cd.has_hertz)
-      throw InputError(cs->where, who + ": the flexible model's hertz law needs materials and width_mm "
-                                        "(or law = \"linear\" with stiffness_N_per_mm)");
-    s.laws[c] = make_law(cs->contact_law, s.opt, who, cs->where);
+    if (cd.law.law == ContactLaw::hertz && !cd.has_hertz)
+      throw InputError(cd.where, who + ": the flexible model's hertz law needs materials and width_mm "
+                                       "(or law = \"linear\" with stiffness_N_per_mm)");
+    s.laws[c] = make_law(cd.law, s.opt, who, cd.where);
     s.laws[c].length = cd.width;
     s.laws[c].two_sided = cd.two_sided;
     s.laws[c].e_star = cd.e_star;
@@ -237,16 +196,16 @@ void check_seats(System& s) {
       if (d < rest) rest = d, at_rest = s.row_angle[i];
     }
     const std::string name = s.mech.nodes[st.node].name;
-    const NodeSpec& ns = node_spec(s.mech.spec, name);
-    const SourceRef& where = ns.seat.given ? ns.seat.where : ns.where;
+    const SeatData& sd = s.flex.seats[st.source];
+    const SourceRef& where = sd.given ? sd.seat_where : sd.node_where;
     if (rest > kSeatReach)
       throw InputError(where, "node '" + name + "': seat: the valve never reaches its seat (closest " +
-                                  format_number(rest) + " mm at cam " + format_number(at_rest * 180.0 / kPi) +
+                                  format_number(rest) + " mm at cam " + format_number(at_rest * 180.0 / pi) +
                                   " deg; it must return within " + format_number(kSeatReach) +
                                   " mm of its rest displacement)");
     if (low < -kSeatReach)
       throw InputError(where, "node '" + name + "': seat: the kinematic motion passes " + format_number(-low) +
-                                  " mm through the seat at cam " + format_number(at_lo * 180.0 / kPi) +
+                                  " mm through the seat at cam " + format_number(at_lo * 180.0 / pi) +
                                   " deg (at most " + format_number(kSeatReach) + " mm)");
   }
 }
@@ -297,7 +256,7 @@ double train_frequency(System& s) {
 // damping of links (a ratio of their local mode) and components (Rayleigh on the train's
 // first mode: c = 2 zeta k / w1 gives it the ratio zeta; Clough & Penzien, Dynamics of
 // Structures, 2nd ed., sec. 12-5)
-void set_damping(System& s, const std::vector<double>& link_ratio) {
+void set_damping(System& s) {
   s.evaluated_theta = std::nan("");
   s.evaluate(0.0);
   s.mass_matrix(s.m);
@@ -308,10 +267,11 @@ void set_damping(System& s, const std::vector<double>& link_ratio) {
     for (int r = 0; r < s.R; ++r) g(s.row_map[c][r]) += s.gn(r, c);
     const double inv_mass = g.dot(m_inv * g);
     const double m_c = inv_mass > 0 ? 1.0 / inv_mass : 0.0;
-    s.link_c[c] = 2.0 * link_ratio[c] * std::sqrt(s.link_k[c] * m_c);
+    const double link_ratio = s.flex.links[c].damping_ratio.value_or(s.opt.contact_damping_ratio);
+    s.link_c[c] = 2.0 * link_ratio * std::sqrt(s.link_k[c] * m_c);
   }
   const double w1 = train_frequency(s);
-  s.train_frequency_hz = w1 / (2.0 * kPi);
+  s.train_frequency_hz = w1 / (2.0 * pi);
   s.evaluated_theta = std::nan("");
   s.evaluate(0.0);
   s.mass_matrix(s.m);
@@ -324,22 +284,11 @@ void set_damping(System& s, const std::vector<double>& link_ratio) {
 
 }  // namespace
 
-Status build_system(System& s, const Model& model, const std::vector<double>& controls, double theta_first) {
+namespace {
+
+// connection row maps: the far end of a compliant node takes the connections not on its drive side
+void map_rows(System& s) {
   const kin::Mechanism& mech = s.mech;
-  s.flex = model;
-  s.R = static_cast<int>(model.free_variables.size());
-  s.C = static_cast<int>(mech.connections.size());
-  CAMOPT_ASSERT(s.R == s.C);
-  s.far_of_row.assign(s.R, -1);
-  add_elements(s, model);
-  add_chains(s, model);
-  add_seats(s);
-  set_contact_laws(s);
-  std::vector<double> link_ratio(s.C, s.opt.contact_damping_ratio);
-  for (int c = 0; c < s.C; ++c)
-    for (const ConnectionSpec& cs : mech.spec.connections)
-      if (cs.name == mech.connections[c].name && cs.damping_ratio) link_ratio[c] = *cs.damping_ratio;
-  // connection row maps: the far end takes the connections not on a node's drive side
   s.row_map.assign(s.C, std::vector<int>(s.R));
   for (int c = 0; c < s.C; ++c)
     for (int r = 0; r < s.R; ++r) s.row_map[c][r] = r;
@@ -351,12 +300,10 @@ Status build_system(System& s, const Model& model, const std::vector<double>& co
         s.row_map[c][e.near] = e.far;
     }
   }
-  s.L = Layout(s.R, s.C, static_cast<int>(s.chains.size()), static_cast<int>(s.seats.size()));
-  const Status st = tabulate_path(s, controls, theta_first);
-  if (!st.ok()) return st;
-  check_seats(s);
-  // working storage
-  s.theta0 = theta_first;
+}
+
+// the buffers of the forces, the structured matrices and the coil masses' inverse
+void allocate_work(System& s) {
   s.frozen.assign(s.C, 0);
   s.frozen_force.assign(s.C, 0.0);
   s.hertz_start.assign(s.C, 0.0);
@@ -371,21 +318,55 @@ Status build_system(System& s, const Model& model, const std::vector<double>& co
   s.inv_coil_mass.resize(s.N - s.core());
   for (const Chain& ch : s.chains)
     for (int j = 0; j < ch.masses; ++j) s.inv_coil_mass(ch.first + j - s.core()) = 1.0 / ch.mass;
-  set_damping(s, link_ratio);
-  // roots
+}
+
+// root functions: one-sided contacts, seats, and the coil gaps of chains with a solid length
+void add_roots(System& s) {
   for (int c = 0; c < s.C; ++c)
     if (s.flex.contacts[c].is_contact && !s.flex.contacts[c].two_sided) s.root_list.push_back({0, c, 0});
   for (int i = 0; i < static_cast<int>(s.seats.size()); ++i) s.root_list.push_back({1, i, 0});
   for (std::size_t i = 0; i < s.chains.size(); ++i)
     if (s.chains[i].solid_travel >= 0)
       for (int j = 1; j <= s.chains[i].masses + 1; ++j) s.root_list.push_back({2, static_cast<int>(i), j});
-  // output
-  const kin::Node& on = mech.nodes[mech.output_node];
+}
+
+// the output node's extended row (the far end of a compliant valve)
+void set_output(System& s) {
+  const kin::Node& on = s.mech.nodes[s.mech.output_node];
   s.output_angle = on.kind != NodeKind::translational;
   if (on.first_variable >= 0 && s.flex.row_of_variable[on.first_variable] >= 0) {
     const int r = s.flex.row_of_variable[on.first_variable];
     s.output_row = s.far_of_row[r] >= 0 ? s.far_of_row[r] : r;
   }
+}
+
+}  // namespace
+
+Status build_system(System& s, const Model& model, const std::vector<double>& controls, double theta_first) {
+  s.flex = model;
+  s.R = static_cast<int>(model.free_variables.size());
+  s.C = static_cast<int>(s.mech.connections.size());
+  CAMOPT_ASSERT(s.R == s.C);
+  s.far_of_row.assign(s.R, -1);
+  // the extended coordinates: far ends of compliant nodes, then the spring chains' masses
+  add_elements(s, model);
+  add_chains(s, model);
+  // the valve seats and the contacts' force laws
+  add_seats(s);
+  set_contact_laws(s);
+  map_rows(s);
+  // the kinematic path over one revolution, and the seats checked against it
+  s.L = Layout(s.R, s.C, static_cast<int>(s.chains.size()), static_cast<int>(s.seats.size()));
+  const Status st = tabulate_path(s, controls, theta_first);
+  if (!st.ok()) return st;
+  check_seats(s);
+  s.theta0 = theta_first;
+  allocate_work(s);
+  // damping of links and components from the train's first mode
+  set_damping(s);
+  // root functions and the output row
+  add_roots(s);
+  set_output(s);
   s.acc.setZero(s.N);
   s.active_piece = s.piece_of(theta_first);
   s.evaluated_theta = std::nan("");
@@ -528,7 +509,7 @@ Status static_start(System& s, const Model& model, const std::vector<double>& co
   if (error > s.opt.max_gap_error_mm)
     return {StatusCode::no_convergence, "the flexible model's static start finds no equilibrium: " +
                                             s.gap_error_message(error, contact),
-            "cam " + format_number(theta * 180.0 / kPi) + " deg"};
+            "cam " + format_number(theta * 180.0 / pi) + " deg"};
   return Status::success();
 }
 

@@ -68,6 +68,7 @@ struct ForceLaw {
 // a valve seat: a one-sided contact on a node's travel at its rest displacement
 struct Seat {
   int node = -1, row = -1;   // the node and its extended row (the far end of a compliant valve)
+  int source = -1;           // its entry in Model::seats
   int near = -1;             // the node's free row (kinematic rate)
   int table_index = -1;
   double sign = 1.0;         // +1: the valve opens towards + travel and the seat pushes +
@@ -179,6 +180,7 @@ class System {
   Structured jk, jd;  // Newton matrices K = -df/dq, D = -df/dqd
   long rhs_calls = 0, jacobian_calls = 0;
   mutable std::vector<double> hertz_start;
+  std::string callback_error;  // an exception caught in a CVODE callback: "<callback>: <what>"
 
   // root functions: contacts' penetration, seats' penetration, coil gaps
   struct Root {
@@ -273,6 +275,13 @@ Status static_start(System& s, const Model& model, const std::vector<double>& co
 // Newton on the static balance f(x, v) = 0 in x with the tangent stiffness; returns the
 // residual norm reached
 double polish_static(System& s, Eigen::VectorXd& x, const Eigen::VectorXd& v, int iterations);
+
+// ---- the CVODE run (flexible_run.cpp) ----
+// integrate from (x0, v0) at cam angle first_deg [deg] at engine speed rpm, window by window,
+// reporting start_deg .. stop_deg every step_deg (FlexibleOptions::revolutions, start_at_rest)
+Status integrate_flexible(System& s, double first_deg, double rpm, const Eigen::VectorXd& x0,
+                          const Eigen::VectorXd& v0, double start_deg, double stop_deg, double step_deg,
+                          FlexibleResult& out);
 
 // ---- CVODE's Newton system (flexible_linear.cpp) ----
 // a SUNMatrix holding J = [[0, I], [-M^-1 K, -M^-1 D]] as beta I + alpha J with structured K,

@@ -1,16 +1,19 @@
-// validation of the dynamics data and the force laws of springs and gas forces
+// compile_dynamics: the dynamics data of the design, validated and converted to the units of
+// the models (model.hpp); and the force laws of springs and gas forces
 #include "camopt/dynamics/model.hpp"
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 #include <sstream>
+
+#include "camopt/core/units.hpp"
 
 namespace camopt::dynamics {
 
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
+constexpr double kMilli = 1e-3;                    // N s/m -> N s/mm
+constexpr double kSteelE = 210e3, kSteelNu = 0.3;  // [N/mm^2], [-] a seat insert without a material
 
 std::string num(double v) {
   std::ostringstream s;
@@ -92,18 +95,23 @@ double contact_modulus(double e_a, double nu_a, double e_b, double nu_b) {
   return 1.0 / ((1.0 - nu_a * nu_a) / e_a + (1.0 - nu_b * nu_b) / e_b);
 }
 
-Model compile_dynamics(const kin::Mechanism& mech) {
+namespace {
+
+// a rotational driver and a positive crank ratio
+void compile_driver(const kin::Mechanism& mech, Model& model) {
   const DesignSpec& spec = mech.spec;
-  Model model;
   model.crank_per_cam = spec.driver.crank_per_cam;
+  model.driver_start_deg = spec.driver.start_deg;
   require_positive(spec.driver.where, "driver.crank_per_cam", model.crank_per_cam);
   if (!mech.driver_is_angle())
     throw InputError(spec.driver.where, "driver.node: the dynamics models need a rotational driver (node '" +
                                             mech.nodes[mech.driver_node].name + "' is translational)");
+}
 
-  // bodies
+// mass, inertia and centre of gravity of every node; a moving node needs what its kind needs
+void compile_bodies(const kin::Mechanism& mech, Model& model) {
   model.bodies.resize(mech.nodes.size());
-  for (const NodeSpec& ns : spec.nodes) {
+  for (const NodeSpec& ns : mech.spec.nodes) {
     const int n = mech.node_index(ns.name);
     CAMOPT_ASSERT(n > 0);
     const kin::Node& node = mech.nodes[n];
@@ -136,65 +144,79 @@ Model compile_dynamics(const kin::Mechanism& mech) {
         break;
     }
   }
+}
 
-  // springs
-  for (const SpringSpec& ss : spec.springs) {
+// a compression spring's load law: on a translational node, or pushing a point of a floating one
+void compile_compression_law(const kin::Mechanism& mech, const SpringSpec& ss, const std::string& who, Spring& s) {
+  const NodeKind kind = mech.nodes[s.node].kind;
+  if (kind != NodeKind::translational && kind != NodeKind::floating)
+    throw InputError(ss.where, who + ": a compression spring needs a translational or floating node ('" + ss.node +
+                                   "' is " + to_string(kind) + ")");
+  if (kind == NodeKind::floating) {
+    if (!ss.point_mm || !ss.direction)
+      throw InputError(ss.where, who + ": on the floating node '" + ss.node +
+                                     "' it needs point_mm and direction (the point it pushes and its line)");
+    if (ss.surge_masses > 0)
+      throw InputError(ss.where, who + ": surge_masses on a floating node's spring is not supported");
+    s.on_point = true;
+    s.point = {(*ss.point_mm)[0], (*ss.point_mm)[1]};
+    s.direction = Eigen::Vector2d((*ss.direction)[0], (*ss.direction)[1]).normalized();
+  } else if (ss.point_mm || ss.direction) {
+    throw InputError(ss.where, who + ": point_mm and direction are for a spring on a floating node");
+  }
+  if (!ss.table_displacement_mm.empty() || !ss.table_force_N.empty()) {
+    require_table(ss.where, who + ": table", ss.table_displacement_mm, ss.table_force_N, 2);
+    for (std::size_t i = 1; i < ss.table_force_N.size(); ++i)
+      if (!(ss.table_force_N[i] > ss.table_force_N[i - 1]))
+        throw InputError(ss.where, who + ": table.force_N value " + num(ss.table_force_N[i]) + " at index " +
+                                       std::to_string(i) + " must be greater than the previous (a spring stiffens)");
+    s.table_x = ss.table_displacement_mm;
+    s.table_f = ss.table_force_N;
+    return;
+  }
+  require_positive(ss.where, who + ": rate_N_per_mm", ss.rate_N_per_mm);
+  if (ss.preload_N < 0) throw InputError(ss.where, who + ": preload_N: value " + num(ss.preload_N) + " must be >= 0");
+  s.rate = ss.rate_N_per_mm;
+  s.preload = ss.preload_N;
+}
+
+// every spring's load law, damper and coil data; a spring's mass puts 1/3 on its node
+void compile_springs(const kin::Mechanism& mech, Model& model) {
+  for (const SpringSpec& ss : mech.spec.springs) {
     Spring s;
     s.name = ss.name;
     s.kind = ss.kind;
     s.node = mech.node_index(ss.node);
     const std::string who = "spring '" + ss.name + "'";
     if (s.node <= 0) throw InputError(ss.where, who + ": node '" + ss.node + "' does not exist");
-    const NodeKind kind = mech.nodes[s.node].kind;
     if (ss.kind == SpringKind::compression) {
-      if (kind != NodeKind::translational && kind != NodeKind::floating)
-        throw InputError(ss.where, who + ": a compression spring needs a translational or floating node ('" + ss.node +
-                                       "' is " + to_string(kind) + ")");
-      if (kind == NodeKind::floating) {
-        if (!ss.point_mm || !ss.direction)
-          throw InputError(ss.where, who + ": on the floating node '" + ss.node +
-                                         "' it needs point_mm and direction (the point it pushes and its line)");
-        if (ss.surge_masses > 0)
-          throw InputError(ss.where, who + ": surge_masses on a floating node's spring is not supported");
-        s.on_point = true;
-        s.point = {(*ss.point_mm)[0], (*ss.point_mm)[1]};
-        s.direction = Eigen::Vector2d((*ss.direction)[0], (*ss.direction)[1]).normalized();
-      } else if (ss.point_mm || ss.direction) {
-        throw InputError(ss.where, who + ": point_mm and direction are for a spring on a floating node");
-      }
-      if (!ss.table_displacement_mm.empty() || !ss.table_force_N.empty()) {
-        require_table(ss.where, who + ": table", ss.table_displacement_mm, ss.table_force_N, 2);
-        for (std::size_t i = 1; i < ss.table_force_N.size(); ++i)
-          if (!(ss.table_force_N[i] > ss.table_force_N[i - 1]))
-            throw InputError(ss.where, who + ": table.force_N value " + num(ss.table_force_N[i]) + " at index " +
-                                           std::to_string(i) + " must be greater than the previous (a spring stiffens)");
-        s.table_x = ss.table_displacement_mm;
-        s.table_f = ss.table_force_N;
-      } else {
-        require_positive(ss.where, who + ": rate_N_per_mm", ss.rate_N_per_mm);
-        if (ss.preload_N < 0)
-          throw InputError(ss.where, who + ": preload_N: value " + num(ss.preload_N) + " must be >= 0");
-        s.rate = ss.rate_N_per_mm;
-        s.preload = ss.preload_N;
-      }
+      compile_compression_law(mech, ss, who, s);
     } else {
+      const NodeKind kind = mech.nodes[s.node].kind;
       if (kind != NodeKind::rotational)
         throw InputError(ss.where, who + ": a torsion spring needs a rotational node ('" + ss.node + "' is " +
                                        to_string(kind) + ")");
       require_positive(ss.where, who + ": rate_Nmm_per_deg", ss.rate_Nmm_per_deg);
-      s.rate = ss.rate_Nmm_per_deg / kDeg;  // [N mm/rad]
+      s.rate = ss.rate_Nmm_per_deg / rad_per_deg;  // [N mm/rad]
       s.preload = ss.preload_Nmm;
     }
-    if (ss.damping_N_s_per_m) s.damping = *ss.damping_N_s_per_m * 1e-3;  // [N s/mm]
+    if (ss.damping_N_s_per_m) s.damping = *ss.damping_N_s_per_m * kMilli;  // [N s/mm]
     if (ss.mass_kg) {
       require_positive(ss.where, who + ": mass_kg", *ss.mass_kg);
+      s.mass = *ss.mass_kg;
       model.bodies[s.node].mass += *ss.mass_kg / 3.0;  // effective moving mass of a uniform coil
     }
+    s.surge_masses = ss.surge_masses;
+    s.coil_damping_ratio = ss.coil_damping_ratio;
+    if (ss.coil_damping_N_s_per_m) s.coil_damping = *ss.coil_damping_N_s_per_m * kMilli;  // [N s/mm]
+    if (ss.installed_length_mm && ss.solid_length_mm) s.solid_travel = *ss.installed_length_mm - *ss.solid_length_mm;
     model.springs.push_back(std::move(s));
   }
+}
 
-  // gas forces
-  for (const GasForceSpec& gs : spec.gas_forces) {
+// cylinder gas forces on translational nodes, tables against crank angle over one cycle
+void compile_gas_forces(const kin::Mechanism& mech, Model& model) {
+  for (const GasForceSpec& gs : mech.spec.gas_forces) {
     GasForce g;
     g.node = mech.node_index(gs.node);
     if (g.node <= 0 || mech.nodes[g.node].kind != NodeKind::translational)
@@ -205,60 +227,147 @@ Model compile_dynamics(const kin::Mechanism& mech) {
     g.period_deg = 360.0 * model.crank_per_cam;
     model.gas_forces.push_back(std::move(g));
   }
+}
 
-  // contacts
+const MaterialSpec* find_material(const DesignSpec& spec, const std::string& name) {
+  for (const MaterialSpec& m : spec.materials)
+    if (m.name == name) return &m;
+  return nullptr;
+}
+
+const ConnectionSpec& connection_spec(const DesignSpec& spec, const std::string& name) {
+  const ConnectionSpec* cs = nullptr;
+  for (const auto& s : spec.connections)
+    if (s.name == name) cs = &s;
+  CAMOPT_ASSERT(cs != nullptr);
+  return *cs;
+}
+
+// E* of a contact with both materials and a width; Johnson, Contact Mechanics, 1985, eq. 4.22
+void compile_contact_materials(const DesignSpec& spec, const ConnectionSpec& cs, const std::string& who,
+                               ContactData& d) {
+  const MaterialSpec* ma = find_material(spec, cs.material_a);
+  const MaterialSpec* mb = find_material(spec, cs.material_b);
+  if (!cs.material_a.empty() && !ma)
+    throw InputError(cs.where, who + ": materials: '" + cs.material_a + "' is not a [[material]]");
+  if (!cs.material_b.empty() && !mb)
+    throw InputError(cs.where, who + ": materials: '" + cs.material_b + "' is not a [[material]]");
+  if (!(ma && mb && cs.width_mm)) return;
+  require_positive(cs.where, who + ": width_mm", *cs.width_mm);
+  for (const MaterialSpec* m : {ma, mb}) {
+    require_positive(m->where, "material '" + m->name + "': youngs_modulus_GPa", m->youngs_modulus_GPa);
+    if (!(m->poisson_ratio >= 0.0 && m->poisson_ratio < 0.5))
+      throw InputError(m->where, "material '" + m->name + "': poisson_ratio: value " + num(m->poisson_ratio) +
+                                     " must be in [0, 0.5)");
+  }
+  d.has_hertz = true;
+  d.width = *cs.width_mm;
+  d.e_star = contact_modulus(ma->youngs_modulus_GPa * 1e3, ma->poisson_ratio, mb->youngs_modulus_GPa * 1e3,
+                             mb->poisson_ratio);
+}
+
+// per contact: materials, friction, damping, force law and the node its lash holds; per
+// link or gear: its flexible-model stiffness and damping ratio
+void compile_connections(const kin::Mechanism& mech, Model& model) {
+  const DesignSpec& spec = mech.spec;
   model.contacts.resize(mech.connections.size());
+  model.links.resize(mech.connections.size());
   for (std::size_t ci = 0; ci < mech.connections.size(); ++ci) {
     const kin::Connection& c = mech.connections[ci];
-    if (c.kind != ConnectionKind::contact) continue;
-    const ConnectionSpec* cs = nullptr;
-    for (const auto& s : spec.connections)
-      if (s.name == c.name) cs = &s;
-    CAMOPT_ASSERT(cs != nullptr);
+    const ConnectionSpec& cs = connection_spec(spec, c.name);
     ContactData& d = model.contacts[ci];
+    d.where = cs.where;
+    if (c.kind != ConnectionKind::contact) {
+      const bool angular = c.kind == ConnectionKind::gear || c.kind == ConnectionKind::variable_gear;
+      LinkCompliance& link = model.links[ci];
+      if (angular && cs.stiffness_Nm_per_rad) link.stiffness = *cs.stiffness_Nm_per_rad * 1e3;  // [N mm/rad]
+      if (!angular && cs.stiffness_N_per_mm) link.stiffness = *cs.stiffness_N_per_mm;
+      link.damping_ratio = cs.damping_ratio;
+      continue;
+    }
     const std::string who = "connection '" + c.name + "'";
     d.is_contact = true;
-    d.two_sided = cs->two_sided;
+    d.two_sided = cs.two_sided;
+    d.law = cs.contact_law;
     d.rolling = (c.surface_a.kind == kin::SurfaceKind::point && c.surface_a.roller) ||
                 (c.surface_b.kind == kin::SurfaceKind::point && c.surface_b.roller);
-    if (cs->friction_coefficient) {
-      if (!(*cs->friction_coefficient >= 0))
-        throw InputError(cs->where, who + ": friction_coefficient: value " + num(*cs->friction_coefficient) +
-                                        " must be >= 0");
-      d.friction = *cs->friction_coefficient;
+    if (cs.friction_coefficient) {
+      if (!(*cs.friction_coefficient >= 0))
+        throw InputError(cs.where, who + ": friction_coefficient: value " + num(*cs.friction_coefficient) +
+                                       " must be >= 0");
+      d.friction = *cs.friction_coefficient;
     }
-    if (cs->contact_law.damping_N_s_per_m) d.damping = *cs->contact_law.damping_N_s_per_m * 1e-3;  // [N s/mm]
-    const MaterialSpec* ma = nullptr;
-    const MaterialSpec* mb = nullptr;
-    for (const auto& m : spec.materials) {
-      if (m.name == cs->material_a) ma = &m;
-      if (m.name == cs->material_b) mb = &m;
-    }
-    if (!cs->material_a.empty() && !ma)
-      throw InputError(cs->where, who + ": materials: '" + cs->material_a + "' is not a [[material]]");
-    if (!cs->material_b.empty() && !mb)
-      throw InputError(cs->where, who + ": materials: '" + cs->material_b + "' is not a [[material]]");
-    if (ma && mb && cs->width_mm) {
-      require_positive(cs->where, who + ": width_mm", *cs->width_mm);
-      for (const MaterialSpec* m : {ma, mb}) {
-        require_positive(m->where, "material '" + m->name + "': youngs_modulus_GPa", m->youngs_modulus_GPa);
-        if (!(m->poisson_ratio >= 0.0 && m->poisson_ratio < 0.5))
-          throw InputError(m->where, "material '" + m->name + "': poisson_ratio: value " + num(m->poisson_ratio) +
-                                         " must be in [0, 0.5)");
-      }
-      d.has_hertz = true;
-      d.width = *cs->width_mm;
-      d.e_star = contact_modulus(ma->youngs_modulus_GPa * 1e3, ma->poisson_ratio, mb->youngs_modulus_GPa * 1e3,
-                                 mb->poisson_ratio);
-    }
+    if (cs.contact_law.damping_N_s_per_m) d.damping = *cs.contact_law.damping_N_s_per_m * kMilli;  // [N s/mm]
+    compile_contact_materials(spec, cs, who, d);
     if (c.one_sided)
       for (const kin::SolveStep& step : mech.plan)
         if (step.one_sided && std::find(step.connections.begin(), step.connections.end(), static_cast<int>(ci)) !=
                                   step.connections.end())
           d.held_node = step.output_node;
   }
+}
 
-  // free node variables: the rows of the force balance
+// nodes with an axial or torsional stiffness, in design order
+void compile_compliances(const kin::Mechanism& mech, Model& model) {
+  for (const NodeSpec& ns : mech.spec.nodes) {
+    const std::optional<double> stiffness =
+        ns.torsional_stiffness_Nm_per_rad ? std::optional<double>(*ns.torsional_stiffness_Nm_per_rad * 1e3)
+                                          : ns.axial_stiffness_N_per_mm;  // [N mm/rad] or [N/mm]
+    if (!stiffness) continue;
+    NodeCompliance e;
+    e.node = mech.node_index(ns.name);
+    e.stiffness = *stiffness;
+    e.damping_ratio = ns.damping_ratio;
+    if (ns.damping_N_s_per_m) e.damping = *ns.damping_N_s_per_m * kMilli;    // [N s/mm]
+    if (ns.damping_Nm_s_per_rad) e.damping = *ns.damping_Nm_s_per_rad * 1e3;  // [N mm s/rad]
+    e.where = ns.where;
+    model.compliances.push_back(e);
+  }
+}
+
+// E* of a seat: the valve's material (its side of a contact) against the insert's
+double seat_modulus(const DesignSpec& spec, const std::string& node, const SeatSpec& seat) {
+  const MaterialSpec* valve = nullptr;
+  for (const ConnectionSpec& c : spec.connections) {
+    if (c.kind != ConnectionKind::contact) continue;
+    if (c.surface_a.node == node && !c.material_a.empty()) valve = find_material(spec, c.material_a);
+    if (c.surface_b.node == node && !c.material_b.empty()) valve = find_material(spec, c.material_b);
+    if (valve) break;
+  }
+  const MaterialSpec* insert = seat.material.empty() ? valve : find_material(spec, seat.material);
+  const double ev = valve ? valve->youngs_modulus_GPa * 1e3 : kSteelE, nv = valve ? valve->poisson_ratio : kSteelNu;
+  const double ei = insert ? insert->youngs_modulus_GPa * 1e3 : kSteelE, ni = insert ? insert->poisson_ratio : kSteelNu;
+  return contact_modulus(ev, nv, ei, ni);
+}
+
+// the seat of the output node (a translational valve) and of every node with a seat table
+void compile_seats(const kin::Mechanism& mech, Model& model) {
+  for (int n = 0; n < static_cast<int>(mech.nodes.size()); ++n) {
+    const kin::Node& node = mech.nodes[n];
+    if (node.kind != NodeKind::translational || n == mech.driver_node) continue;
+    const NodeSpec* ns = nullptr;
+    for (const NodeSpec& x : mech.spec.nodes)
+      if (x.name == node.name) ns = &x;
+    CAMOPT_ASSERT(ns != nullptr);
+    const SeatSpec& sp = ns->seat;
+    if (!sp.enabled || (n != mech.output_node && !sp.given)) continue;
+    SeatData seat;
+    seat.node = n;
+    seat.given = sp.given;
+    seat.diameter = sp.diameter_mm;
+    seat.angle_deg = sp.angle_deg;
+    seat.width = sp.width_mm;
+    seat.crown_radius = sp.crown_radius_mm;
+    seat.e_star = seat_modulus(mech.spec, node.name, sp);
+    seat.law = sp.law;
+    seat.seat_where = sp.where;
+    seat.node_where = ns->where;
+    model.seats.push_back(seat);
+  }
+}
+
+// free node variables (not the driver, not set by a control): the rows of the force balance
+void compile_free_rows(const kin::Mechanism& mech, Model& model) {
   model.row_of_variable.assign(mech.variables.size(), -1);
   for (std::size_t n = 1; n < mech.nodes.size(); ++n) {
     const kin::Node& node = mech.nodes[n];
@@ -269,9 +378,32 @@ Model compile_dynamics(const kin::Mechanism& mech) {
     }
   }
   if (model.free_variables.size() != mech.connections.size())
-    throw InputError(spec.file + ": the rigid dynamics model needs as many connections (" +
+    throw InputError(mech.spec.file + ": the rigid dynamics model needs as many connections (" +
                      std::to_string(mech.connections.size()) + ") as free node coordinates (" +
                      std::to_string(model.free_variables.size()) + ")");
+}
+
+}  // namespace
+
+Model compile_dynamics(const kin::Mechanism& mech) {
+  Model model;
+  // driver: rotational, with its crank ratio
+  compile_driver(mech, model);
+  // bodies: mass, inertia and centre of gravity per node
+  compile_bodies(mech, model);
+  // springs: load laws, dampers, coil masses (1/3 on the node)
+  compile_springs(mech, model);
+  // gas forces against crank angle
+  compile_gas_forces(mech, model);
+  // contacts (materials, friction, force laws, lash) and links (compliance)
+  compile_connections(mech, model);
+  // compliant nodes and valve seats of the flexible model
+  compile_compliances(mech, model);
+  compile_seats(mech, model);
+  // the oil of the EHL film
+  model.oil = mech.spec.oil;
+  // the rows of the force balance
+  compile_free_rows(mech, model);
   return model;
 }
 

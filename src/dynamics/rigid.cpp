@@ -1,17 +1,17 @@
-// mode (a): inverse dynamics along the kinematic solution (see rigid.hpp)
+// mode (a): inverse dynamics along the kinematic solution at one driver angle (rigid.hpp):
+// the loads of every case, the connection gradients, the force balance, the drive torque and
+// the pivot reactions; the sweep and its separation speeds are in rigid_sweep.cpp
 #include "camopt/dynamics/rigid.hpp"
 
 #include <cmath>
-#include <numbers>
 #include <sstream>
 
+#include "camopt/core/units.hpp"
 #include "camopt/kinematics/detail/geometry.hpp"
 
 namespace camopt::dynamics {
 
 namespace {
-constexpr double kPi = std::numbers::pi;
-constexpr double kDeg = kPi / 180.0;
 // kg * mm/s^2 -> N; kg mm^2 / s^2 -> N mm
 constexpr double kMilli = 1e-3;
 // a balance whose reciprocal condition estimate falls below this is a toggle position
@@ -27,10 +27,10 @@ std::string fmt(double v) {
 }  // namespace
 
 double cam_speed_rad_per_s(double engine_rpm_value, double crank_per_cam) {
-  return engine_rpm_value * 2.0 * kPi / 60.0 / crank_per_cam;
+  return engine_rpm_value * 2.0 * pi / 60.0 / crank_per_cam;
 }
 double engine_rpm(double cam_rad_per_s, double crank_per_cam) {
-  return cam_rad_per_s * crank_per_cam * 60.0 / (2.0 * kPi);
+  return cam_rad_per_s * crank_per_cam * 60.0 / (2.0 * pi);
 }
 
 RigidWorkspace::RigidWorkspace(const kin::Mechanism& mech, const Model& model) : kin(mech) {
@@ -104,19 +104,13 @@ void add_gradient(const kin::Mechanism& mech, RigidWorkspace& ws, Eigen::MatrixX
   for (int i = 0; i < k; ++i) g(mech.nodes[node].first_variable + i, c) += sign * d.dot(dp[i]);
 }
 
-}  // namespace
 
-Status solve_rigid(const kin::Mechanism& mech, const Model& model, RigidWorkspace& ws, double driver_rad) {
-  Status st = kin::solve(mech, ws.kin, driver_rad, kin::Request{2, true});
-  if (!st.ok()) return st;
+// inertia (case 0, per (rad/s)^2): m a_cg . dcg/dq + I alpha dphi/dq, a = d2/dtheta2, and
+// the generalized mass of the free variables, one block per node
+void add_inertia(const kin::Mechanism& mech, const Model& model, RigidWorkspace& ws) {
   using kin::detail::node_pose;
   const auto& vars = ws.kin.vars;
   const int nn = static_cast<int>(mech.nodes.size());
-  const int nc = static_cast<int>(mech.connections.size());
-  ws.g.setZero();
-  ws.loads.setZero();
-
-  // inertia (case 0, per (rad/s)^2): m a_cg . dcg/dq + I alpha dphi/dq, a = d2/dtheta2
   for (int n = 1; n < nn; ++n) {
     const kin::Node& node = mech.nodes[n];
     const BodyInertia& b = model.bodies[n];
@@ -131,7 +125,6 @@ Status solve_rigid(const kin::Mechanism& mech, const Model& model, RigidWorkspac
     const int k = point_partials(mech, ws.kin, n, ws.cg_pos[n], dp);
     for (int i = 0; i < k; ++i) ws.loads(node.first_variable + i, 0) += kMilli * b.mass * ws.cg_acc[n].dot(dp[i]);
     if (av >= 0) ws.loads(av, 0) += kMilli * b.inertia * ws.phi_acc[n];
-    // generalized mass of the free variables: one block per node
     for (int i = 0; i < k; ++i) {
       const int ri = model.row_of_variable[node.first_variable + i];
       if (ri < 0) continue;
@@ -143,9 +136,43 @@ Status solve_rigid(const kin::Mechanism& mech, const Model& model, RigidWorkspac
       }
     }
   }
-  // applied loads enter with a minus sign: gas (case 1) and springs (case 2 + s) oppose
-  // the positive displacement of their node
-  const double crank_deg = driver_rad / kDeg * model.crank_per_cam;
+}
+
+// a spring pushing a point of a floating body along its line: travel x = d . (p - p_drawing),
+// generalized load x'(q) load, stiffness k x' x'^T (the load's geometric term, like the
+// contacts' in the flexible model, is left out: first order about the path)
+void add_point_spring(const kin::Mechanism& mech, const Model& model, RigidWorkspace& ws, std::size_t s) {
+  using kin::detail::node_pose;
+  const auto& vars = ws.kin.vars;
+  const Spring& sp = model.springs[s];
+  const int v = mech.nodes[sp.node].first_variable;
+  const auto pj = node_pose(mech, sp.node, vars.data(), ws.kin.pivots.data()).apply(sp.point.x(), sp.point.y());
+  const Eigen::Vector2d p(pj.x.value(), pj.y.value());
+  const double x = sp.direction.dot(p - sp.point), load = sp.load(x), k = sp.stiffness(x);
+  ws.spring_load(static_cast<Eigen::Index>(s)) = load;
+  Eigen::Vector2d dp[3];
+  const int n = point_partials(mech, ws.kin, sp.node, p, dp);
+  double g[3], rate = 0.0;  // the point's travel per rad
+  for (int i = 0; i < n; ++i) {
+    g[i] = sp.direction.dot(dp[i]);
+    ws.loads(v + i, 2 + static_cast<int>(s)) += load * g[i];
+    rate += g[i] * vars[v + i].c[1];
+  }
+  for (int i = 0; i < n; ++i) ws.loads(v + i, ws.damping_case()) += sp.damping * rate * g[i];
+  for (int i = 0; i < n; ++i) {
+    const int ri = model.row_of_variable[v + i];
+    if (ri < 0) continue;
+    for (int j = 0; j < n; ++j) {
+      const int rj = model.row_of_variable[v + j];
+      if (rj >= 0) ws.spring_stiffness(ri, rj) += k * g[i] * g[j];
+    }
+  }
+}
+
+// applied loads enter with a minus sign: gas (case 1), springs (case 2 + s) and their
+// dampers oppose the positive displacement of their node; crank angle [crank deg]
+void add_applied_loads(const kin::Mechanism& mech, const Model& model, RigidWorkspace& ws, double crank_deg) {
+  const auto& vars = ws.kin.vars;
   ws.gas_force = 0.0;
   for (const GasForce& gf : model.gas_forces) {
     const double f = gf.at(crank_deg);
@@ -155,44 +182,27 @@ Status solve_rigid(const kin::Mechanism& mech, const Model& model, RigidWorkspac
   ws.spring_stiffness.setZero();
   for (std::size_t s = 0; s < model.springs.size(); ++s) {
     const Spring& sp = model.springs[s];
-    const int v = mech.nodes[sp.node].first_variable;
-    if (!sp.on_point) {
-      const double load = sp.load(vars[v].value());
-      ws.spring_load(static_cast<Eigen::Index>(s)) = load;
-      ws.loads(v, 2 + static_cast<int>(s)) += load;
-      // the damper opposes the travel rate c x' omega: per rad/s c x'
-      ws.loads(v, ws.damping_case()) += sp.damping * vars[v].c[1];
-      const int r = model.row_of_variable[v];
-      if (r >= 0) ws.spring_stiffness(r, r) += sp.stiffness(vars[v].value());
+    if (sp.on_point) {
+      add_point_spring(mech, model, ws, s);
       continue;
     }
-    // a spring pushing a point of a floating body along its line: travel x = d . (p - p_drawing),
-    // generalized load x'(q) load, stiffness k x' x'^T (the load's geometric term, like the
-    // contacts' in the flexible model, is left out: first order about the path)
-    const auto pj = node_pose(mech, sp.node, vars.data(), ws.kin.pivots.data()).apply(sp.point.x(), sp.point.y());
-    const Eigen::Vector2d p(pj.x.value(), pj.y.value());
-    const double x = sp.direction.dot(p - sp.point), load = sp.load(x), k = sp.stiffness(x);
+    const int v = mech.nodes[sp.node].first_variable;
+    const double load = sp.load(vars[v].value());
     ws.spring_load(static_cast<Eigen::Index>(s)) = load;
-    Eigen::Vector2d dp[3];
-    const int n = point_partials(mech, ws.kin, sp.node, p, dp);
-    double g[3], rate = 0.0;  // the point's travel per rad
-    for (int i = 0; i < n; ++i) {
-      g[i] = sp.direction.dot(dp[i]);
-      ws.loads(v + i, 2 + static_cast<int>(s)) += load * g[i];
-      rate += g[i] * vars[v + i].c[1];
-    }
-    for (int i = 0; i < n; ++i) ws.loads(v + i, ws.damping_case()) += sp.damping * rate * g[i];
-    for (int i = 0; i < n; ++i) {
-      const int ri = model.row_of_variable[v + i];
-      if (ri < 0) continue;
-      for (int j = 0; j < n; ++j) {
-        const int rj = model.row_of_variable[v + j];
-        if (rj >= 0) ws.spring_stiffness(ri, rj) += k * g[i] * g[j];
-      }
-    }
+    ws.loads(v, 2 + static_cast<int>(s)) += load;
+    // the damper opposes the travel rate c x' omega: per rad/s c x'
+    ws.loads(v, ws.damping_case()) += sp.damping * vars[v].c[1];
+    const int r = model.row_of_variable[v];
+    if (r >= 0) ws.spring_stiffness(r, r) += sp.stiffness(vars[v].value());
   }
+}
 
-  // connection gradients g_c and the force direction on body b
+// connection gradients g_c and the force direction on body b: a link's length, a gear's
+// phi_b - ratio phi_a, a contact's gap with Coulomb friction along the tangent
+void add_connection_gradients(const kin::Mechanism& mech, const Model& model, RigidWorkspace& ws) {
+  using kin::detail::node_pose;
+  const auto& vars = ws.kin.vars;
+  const int nc = static_cast<int>(mech.connections.size());
   for (int c = 0; c < nc; ++c) {
     const kin::Connection& conn = mech.connections[c];
     ws.on_b[c].setZero();
@@ -235,7 +245,7 @@ Status solve_rigid(const kin::Mechanism& mech, const Model& model, RigidWorkspac
         // friction direction
         const double still = kStillSliding * mech.length_scale;
         ws.slide_sign[c] = cs.sliding > still ? 1.0 : cs.sliding < -still ? -1.0 : 0.0;
-        if (cs.open) break;  // column replaced below
+        if (cs.open) break;  // column replaced in the balance
         const double mu = cd.rolling ? 0.0 : cd.friction;
         ws.g.col(c) = ws.g_normal.col(c) + (mu * ws.slide_sign[c]) * ws.g_tangent.col(c);
         ws.on_b[c] = n + (mu * ws.slide_sign[c]) * t;
@@ -243,8 +253,12 @@ Status solve_rigid(const kin::Mechanism& mech, const Model& model, RigidWorkspac
       }
     }
   }
+}
 
-  // the balance over the free variables: system * force = rhs
+// the balance over the free variables, system * force = rhs; an open lash gap carries no
+// contact force, the held node's seat reaction takes its place. Singular: a toggle position.
+Status solve_balance(const kin::Mechanism& mech, const Model& model, RigidWorkspace& ws, double driver_rad) {
+  const int nc = static_cast<int>(mech.connections.size());
   const int rows = static_cast<int>(model.free_variables.size());
   for (int r = 0; r < rows; ++r) {
     const int v = model.free_variables[r];
@@ -253,7 +267,6 @@ Status solve_rigid(const kin::Mechanism& mech, const Model& model, RigidWorkspac
   }
   for (int c = 0; c < nc; ++c)
     if (mech.connections[c].kind == ConnectionKind::contact && ws.kin.contacts[c].open) {
-      // open lash gap: no contact force; the held node's seat reaction takes its place
       ws.system.col(c).setZero();
       const int held = model.contacts[c].held_node;
       CAMOPT_ASSERT(held > 0);
@@ -264,7 +277,7 @@ Status solve_rigid(const kin::Mechanism& mech, const Model& model, RigidWorkspac
   if (!(rcond > kSingularRcond))
     return {StatusCode::singular,
             "the force balance is singular (reciprocal condition " + fmt(rcond) + "): a toggle position",
-            "driver " + fmt(driver_rad / kDeg) + " deg"};
+            "driver " + fmt(driver_rad / rad_per_deg) + " deg"};
   ws.force.noalias() = ws.lu.solve(ws.rhs);
   ws.seat.setZero();
   for (int c = 0; c < nc; ++c)
@@ -272,13 +285,13 @@ Status solve_rigid(const kin::Mechanism& mech, const Model& model, RigidWorkspac
       ws.seat.row(c) = ws.force.row(c);
       ws.force.row(c).setZero();
     }
+  return Status::success();
+}
 
-  // drive torque: inertia minus applied minus connection loads on the driver variable
-  const int dv = mech.driver_variable();
-  ws.torque = ws.loads.row(dv);
-  ws.torque.noalias() -= ws.g.row(dv) * ws.force;
-
-  // pivot / guide reactions: R = m a_cg - sum connection forces - applied forces
+// pivot / guide reactions: R = m a_cg - sum connection forces - applied forces
+void compute_reactions(const kin::Mechanism& mech, const Model& model, RigidWorkspace& ws, double crank_deg) {
+  const int nn = static_cast<int>(mech.nodes.size());
+  const int nc = static_cast<int>(mech.connections.size());
   ws.reaction.setZero();
   for (int n = 1; n < nn; ++n) {
     ws.reaction(2 * n, 0) = kMilli * model.bodies[n].mass * ws.cg_acc[n].x();
@@ -311,118 +324,32 @@ Status solve_rigid(const kin::Mechanism& mech, const Model& model, RigidWorkspac
     ws.reaction(2 * sp.node + 1, ws.damping_case()) -= fd.y();
   }
   ws.reaction.topRows(2).setZero();  // ground
+}
+
+}  // namespace
+
+Status solve_rigid(const kin::Mechanism& mech, const Model& model, RigidWorkspace& ws, double driver_rad) {
+  // kinematics to order 2 with the contacts
+  Status st = kin::solve(mech, ws.kin, driver_rad, kin::Request{2, true});
+  if (!st.ok()) return st;
+  ws.g.setZero();
+  ws.loads.setZero();
+  // the load cases: inertia, gas, springs and dampers
+  add_inertia(mech, model, ws);
+  const double crank_deg = driver_rad / rad_per_deg * model.crank_per_cam;
+  add_applied_loads(mech, model, ws, crank_deg);
+  // the connections' gradients and force directions
+  add_connection_gradients(mech, model, ws);
+  // the connection forces from the balance of the free variables
+  st = solve_balance(mech, model, ws, driver_rad);
+  if (!st.ok()) return st;
+  // drive torque: inertia minus applied minus connection loads on the driver variable
+  const int dv = mech.driver_variable();
+  ws.torque = ws.loads.row(dv);
+  ws.torque.noalias() -= ws.g.row(dv) * ws.force;
+  // pivot and guide reactions
+  compute_reactions(mech, model, ws, crank_deg);
   return Status::success();
-}
-
-Status rigid_sweep(const kin::Mechanism& mech, const Model& model, const std::vector<double>& controls,
-                   double start_deg, double stop_deg, double step_deg, RigidSweep& out) {
-  CAMOPT_ASSERT(step_deg > 0 && stop_deg >= start_deg);
-  RigidWorkspace ws(mech, model);
-  ws.kin.set_controls(controls);
-  const auto points = static_cast<std::size_t>(std::floor((stop_deg - start_deg) / step_deg + 1e-9)) + 1;
-  out = RigidSweep{};
-  out.controls = controls;
-  out.cases = ws.cases();
-  out.variables = static_cast<int>(mech.variables.size());
-  out.connections = static_cast<int>(mech.connections.size());
-  out.nodes = static_cast<int>(mech.nodes.size());
-  out.springs = static_cast<int>(model.springs.size());
-  out.cam_deg.resize(points);
-  out.force.resize(points * out.connections * out.cases);
-  out.torque.resize(points * out.cases);
-  out.reaction.resize(points * out.nodes * 2 * out.cases);
-  out.contact.resize(points * out.connections);
-  out.spring_load.resize(points * out.springs);
-  out.gas_force.resize(points);
-  out.output.resize(points);
-  out.loads.resize(points * out.variables * out.cases);
-  const kin::Node& on = mech.nodes[mech.output_node];
-  const bool out_angle = on.kind != NodeKind::translational;
-  for (std::size_t i = 0; i < points; ++i) {
-    const double deg = start_deg + step_deg * static_cast<double>(i);
-    out.cam_deg[i] = deg;
-    const Status st = solve_rigid(mech, model, ws, deg * kDeg);
-    if (!st.ok()) return st;
-    for (int c = 0; c < out.connections; ++c)
-      for (int j = 0; j < out.cases; ++j) out.force[(i * out.connections + c) * out.cases + j] = ws.force(c, j);
-    for (int j = 0; j < out.cases; ++j) out.torque[i * out.cases + j] = ws.torque(j);
-    for (int r = 0; r < 2 * out.nodes; ++r)
-      for (int j = 0; j < out.cases; ++j) out.reaction[(i * out.nodes * 2 + r) * out.cases + j] = ws.reaction(r, j);
-    std::copy(ws.kin.contacts.begin(), ws.kin.contacts.end(), out.contact.begin() + static_cast<long>(i * out.connections));
-    for (int s = 0; s < out.springs; ++s) out.spring_load[i * out.springs + s] = ws.spring_load(s);
-    out.gas_force[i] = ws.gas_force;
-    for (int v = 0; v < out.variables; ++v)
-      for (int j = 0; j < out.cases; ++j) out.loads[(i * out.variables + v) * out.cases + j] = ws.loads(v, j);
-    const double q = ws.kin.vars[on.first_variable].value() - on.rest;
-    out.output[i] = out_angle ? q / kDeg : q;
-  }
-  return Status::success();
-}
-
-Separation separation_speed(const RigidSweep& sweep, const Model& model, int connection) {
-  Separation sep;
-  CAMOPT_ASSERT(model.contacts[connection].is_contact);
-  if (model.contacts[connection].two_sided) return sep;  // guided both ways: it never separates
-  // split of the force at point i: at rest A (springs, gas), per rad/s C (dampers), per
-  // (rad/s)^2 B (inertia): F = A + C w + B w^2
-  auto split = [&](std::size_t i, double& at_rest, double& viscous, double& inertial) {
-    const double* f = &sweep.force[(i * sweep.connections + connection) * sweep.cases];
-    inertial = f[0];
-    viscous = f[sweep.cases - 1];
-    at_rest = 0.0;
-    for (int j = 1; j + 1 < sweep.cases; ++j) at_rest += f[j];
-  };
-  // round-off scale: a point where every part is below it carries no load at any speed
-  double scale_rest = 0.0, scale_viscous = 0.0, scale_inertial = 0.0;
-  for (std::size_t i = 0; i < sweep.points(); ++i) {
-    double a = 0, c = 0, b = 0;
-    split(i, a, c, b);
-    scale_rest = std::max(scale_rest, std::abs(a));
-    scale_viscous = std::max(scale_viscous, std::abs(c));
-    scale_inertial = std::max(scale_inertial, std::abs(b));
-  }
-  const double tol_rest = 1e-9 * scale_rest, tol_viscous = 1e-9 * scale_viscous, tol_inertial = 1e-9 * scale_inertial;
-  for (std::size_t i = 0; i < sweep.points(); ++i) {
-    if (sweep.contact[i * sweep.connections + connection].open) continue;
-    double a = 0, c = 0, b = 0;
-    split(i, a, c, b);
-    if (std::abs(c) <= tol_viscous) c = 0.0;
-    if (std::abs(b) <= tol_inertial) b = 0.0;
-    double w = std::numeric_limits<double>::infinity();  // the smallest speed with F = 0 [rad/s]
-    if (std::abs(a) <= tol_rest) {
-      if (c < 0.0 || (c == 0.0 && b < 0.0)) w = 0.0;  // unloaded at rest, pulled apart at any speed
-    } else if (a < 0.0) {
-      w = 0.0;
-    } else if (b == 0.0) {
-      if (c < 0.0) w = -a / c;
-    } else {
-      // B w^2 + C w + A = 0 with A > 0: the smallest positive root (q: no cancellation)
-      const double disc = c * c - 4.0 * a * b;
-      if (disc >= 0.0) {
-        const double q = -0.5 * (c + std::copysign(std::sqrt(disc), c));
-        for (double root : {q / b, q != 0.0 ? a / q : std::numeric_limits<double>::infinity()})
-          if (root > 0.0) w = std::min(w, root);
-      }
-    }
-    const double rpm = std::isfinite(w) ? engine_rpm(w, model.crank_per_cam) : w;
-    if (rpm < sep.engine_rpm) sep = {rpm, sweep.cam_deg[i]};
-  }
-  return sep;
-}
-
-double spring_margin(const RigidSweep& sweep, const Model& model, std::size_t point, int spring, double omega) {
-  const double load = sweep.spring_load[point * sweep.springs + spring];
-  double ratio = 1.0;
-  bool any = false;
-  for (int c = 0; c < sweep.connections; ++c) {
-    if (!model.contacts[c].is_contact || sweep.contact[point * sweep.connections + c].open) continue;
-    const double part = sweep.force[(point * sweep.connections + c) * sweep.cases + 2 + spring];
-    if (!(part > 1e-12 * std::abs(load))) continue;
-    const double r = sweep.force_at(point, c, omega) / part;
-    ratio = any ? std::min(ratio, r) : r;
-    any = true;
-  }
-  return load * ratio;
 }
 
 }  // namespace camopt::dynamics

@@ -145,3 +145,54 @@ TEST_CASE("compliant (b): a four-bar's link force approaches mode (a) as the lin
   }
   CHECK(previous < 1e-2 * peak);
 }
+
+namespace {
+
+// `options` with one field changed fails validate() with a message holding `text`
+template <class Set>
+void check_option_rule(Set&& set, const std::string& text) {
+  dynamics::CompliantOptions options;
+  set(options);
+  INFO(text);
+  CHECK_THROWS_AS(options.validate(), InputError);
+  CHECK_THROWS_WITH(options.validate(), Catch::Contains(text));
+}
+
+}  // namespace
+
+TEST_CASE("compliant (b) options: the defaults are valid", "[dynamics][compliant][input]") {
+  CHECK_NOTHROW(dynamics::CompliantOptions{}.validate());
+}
+
+TEST_CASE("compliant (b) options: contact stiffness and damping", "[dynamics][compliant][input]") {
+  check_option_rule([](auto& o) { o.stiffness_scale = 0; }, "CompliantOptions::stiffness_scale = 0 must be > 0");
+  check_option_rule([](auto& o) { o.damping_ratio = -0.05; }, "CompliantOptions::damping_ratio = -0.05 must be >= 0");
+  check_option_rule([](auto& o) { o.link_stiffness = -1; }, "CompliantOptions::link_stiffness = -1 must be > 0");
+  check_option_rule([](auto& o) { o.reference_force = -1; }, "CompliantOptions::reference_force = -1 must be >= 0");
+}
+
+TEST_CASE("compliant (b) options: path table, tolerances and step budget", "[dynamics][compliant][input]") {
+  check_option_rule([](auto& o) { o.table_step_deg = 0; }, "CompliantOptions::table_step_deg = 0 must be > 0");
+  check_option_rule([](auto& o) { o.relative_tolerance = 0; }, "CompliantOptions::relative_tolerance = 0 must be > 0");
+  check_option_rule([](auto& o) { o.absolute_tolerance = 0; }, "CompliantOptions::absolute_tolerance = 0 must be > 0");
+  check_option_rule([](auto& o) { o.max_steps = 0; }, "CompliantOptions::max_steps = 0 must be >= 1");
+}
+
+TEST_CASE("compliant (b): bad arguments are input errors naming the argument and the rule",
+          "[dynamics][compliant][input]") {
+  const kin::Mechanism mech = kin::compile(valve());
+  const dynamics::Model model = dynamics::compile_dynamics(mech);
+  const dynamics::CompliantOptions ok;
+  dynamics::CompliantResult r;
+  CHECK_THROWS_AS(dynamics::run_compliant(mech, model, {}, 6000, 0, 360, 0, ok, r), InputError);
+  CHECK_THROWS_WITH(dynamics::run_compliant(mech, model, {}, 6000, 0, 360, 0, ok, r),
+                    Catch::Contains("run_compliant: step_deg = 0 must be > 0 (rule: step_deg > 0)"));
+  CHECK_THROWS_WITH(dynamics::run_compliant(mech, model, {}, 6000, 90, 90, 1, ok, r),
+                    Catch::Contains("run_compliant: stop_deg = 90 must be > start_deg = 90"));
+  CHECK_THROWS_WITH(dynamics::run_compliant(mech, model, {}, 0, 0, 360, 1, ok, r),
+                    Catch::Contains("run_compliant: engine_rpm_value = 0 must be > 0"));
+  dynamics::CompliantOptions bad;
+  bad.stiffness_scale = -1;
+  CHECK_THROWS_WITH(dynamics::run_compliant(mech, model, {}, 6000, 0, 360, 1, bad, r),
+                    Catch::Contains("CompliantOptions::stiffness_scale = -1"));
+}

@@ -1,6 +1,9 @@
 #pragma once
 // shared designs of the dynamics tests (built in code, like the kinematics tests)
+#include <cmath>
+
 #include "camopt/core/design_spec.hpp"
+#include "camopt/core/units.hpp"
 #include "kinematics/kinematics_test_support.hpp"
 
 namespace camopt::dyn_test {
@@ -45,6 +48,15 @@ inline DesignSpec valve_with_spring_mass(int surge_masses) {
   d.springs[0].mass_kg = 0.045;
   d.springs[0].surge_masses = surge_masses;
   return d;
+}
+
+// independent Hertz line law: solve delta = a (ln(4R/a) - 1) for a by the fixed point
+// a = delta / (ln(4R/a) - 1) (contraction ~ 1/ln(4R/a) < 0.1), F = pi L E* a
+inline double hertz_force_fixed_point(double delta, double length, double e_star, double radius) {
+  if (delta <= 0) return 0.0;
+  double a = delta / 10;
+  for (int i = 0; i < 22; ++i) a = delta / (std::log(4 * radius / a) - 1);
+  return camopt::pi * length * e_star * a;
 }
 
 }  // namespace camopt::dyn_test

@@ -140,3 +140,16 @@ TEST_CASE("ehl: a rigid-model contact in its units: N over mm, 1/mm curvature, m
   // a film that exists but is not entrained
   CHECK(*dynamics::line_contact_film_um(900, 9, kEStar, 1.0 / 8, 0, 100, o) == 0.0);
 }
+
+TEST_CASE("ehl: a load, radius, property or roughness that is not positive is an input error", "[dynamics][ehl][input]") {
+  CHECK_THROWS_AS(dynamics::dowson_higginson_film_m(1.0, 0.0, 0.01, kProps), camopt::InputError);
+  CHECK_THROWS_WITH(dynamics::dowson_higginson_film_m(1.0, -5.0, 0.01, kProps),
+                    Catch::Contains("dowson_higginson_film_m: load_N_per_m = -5 must be > 0"));
+  CHECK_THROWS_WITH(dynamics::dowson_higginson_film_m(1.0, 1e5, 0.0, kProps),
+                    Catch::Contains("dowson_higginson_film_m: reduced_radius_m = 0 must be > 0"));
+  dynamics::EhlProperties bad = kProps;
+  bad.viscosity_Pa_s = 0.0;
+  CHECK_THROWS_WITH(dynamics::dowson_higginson_film_m(1.0, 1e5, 0.01, bad),
+                    Catch::Contains("EhlProperties::viscosity_Pa_s = 0 must be > 0"));
+  CHECK_THROWS_WITH(dynamics::film_lambda(1.0, 0.0), Catch::Contains("film_lambda: composite_roughness = 0 must be > 0"));
+}

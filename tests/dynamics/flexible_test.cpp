@@ -4,6 +4,7 @@
 // RK4 integration written here, the power balance, and the low-speed limit (mode a).
 #include <catch2/catch.hpp>
 
+#include "camopt/core/units.hpp"
 #include "dynamics/dynamics_test_support.hpp"
 #include <algorithm>
 #include <cmath>
@@ -45,88 +46,14 @@ dynamics::FlexibleOptions one_tight_revolution() {
   return opt;
 }
 
-// independent Hertz line law: solve delta = a (ln(4R/a) - 1) for a by the fixed point
-// a = delta / (ln(4R/a) - 1) (contraction ~ 1/ln(4R/a) < 0.1), F = pi L E* a
-double hertz_force_fixed_point(double delta, double length, double e_star, double radius) {
-  if (delta <= 0) return 0.0;
-  double a = delta / 10;
-  for (int i = 0; i < 22; ++i) a = delta / (std::log(4 * radius / a) - 1);
-  return pi * length * e_star * a;
-}
-
 // the same law forward: approach at a force, delta = a (ln(4R/a) - 1), a = F / (pi L E*)
 double hertz_approach(double force, double length, double e_star, double radius) {
   if (force <= 0) return 0.0;
-  const double a = force / (pi * length * e_star);
+  const double a = force / (camopt::pi * length * e_star);
   return a * (std::log(4 * radius / a) - 1);
 }
 
 }  // namespace
-
-TEST_CASE("Hertz line law: force and approach are inverse, stiffness and energy are its derivative / integral") {
-  const double e_star = dynamics::contact_modulus(210e3, 0.3, 210e3, 0.3);
-  for (double f : {1.0, 100.0, 1000.0, 20000.0}) {
-    const double d = dynamics::line_contact_approach(f, 8, e_star, 12);
-    CHECK(dynamics::line_contact_force(d, 8, e_star, 12) == Approx(f).epsilon(1e-12));
-    CHECK(hertz_force_fixed_point(d, 8, e_star, 12) == Approx(f).epsilon(1e-9));
-    const double h = 1e-6 * f;
-    const double kd = 2 * h / (dynamics::line_contact_approach(f + h, 8, e_star, 12) -
-                               dynamics::line_contact_approach(f - h, 8, e_star, 12));
-    CHECK(dynamics::line_contact_tangent_stiffness(f, 8, e_star, 12) == Approx(kd).epsilon(1e-7));
-    // dU/dF = F d(delta)/dF
-    const double du = (dynamics::line_contact_energy(f + h, 8, e_star, 12) -
-                       dynamics::line_contact_energy(f - h, 8, e_star, 12)) / (2 * h);
-    CHECK(du == Approx(f / kd).epsilon(1e-7));
-    // a warm start (the load length a = F / (pi L E*) of a nearby or far-off solution) gives
-    // the cold start's force; a returns the solution
-    const double a = f / (pi * 8 * e_star);
-    for (double start : {a, a * (1 + 1e-6), a * 0.9, a * 3, a * 1e-6, a * 1e3, 1e9}) {
-      double warm = start;
-      INFO("F " << f << " N, start " << start / a << " a");
-      CHECK(dynamics::line_contact_force(d, 8, e_star, 12, warm) == Approx(f).epsilon(1e-12));
-      CHECK(warm == Approx(a).epsilon(1e-12));
-    }
-  }
-  double none = 1e-3;
-  CHECK(dynamics::line_contact_force(-1e-3, 8, e_star, 12, none) == 0.0);
-  CHECK(none == 0.0);
-}
-
-// one impact of a mass [kg] at speed v [mm/s] on a Hunt-Crossley line contact, integrated by RK4
-// (dt 1e-8 s, ~3600 steps per contact): the rebound speed over the impact speed
-static double hunt_crossley_rebound(double mass_kg, double v, double alpha, double e_star) {
-  const double m = mass_kg * 1e-3;  // N per mm/s^2
-  auto acc = [&](double x, double xd) {
-    return -dynamics::hunt_crossley_force(dynamics::line_contact_force(x, 10, e_star, 5), xd, alpha) / m;
-  };
-  double x = 0, xd = v;
-  const double dt = 1e-8;
-  for (int i = 0; i < 1000000; ++i) {
-    const double a1 = acc(x, xd), x2 = x + 0.5 * dt * xd, v2 = xd + 0.5 * dt * a1;
-    const double a2 = acc(x2, v2), x3 = x + 0.5 * dt * v2, v3 = xd + 0.5 * dt * a2;
-    const double a3 = acc(x3, v3), x4 = x + dt * v3, v4 = xd + dt * a3;
-    const double a4 = acc(x4, v4);
-    x += dt / 6 * (xd + 2 * v2 + 2 * v3 + v4);
-    xd += dt / 6 * (a1 + 2 * a2 + 2 * a3 + a4);
-    if (x <= 0 && i > 2) return -xd / v;
-  }
-  return -1;
-}
-
-TEST_CASE("Hunt-Crossley contact damping: no force jump at touch-down, restitution e = 1 - alpha v") {
-  const double e_star = dynamics::contact_modulus(210e3, 0.3, 210e3, 0.3);
-  // the damping force vanishes with the elastic one (the linear c v law jumped by c v at touch-down)
-  CHECK(dynamics::hunt_crossley_force(0.0, 1000.0, 1e-3) == 0.0);
-  CHECK(dynamics::hunt_crossley_force(100.0, -1e4, 1e-3) == 0.0);  // no tension while parting fast
-  CHECK(dynamics::hunt_crossley_alpha(0.8, 500.0) == Approx(4e-4).epsilon(1e-15));
-  // Hunt & Crossley 1975: e = 1 - alpha v to first order; the remainder is second order in alpha v
-  for (const double alpha_v : {0.01, 0.05}) {
-    const double v = 500.0;
-    const double e = hunt_crossley_rebound(0.05, v, alpha_v / v, e_star);
-    CHECK(std::abs(e - (1 - alpha_v)) <= 1.1 * alpha_v * alpha_v);
-    CHECK(std::abs(e - (1 - alpha_v)) >= 0.5 * alpha_v * alpha_v);  // and it is there: not a kinematic identity
-  }
-}
 
 TEST_CASE("flexible: multi-mass spring surge frequencies (lumped chain and f1 = 1/2 sqrt(k/m))") {
   for (int masses : {4, 40}) {
@@ -143,8 +70,8 @@ TEST_CASE("flexible: multi-mass spring surge frequencies (lumped chain and f1 = 
     // lumped fixed-fixed chain: w_j = 2 sqrt(K/m) sin(j pi / (2 (N + 1))), K = (N+1) k, m = M/(N+1)
     const double n1 = masses + 1.0, k = 40e3, m = 0.045;  // [N/m], [kg]
     for (int j = 1; j <= 2; ++j) {
-      const double w = 2 * std::sqrt(n1 * k / (m / n1)) * std::sin(j * pi / (2 * n1));
-      CHECK(f[j - 1] == Approx(w / (2 * pi)).epsilon(2e-5));
+      const double w = 2 * std::sqrt(n1 * k / (m / n1)) * std::sin(j * camopt::pi / (2 * n1));
+      CHECK(f[j - 1] == Approx(w / (2 * camopt::pi)).epsilon(2e-5));
     }
     if (masses == 40) CHECK(f[0] == Approx(0.5 * std::sqrt(k / m)).epsilon(3e-4));  // continuous coil
   }
@@ -175,7 +102,7 @@ TEST_CASE("flexible: nested valve springs surge independently (union of the two 
   for (const auto& [masses, rate, mass] : {std::tuple{4, 40e3, 0.045}, std::tuple{3, 15e3, 0.012}}) {
     const double n1 = masses + 1.0;  // [N/m], [kg]
     for (int j = 1; j <= masses; ++j)
-      expected.push_back(2 * std::sqrt(n1 * rate / (mass / n1)) * std::sin(j * pi / (2 * n1)) / (2 * pi));
+      expected.push_back(2 * std::sqrt(n1 * rate / (mass / n1)) * std::sin(j * camopt::pi / (2 * n1)) / (2 * camopt::pi));
   }
   std::sort(expected.begin(), expected.end());
   for (std::size_t j = 0; j < expected.size(); ++j) {
@@ -248,8 +175,8 @@ TEST_CASE("flexible: the Cam Design Handbook pushrod valve gear (CDH11) has mode
   const double a = m1 * m2, b = -(k1 * m2 + (k1 + k2) * m1), c = k1 * k2;
   const double w_lo = std::sqrt((-b - std::sqrt(b * b - 4 * a * c)) / (2 * a)),
                w_hi = std::sqrt((-b + std::sqrt(b * b - 4 * a * c)) / (2 * a));
-  CHECK(f[0] == Approx(w_lo / (2 * pi)).epsilon(1e-4));
-  CHECK(f[1] == Approx(w_hi / (2 * pi)).epsilon(1e-3));
+  CHECK(f[0] == Approx(w_lo / (2 * camopt::pi)).epsilon(1e-4));
+  CHECK(f[1] == Approx(w_hi / (2 * camopt::pi)).epsilon(1e-3));
   // the book: 67 and 3400 Hz (our recomputation from its rounded m1, m2, K: 67.2, 3411)
   CHECK(f[0] == Approx(67.2).epsilon(0.005));
   CHECK(f[1] == Approx(3411).epsilon(0.005));
@@ -283,7 +210,7 @@ TEST_CASE("flexible: single-mass follower against an RK4 integration with tiny s
     auto accel = [&](double t, double x) {
       double xc, vc;
       cam(t, xc, vc);
-      const double elastic = hertz_force_fixed_point(xc - x, 8, e_star, 18);
+      const double elastic = dyn_test::hertz_force_fixed_point(xc - x, 8, e_star, 18);
       const double f = xc - x > 0 ? elastic : 0.0;
       return (f - 20 - 5 * x) / m;
     };
@@ -306,7 +233,7 @@ TEST_CASE("flexible: single-mass follower against an RK4 integration with tiny s
       }
       double xc, vc;
       cam(t, xc, vc);
-      const double f = xc - x > 0 ? hertz_force_fixed_point(xc - x, 8, e_star, 18) : 0.0;
+      const double f = xc - x > 0 ? dyn_test::hertz_force_fixed_point(xc - x, 8, e_star, 18) : 0.0;
       worst = std::max(worst, std::abs(res.lift[i] - x));
       worst_force = std::max(worst_force, std::abs(res.force[i] - f));
       peak_lift = std::max(peak_lift, std::abs(x));
@@ -385,8 +312,9 @@ TEST_CASE("flexible: at 10-50 rpm the contact force is mode (a) less spring rate
   // back by the contact approach delta(F), so F = F_a - k_s delta(F) (k_s 40 N/mm, disc
   // R* = 18 mm on a flat, L = 8 mm, E* = E / (2 (1 - nu^2))). At ~400 N, delta ~ 3 um and
   // the deficit k_s delta ~ 0.13 N: the "0.5 N floor" of the test above is this effect
-  // plus the inertia left at 500 rpm. Without a maximum step CVODE stepped over the lift
-  // at these speeds and the force stayed at the preload (mode (b) had the same bug).
+  // plus the inertia left at 500 rpm. At these speeds only the maximum CVODE step
+  // (path_max_step_s) keeps the integrator from stepping over the whole lift, which would
+  // leave the force at the preload.
   const DesignSpec d = compliant_valve(4);
   const kin::Mechanism mech = kin::compile(d);
   const dynamics::Model model = dynamics::compile_dynamics(mech);
@@ -578,7 +506,7 @@ TEST_CASE("flexible: the train frequency (the component damping's reference) aga
   // det([[k1 - m w2, -k_a], [-k_a, k_a - m w2]]) = 0, lower root
   const double b = (k1 + k_a) / m, c = (k1 * k_a - k_a * k_a) / (m * m);
   const double w2 = 0.5 * (b - std::sqrt(b * b - 4 * c));
-  CHECK(res.train_frequency_hz == Approx(std::sqrt(w2) / (2 * pi)).epsilon(1e-9));
+  CHECK(res.train_frequency_hz == Approx(std::sqrt(w2) / (2 * camopt::pi)).epsilon(1e-9));
 }
 
 TEST_CASE("flexible: the Newton matrices K = -df/dq, D = -df/dq' equal central differences of the forces") {
@@ -651,4 +579,85 @@ TEST_CASE("flexible: CVODE's finite-difference Jacobian (analytic_jacobian = fal
   INFO("lift difference " << worst << " mm of " << peak << " mm; steps " << analytic.steps << " / " << differenced.steps);
   CHECK(worst < 1e-8 * peak);  // rtol 1e-9 (measured 9e-11 mm of 8 mm)
   CHECK(differenced.rhs_evaluations > analytic.rhs_evaluations);  // the differences cost RHS calls
+}
+
+// ---- options and arguments: InputError naming the field, its value and the rule ----
+
+namespace {
+
+// `options` with one field changed fails validate() with a message holding `text`
+template <class Set>
+void check_option_rule(Set&& set, const std::string& text) {
+  dynamics::FlexibleOptions options;
+  set(options);
+  INFO(text);
+  CHECK_THROWS_AS(options.validate(), InputError);
+  CHECK_THROWS_WITH(options.validate(), Catch::Contains(text));
+}
+
+}  // namespace
+
+TEST_CASE("flexible options: the defaults are valid", "[dynamics][flexible][input]") {
+  CHECK_NOTHROW(dynamics::FlexibleOptions{}.validate());
+}
+
+TEST_CASE("flexible options: revolutions, tolerances, steps and limits", "[dynamics][flexible][input]") {
+  check_option_rule([](auto& o) { o.revolutions = 0; }, "FlexibleOptions::revolutions = 0 must be >= 1");
+  check_option_rule([](auto& o) { o.relative_tolerance = 0; }, "FlexibleOptions::relative_tolerance = 0 must be > 0");
+  check_option_rule([](auto& o) { o.absolute_tolerance = -1e-7; },
+                    "FlexibleOptions::absolute_tolerance = -1e-07 must be > 0");
+  check_option_rule([](auto& o) { o.table_step_deg = 180; }, "FlexibleOptions::table_step_deg = 180 must be in (0, 90]");
+  check_option_rule([](auto& o) { o.max_steps = 0; }, "FlexibleOptions::max_steps = 0 must be >= 1");
+  check_option_rule([](auto& o) { o.max_gap_error_mm = 0; }, "FlexibleOptions::max_gap_error_mm = 0 must be > 0");
+  check_option_rule([](auto& o) { o.periodic_tolerance = -1; }, "FlexibleOptions::periodic_tolerance = -1 must be >= 0");
+  check_option_rule([](auto& o) { o.relative_tolerance = std::nan(""); }, "(rule: relative_tolerance > 0)");
+}
+
+TEST_CASE("flexible options: contact laws and friction", "[dynamics][flexible][input]") {
+  check_option_rule([](auto& o) { o.contact_stiffness_scale = 0; },
+                    "FlexibleOptions::contact_stiffness_scale = 0 must be > 0");
+  check_option_rule([](auto& o) { o.contact_restitution = 1.5; },
+                    "FlexibleOptions::contact_restitution = 1.5 must be in (0, 1]");
+  check_option_rule([](auto& o) { o.restitution_speed_m_per_s = 0; },
+                    "FlexibleOptions::restitution_speed_m_per_s = 0 must be > 0");
+  check_option_rule([](auto& o) { o.friction_velocity_m_per_s = 0; },
+                    "FlexibleOptions::friction_velocity_m_per_s = 0 must be > 0");
+  check_option_rule([](auto& o) { o.reference_force = -500; }, "FlexibleOptions::reference_force = -500 must be > 0");
+}
+
+TEST_CASE("flexible options: damping ratios and stiffnesses", "[dynamics][flexible][input]") {
+  check_option_rule([](auto& o) { o.contact_damping_ratio = -0.1; },
+                    "FlexibleOptions::contact_damping_ratio = -0.1 must be >= 0");
+  check_option_rule([](auto& o) { o.component_damping_ratio = -0.1; },
+                    "FlexibleOptions::component_damping_ratio = -0.1 must be >= 0");
+  check_option_rule([](auto& o) { o.spring_damping_ratio = -0.1; },
+                    "FlexibleOptions::spring_damping_ratio = -0.1 must be >= 0");
+  check_option_rule([](auto& o) { o.link_stiffness = 0; }, "FlexibleOptions::link_stiffness = 0 must be > 0");
+  check_option_rule([](auto& o) { o.coil_clash_stiffness = -1; },
+                    "FlexibleOptions::coil_clash_stiffness = -1 must be >= 0");
+}
+
+TEST_CASE("flexible: bad arguments and options of the public functions are input errors", "[dynamics][flexible][input]") {
+  const kin::Mechanism mech = kin::compile(compliant_valve(0));
+  const dynamics::Model model = dynamics::compile_dynamics(mech);
+  const dynamics::FlexibleOptions ok;
+  dynamics::FlexibleResult r;
+  CHECK_THROWS_AS(dynamics::run_flexible(mech, model, {}, 6000, 0, 360, 0, ok, r), InputError);
+  CHECK_THROWS_WITH(dynamics::run_flexible(mech, model, {}, 6000, 0, 360, 0, ok, r),
+                    Catch::Contains("run_flexible: step_deg = 0 must be > 0"));
+  CHECK_THROWS_WITH(dynamics::run_flexible(mech, model, {}, 6000, 360, 0, 1, ok, r),
+                    Catch::Contains("run_flexible: stop_deg = 0 must be > start_deg = 360"));
+  CHECK_THROWS_WITH(dynamics::run_flexible(mech, model, {}, -1, 0, 360, 1, ok, r),
+                    Catch::Contains("run_flexible: engine_rpm_value = -1 must be > 0"));
+  dynamics::FlexibleOptions bad;
+  bad.revolutions = 0;
+  CHECK_THROWS_WITH(dynamics::run_flexible(mech, model, {}, 6000, 0, 360, 1, bad, r),
+                    Catch::Contains("FlexibleOptions::revolutions = 0"));
+  dynamics::FlexibleModes modes;
+  CHECK_THROWS_AS(dynamics::flexible_modes(mech, model, {}, 0.0, bad, false, modes), InputError);
+  dynamics::FlexibleLinearisation lin;
+  CHECK_THROWS_WITH(dynamics::flexible_linearise(mech, model, {}, 0, 0.0, ok, {}, {}, lin),
+                    Catch::Contains("flexible_linearise: engine_rpm_value = 0 must be > 0"));
+  CHECK_THROWS_WITH(dynamics::flexible_linearise(mech, model, {}, 6000, 0.0, ok, {1.0}, {}, lin),
+                    Catch::Contains("flexible_linearise: q has 1 entries"));
 }

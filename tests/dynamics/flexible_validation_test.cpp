@@ -8,6 +8,7 @@
 #include <cmath>
 #include <string>
 
+#include "camopt/core/units.hpp"
 #include "camopt/dynamics/flexible.hpp"
 #include "camopt/dynamics/rigid.hpp"
 #include "camopt/io/design_file.hpp"
@@ -18,7 +19,7 @@
 
 using namespace camopt;
 using camopt::dyn_test::direct_valve;
-using camopt::kin_test::pi;
+using camopt::pi;
 
 namespace {
 

@@ -6,9 +6,9 @@
 #include <Eigen/Geometry>
 #include <catch2/catch.hpp>
 
+#include "camopt/core/units.hpp"
 #include "dynamics/dynamics_test_support.hpp"
 #include <cmath>
-#include <numbers>
 #include <string>
 #include <vector>
 
@@ -582,25 +582,6 @@ TEST_CASE("rigid (a): conservative cycle does zero net work", "[dynamics][rigid]
   CHECK(std::abs(work) < 1e-6 * abs_work);
 }
 
-TEST_CASE("rigid (a): Hertz line contact against a hand computation", "[dynamics][hertz]") {
-  // steel on steel: E* = 210000 / (2 (1 - 0.3^2)) = 115384.6 MPa; F = 1000 N over L = 10 mm,
-  // R 20 mm on a flat: p0 = sqrt(100 * 115384.6 / (pi 20)) = 428.533 MPa,
-  // b = sqrt(4 * 100 * 20 / (pi 115384.6)) = 0.148558 mm (Johnson 1985, eqs. 4.43-4.45)
-  const double e_star = dynamics::contact_modulus(210000, 0.3, 210000, 0.3);
-  CHECK(e_star == Approx(115384.615).epsilon(1e-8));
-  const auto h = dynamics::hertz_line(1000, 10, e_star, 1.0 / 20);
-  CHECK(h.max_pressure == Approx(428.5327513).epsilon(1e-9));
-  CHECK(h.half_width == Approx(0.1485580205).epsilon(1e-9));
-  // the elliptical pressure carries the load: F / L = pi p0 b / 2
-  CHECK(std::numbers::pi * h.max_pressure * h.half_width / 2 == Approx(100.0).epsilon(1e-12));
-  // a convex roller r 8 on a concave flank of radius 20: 1/R* = 1/8 - 1/20
-  const auto k = dynamics::hertz_line(1000, 10, e_star, 1.0 / 8 - 1.0 / 20);
-  CHECK(k.max_pressure == Approx(std::sqrt(100 * e_star * (1.0 / 8 - 1.0 / 20) / std::numbers::pi)).epsilon(1e-12));
-  // tension or conforming surfaces: no Hertz pressure
-  CHECK(dynamics::hertz_line(-5, 10, e_star, 0.1).max_pressure == 0.0);
-  CHECK(dynamics::hertz_line(5, 10, e_star, -0.01).max_pressure == 0.0);
-}
-
 TEST_CASE("rigid (a): every bundled design runs at 6000 rpm", "[dynamics][rigid]") {
   for (const char* name : {"bucket_tappet.toml", "cvvl_swing_cam.toml", "eccentric_flat_follower.toml",
                            "eccentric_offset_roller.toml", "eccentric_oscillating_roller.toml", "four_bar.toml",
@@ -641,4 +622,19 @@ TEST_CASE("rigid (a): missing or bad dynamics data is an InputError naming the f
   d.connections.push_back(link("arm_link", "tappet", {0, h}, "arm", {30, h}));
   // the extra link makes the arm a driven body: its inertia must be positive
   throws_with(d, "node 'arm': inertia_kg_mm2: value 0 must be > 0");
+}
+
+TEST_CASE("rigid (a): bad sweep arguments and a connection that is no contact are input errors", "[dynamics][input]") {
+  const kin::Mechanism mech = kin::compile(dyn_test::direct_valve(40, 250));
+  const dynamics::Model model = dynamics::compile_dynamics(mech);
+  dynamics::RigidSweep s;
+  CHECK_THROWS_AS(dynamics::rigid_sweep(mech, model, {}, 0, 360, 0, s), InputError);
+  CHECK_THROWS_WITH(dynamics::rigid_sweep(mech, model, {}, 0, 360, -1, s),
+                    Catch::Contains("rigid_sweep: step_deg = -1 must be > 0"));
+  CHECK_THROWS_WITH(dynamics::rigid_sweep(mech, model, {}, 10, 0, 1, s),
+                    Catch::Contains("rigid_sweep: stop_deg = 0 must be >= start_deg = 10"));
+  REQUIRE(dynamics::rigid_sweep(mech, model, {}, 0, 360, 10, s).ok());
+  CHECK_THROWS_AS(dynamics::separation_speed(s, model, 1), InputError);
+  CHECK_THROWS_WITH(dynamics::separation_speed(s, model, -1),
+                    Catch::Contains("separation_speed: connection = -1 must be a contact"));
 }

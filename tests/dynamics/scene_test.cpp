@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "camopt/core/units.hpp"
 #include "camopt/dynamics/flexible.hpp"
 #include "camopt/dynamics/rigid.hpp"
 #include "cli/cli_support.hpp"
@@ -16,7 +17,6 @@
 
 using namespace camopt;
 using camopt::dyn_test::valve_with_spring_mass;
-using camopt::kin_test::pi;
 
 TEST_CASE("scene: rigid mode carries no spring masses, whatever the spring's surge setting", "[dynamics][scene]") {
   const kin::Mechanism massless_mech = kin::compile(valve_with_spring_mass(0));

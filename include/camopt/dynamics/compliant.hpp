@@ -38,6 +38,9 @@ struct CompliantOptions {
   double relative_tolerance = 1e-6;
   double absolute_tolerance = 1e-8;  // on deviations [mm or rad]; rates: x 1e4 [per s]
   long max_steps = 200000;
+
+  // one rule per option: throws InputError naming the option, its value and the rule
+  void validate() const;
 };
 
 struct ContactEvent {
@@ -59,7 +62,9 @@ struct CompliantResult {
 // integrate from start_deg to stop_deg (driver), output every step_deg, at one engine
 // speed [rpm] and control position. The state starts at the quasi-static deflection.
 // An integrator failure returns StatusCode::integrator_failure naming the time, cam angle
-// and state; bad data (a contact without materials / width) throws InputError.
+// and state (and the message of an exception caught in a CVODE callback); bad arguments
+// (step_deg <= 0, stop_deg <= start_deg, rpm <= 0), bad options (CompliantOptions::validate)
+// and bad data (a contact without materials / width) throw InputError.
 Status run_compliant(const kin::Mechanism& mech, const Model& model, const std::vector<double>& controls,
                      double engine_rpm_value, double start_deg, double stop_deg, double step_deg,
                      const CompliantOptions& options, CompliantResult& out);

@@ -47,15 +47,24 @@ struct EhlProperties {
 EhlProperties ehl_properties(const OilSpec& oil, double e_star_N_per_mm2);
 
 // h_min [m] at entrainment speed u_e [m/s] (its sign is ignored: the film depends on |u_e|),
-// load per unit length w [N/m] > 0 and reduced radius R [m] > 0. At u_e = 0 the film is 0;
+// load per unit length w [N/m] > 0 and reduced radius R [m] > 0 (else InputError, as for
+// properties that are not positive). At u_e = 0 the film is 0;
 // its derivative there is unbounded and is returned as 0 (build on h^(1/0.70) ~ |u_e| for a
 // smooth constraint).
 template <class T>
 T dowson_higginson_film_m(const T& entrainment_m_per_s, const T& load_N_per_m, const T& reduced_radius_m,
                           const EhlProperties& p) {
   using std::pow;
-  CAMOPT_ASSERT(value(load_N_per_m) > 0.0 && value(reduced_radius_m) > 0.0);
-  CAMOPT_ASSERT(p.viscosity_Pa_s > 0.0 && p.pressure_viscosity_per_Pa > 0.0 && p.reduced_modulus_Pa > 0.0);
+  CAMOPT_THROW_UNLESS(value(load_N_per_m) > 0.0, "dowson_higginson_film_m: load_N_per_m = " +
+                                                     format_value(value(load_N_per_m)) + " must be > 0");
+  CAMOPT_THROW_UNLESS(value(reduced_radius_m) > 0.0, "dowson_higginson_film_m: reduced_radius_m = " +
+                                                         format_value(value(reduced_radius_m)) + " must be > 0");
+  CAMOPT_THROW_UNLESS(p.viscosity_Pa_s > 0.0,
+                      "EhlProperties::viscosity_Pa_s = " + format_value(p.viscosity_Pa_s) + " must be > 0");
+  CAMOPT_THROW_UNLESS(p.pressure_viscosity_per_Pa > 0.0, "EhlProperties::pressure_viscosity_per_Pa = " +
+                                                             format_value(p.pressure_viscosity_per_Pa) + " must be > 0");
+  CAMOPT_THROW_UNLESS(p.reduced_modulus_Pa > 0.0,
+                      "EhlProperties::reduced_modulus_Pa = " + format_value(p.reduced_modulus_Pa) + " must be > 0");
   if (value(entrainment_m_per_s) == 0.0) return T(0.0);
   const T speed = value(entrainment_m_per_s) < 0.0 ? -entrainment_m_per_s : entrainment_m_per_s;
   const T u = p.viscosity_Pa_s * speed / (p.reduced_modulus_Pa * reduced_radius_m);
@@ -72,7 +81,8 @@ double composite_roughness(double rq_a, double rq_b);
 // the asperities carry load (boundary), 1-3 mixed, above ~3 a full film
 template <class T>
 T film_lambda(const T& film, double composite_roughness) {
-  CAMOPT_ASSERT(composite_roughness > 0.0);
+  CAMOPT_THROW_UNLESS(composite_roughness > 0.0,
+                      "film_lambda: composite_roughness = " + format_value(composite_roughness) + " must be > 0");
   return film / composite_roughness;
 }
 

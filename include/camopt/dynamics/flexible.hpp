@@ -63,6 +63,9 @@ struct FlexibleOptions {
   // (|dy| <= periodic_tolerance (rtol |y| + atol), CVODE's error weight); 0: never. The
   // integration's own revolution-to-revolution noise is ~20-130 of these (direct-acting valve)
   double periodic_tolerance = 1000.0;
+
+  // one rule per option: throws InputError naming the option, its value and the rule
+  void validate() const;
 };
 
 struct FlexibleEvent {
@@ -133,8 +136,9 @@ struct FlexibleResult {
 // integrate `options.revolutions` cam revolutions ending at stop_deg at one engine speed
 // [rpm] and control position; report the last from start_deg to stop_deg every step_deg.
 // An integrator failure returns StatusCode::integrator_failure naming the time, cam angle and
-// state; bad data (a contact without materials / width, compliance on a floating node)
-// throws InputError.
+// state (and the message of an exception caught in a CVODE callback); bad arguments (step_deg
+// <= 0, stop_deg <= start_deg, rpm <= 0), bad options (FlexibleOptions::validate) and bad data
+// (a contact without materials / width, compliance on a floating node) throw InputError.
 Status run_flexible(const kin::Mechanism& mech, const Model& model, const std::vector<double>& controls,
                     double engine_rpm_value, double start_deg, double stop_deg, double step_deg,
                     const FlexibleOptions& options, FlexibleResult& out);

@@ -1,11 +1,15 @@
 #pragma once
 // the dynamics data of a compiled mechanism, validated once: body inertias, springs, gas
-// forces and per-contact materials. Built by compile_dynamics(mech) from mech.spec; bad or
-// missing data needed by the models throws InputError naming the field.
+// forces, per-contact materials and force laws, component compliances and valve seats.
+// compile_dynamics(mech) reads mech.spec once; the dynamics models (rigid, compliant,
+// flexible, modes) read this Model and the Mechanism's compiled data, never the DesignSpec.
+// Bad or missing data needed by the rigid model throws InputError naming the field; what
+// only the flexible model needs is kept with its source and checked when that model is built.
 //
 // units inside: lengths [mm], masses [kg], inertias [kg mm^2], forces [N], torques [N mm],
 // Young's moduli [N/mm^2 = MPa].
 #include <Eigen/Core>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -34,6 +38,12 @@ struct Spring {
   // travel is direction . (point now - point in the drawing)
   bool on_point = false;
   Eigen::Vector2d point{0, 0}, direction{0, 1};
+
+  double mass = 0.0;      // compression: the coil's mass [kg] (0: massless)
+  int surge_masses = 0;   // compression: internal masses of the flexible model's coil chain
+  std::optional<double> coil_damping_ratio;  // coil-to-coil: ratio of the first surge mode [-]
+  std::optional<double> coil_damping;        // coil-to-coil: damper between adjacent coil masses [N s/mm]
+  double solid_travel = -1.0;  // node travel at which the coils touch [mm]; < 0: not given
 
   // load at node displacement x [mm or rad]: force [N] or torque [N mm]
   double load(double x) const;
@@ -64,6 +74,37 @@ struct ContactData {
   double damping = -1.0;      // design damping [N s/mm]; < 0 when not given
   int held_node = -1;         // lash contact: the node held at rest while the gap is open
   bool two_sided = false;     // a roller in a slot: the force may pull, the contact never opens
+  ContactLawSpec law;         // the flexible model's force law (design keys, checked there)
+  SourceRef where;            // the connection in the design file
+};
+
+// per connection: the flexible model's bilateral compliance of a link or a gear
+struct LinkCompliance {
+  std::optional<double> stiffness;      // links [N/mm], gears [N mm/rad]; default: FlexibleOptions
+  std::optional<double> damping_ratio;  // of the connection's local mode [-]
+};
+
+// the flexible model's compliance of a node (its far end joined to it by a spring-damper)
+struct NodeCompliance {
+  int node = -1;
+  double stiffness = 0.0;               // translational [N/mm], rotational [N mm/rad]
+  std::optional<double> damping;        // a damper: [N s/mm] or [N mm s/rad]; else from the ratio
+  std::optional<double> damping_ratio;  // [-]; default: FlexibleOptions::component_damping_ratio
+  SourceRef where;                      // the node in the design file
+};
+
+// a valve seat of the flexible model: a one-sided contact at a translational node's rest
+// displacement (the output node always, unless disabled; other nodes when a seat is given)
+struct SeatData {
+  int node = -1;
+  bool given = false;           // a seat table in the design (else the output node's default)
+  double diameter = 0.0;        // seat (gauge) diameter [mm]
+  double angle_deg = 0.0;       // face angle from the valve head plane [deg]
+  double width = 0.0;           // face width [mm]
+  double crown_radius = 0.0;    // hertz law: section radius across the face [mm]
+  double e_star = 0.0;          // hertz law: valve against insert [N/mm^2] (steel without a material)
+  ContactLawSpec law;
+  SourceRef seat_where, node_where;  // the seat table and its node in the design file
 };
 
 struct Model {
@@ -76,9 +117,15 @@ struct Model {
   // the force balance; -1 otherwise. indexed by variable
   std::vector<int> row_of_variable;
   std::vector<int> free_variables;     // row -> variable
+  std::vector<LinkCompliance> links;   // per connection (links and gears)
+  std::vector<NodeCompliance> compliances;  // nodes with a stiffness, in design order
+  std::vector<SeatData> seats;         // seat candidates, by node index
+  std::optional<OilSpec> oil;          // [oil]: the EHL film of the rigid model's contacts
+  double driver_start_deg = 0.0;       // the design's first driver angle [cam deg]
 };
 
-// validate the dynamics data of mech.spec for the rigid models and build the model.
+// validate the dynamics data of mech.spec for the rigid models and build the model (the
+// only place the dynamics read the DesignSpec).
 // Required: a rotational driver; every moving node (not the driver, not set by a control)
 // needs mass_kg (translational, floating, or rotational with cg_mm) and inertia_kg_mm2
 // (rotational, floating). Without cg_mm the centre of gravity is the pivot (rotational),

@@ -1,14 +1,18 @@
 // camopt dynamics --model modes end to end, on designs written here as TOML: the surge
 // frequencies of a spring alone (lumped fixed-fixed chain and continuous coil), the mode
 // shapes' mass normalisation, a valve hanging on its spring chain (fixed-free chain), and
-// the Cam Design Handbook pushrod valve gear (CDH11) with the cam released.
+// the Cam Design Handbook pushrod valve gear (CDH11) with the cam released; bad input exits 3
+// naming the option and the value and writes nothing; --rpm stays required by the
+// time-domain models only.
 #include <catch2/catch.hpp>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
+#include "camopt/core/units.hpp"
 #include "camopt/io/csv.hpp"
 #include "cli/cli_support.hpp"
 
@@ -16,7 +20,6 @@ using namespace camopt::test;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 // a number for a TOML file, read back to the same double
 std::string num(double v) {
@@ -199,7 +202,7 @@ std::vector<double> fixed_free_chain_Hz(int n, double k_N_per_m, double m_kg, do
   const int grid = 200000;
   double a = 1e-9, ga = g(a);
   for (int i = 1; i <= grid; ++i) {
-    const double b = kPi * i / grid, gb = g(b);
+    const double b = camopt::pi * i / grid, gb = g(b);
     if ((ga > 0) != (gb > 0)) {
       double lo = a, hi = b;
       for (int it = 0; it < 200 && hi - lo > 1e-16; ++it) {
@@ -209,7 +212,7 @@ std::vector<double> fixed_free_chain_Hz(int n, double k_N_per_m, double m_kg, do
         else
           hi = mid;
       }
-      f.push_back(2 * std::sqrt(k_N_per_m / m_kg) * std::sin(0.25 * (lo + hi)) / (2 * kPi));
+      f.push_back(2 * std::sqrt(k_N_per_m / m_kg) * std::sin(0.25 * (lo + hi)) / (2 * camopt::pi));
     }
     a = b;
     ga = gb;
@@ -237,7 +240,7 @@ TEST_CASE("camopt dynamics --model modes: spring alone, mass-normalised shapes (
   REQUIRE(j["results"].size() == 1);
   const auto& res = j["results"][0];
   CHECK(res["cam_deg"].get<double>() == 90.0);
-  CHECK(res["lift_kinematic_mm"].get<double>() == Approx(kEccentricity * (1 - std::cos(kPi / 2))).margin(1e-9));
+  CHECK(res["lift_kinematic_mm"].get<double>() == Approx(kEccentricity * (1 - std::cos(camopt::pi / 2))).margin(1e-9));
   const std::vector<double> f = numbers(res["frequencies_Hz"]);
   REQUIRE(f.size() == static_cast<std::size_t>(n + 1));
   CHECK(res["first_frequency_Hz"].get<double>() == f[0]);
@@ -253,8 +256,8 @@ TEST_CASE("camopt dynamics --model modes: spring alone, mass-normalised shapes (
   const std::vector<double> lumped = numbers(spring["surge_frequencies_Hz"]);
   REQUIRE(lumped.size() == static_cast<std::size_t>(n));
   for (int jm = 1; jm <= n; ++jm) {
-    const double w = 2 * std::sqrt(seg / m_i) * std::sin(jm * kPi / (2.0 * (n + 1)));
-    CHECK(lumped[jm - 1] == Approx(w / (2 * kPi)).epsilon(1e-10));
+    const double w = 2 * std::sqrt(seg / m_i) * std::sin(jm * camopt::pi / (2.0 * (n + 1)));
+    CHECK(lumped[jm - 1] == Approx(w / (2 * camopt::pi)).epsilon(1e-10));
   }
   const std::vector<double> continuum = numbers(spring["continuum_frequencies_Hz"]);
   REQUIRE(continuum.size() == 5u);
@@ -355,7 +358,7 @@ TEST_CASE("camopt dynamics --model modes --release-cam: the Cam Design Handbook 
   // the valve's kinematic lift, the seat open: lifter and pushrod y = e (1 - cos theta); the
   // rocker's face (a line through its pivot) turned by phi touches the pushrod's 3 mm ball:
   // y = 3 - (3 + l_pr sin phi) / cos phi; its 10 mm pad on the valve: v = 10 - l_vs sin phi - 10 cos phi
-  const double y = 3 * (1 - std::cos(10 * kPi / 180));
+  const double y = 3 * (1 - std::cos(10 * camopt::pi / 180));
   double phi = 0.0;
   for (int it = 0; it < 50; ++it)
     phi -= (3 - (3 + d.l_pr * std::sin(phi)) / std::cos(phi) - y) /
@@ -379,9 +382,63 @@ TEST_CASE("camopt dynamics --model modes --release-cam: the Cam Design Handbook 
   const double a = m1 * m2, b = -(k1 * m2 + (k1 + k2) * m1), c = k1 * k2;
   const double w_lo = std::sqrt((-b - std::sqrt(b * b - 4 * a * c)) / (2 * a)),
                w_hi = std::sqrt((-b + std::sqrt(b * b - 4 * a * c)) / (2 * a));
-  CHECK(f[0] == Approx(w_lo / (2 * kPi)).epsilon(1e-3));
-  CHECK(f[1] == Approx(w_hi / (2 * kPi)).epsilon(1e-3));
+  CHECK(f[0] == Approx(w_lo / (2 * camopt::pi)).epsilon(1e-3));
+  CHECK(f[1] == Approx(w_hi / (2 * camopt::pi)).epsilon(1e-3));
   // the book: 67 and 3400 Hz (recomputed from its rounded m1, m2, K: 67.2, 3411)
   CHECK(f[0] == Approx(67.2).epsilon(0.005));
   CHECK(f[1] == Approx(3411).epsilon(0.005));
+}
+
+namespace {
+bool has(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+const std::string kCvvlDesign = (source_dir() / "designs/cvvl_swing_cam.toml").string();
+}  // namespace
+
+TEST_CASE("dynamics --model modes: a cam angle that is not a number is an input error naming --cam-deg",
+          "[cli][dynamics][modes]") {
+  TempDir tmp;
+  const fs::path out = tmp / "out";
+  for (const std::string& angles : {std::string("abc"), std::string("30,abc")}) {
+    const auto r = run_camopt({"dynamics", kCvvlDesign, "--model", "modes", "--cam-deg", angles, "--out", out.string()});
+    INFO(r.command << "\n" << r.all());
+    CHECK(r.exit_code == cli_input_error);
+    CHECK(has(r.err, "--cam-deg"));
+    CHECK(has(r.err, "'abc'"));
+    CHECK(files_under(out).empty());
+  }
+}
+
+TEST_CASE("dynamics --model modes: a control position out of range is an input error naming --control",
+          "[cli][dynamics][modes]") {
+  TempDir tmp;
+  const fs::path out = tmp / "out";
+  // the CVVL's control shaft runs from 0 to 16 deg
+  const auto r = run_camopt({"dynamics", kCvvlDesign, "--model", "modes", "--control", "99", "--out", out.string()});
+  INFO(r.command << "\n" << r.all());
+  CHECK(r.exit_code == cli_input_error);
+  CHECK(has(r.err, "--control: value 99 is outside control 'shaft' range [0, 16]"));
+  CHECK(files_under(out).empty());
+}
+
+TEST_CASE("dynamics: --rpm is required by the rigid and flexible models, not by modes", "[cli][dynamics][modes]") {
+  TempDir tmp;
+  for (const char* model : {"rigid", "flexible"}) {
+    const fs::path out = tmp / model;
+    const auto r = run_camopt({"dynamics", kCvvlDesign, "--model", model, "--out", out.string()});
+    INFO(r.command << "\n" << r.all());
+    CHECK(r.exit_code == cli_usage_error);
+    CHECK(has(r.err, "--rpm is required"));
+    CHECK(files_under(out).empty());
+  }
+  const fs::path out = tmp / "modes";
+  const auto r = run_camopt({"dynamics", kCvvlDesign, "--model", "modes", "--control", "0,16", "--out", out.string()});
+  INFO(r.command << "\n" << r.all());
+  REQUIRE(r.exit_code == cli_ok);
+  // two control positions x (driver start, peak lift), a row per mode, as many modes as
+  // coordinates (the shape columns after the first four)
+  const auto lines = split_lines(read_file(out / "modes.csv"));
+  REQUIRE(lines.size() > 1);
+  CHECK(lines[0].rfind("control_deg,cam_deg,mode,frequency_Hz,", 0) == 0);
+  const auto columns = static_cast<std::size_t>(std::count(lines[0].begin(), lines[0].end(), ',') + 1);
+  CHECK(lines.size() - 1 == 2 * 2 * (columns - 4));
 }

@@ -99,7 +99,7 @@ TEST_CASE("optimize: bad input names the field and exits 3 without output", "[cl
 TEST_CASE("optimize: an infeasible set exits 4, and names the conflicting limits and their best values",
           "[cli][opt]") {
   // 8.9 mm of peak lift: more than the event's concave-radius and spring-margin limits allow
-  // (ipopt alone used to blame an internal row; every solver now names the same keys). a 2 deg
+  // (every solver names the same keys, not an internal row). a 2 deg
   // grid: ipopt's restoration phase is long on an infeasible set
   std::string text = with_line(read_file(kSet), "max_lift_mm", "max_lift_mm = 9.0\nmin_max_lift_mm = 8.9");
   text = with_line(text, "grid_step_deg", "grid_step_deg = 2.0");

@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "camopt/core/units.hpp"
 #include "cli/cli_support.hpp"
 
 using namespace camopt::test;
@@ -25,7 +26,6 @@ using namespace camopt::test;
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr double kPi = 3.14159265358979323846;
 
 // the columns of a CSV by name; an empty cell reads as NaN
 std::map<std::string, std::vector<double>> columns_of(const std::string& csv) {
@@ -82,14 +82,14 @@ TEST_CASE("camopt dynamics --model rigid: a flat tappet's entrainment and film a
   // 9.1 mPa s and 15.8 /GPa, composite roughness 0.25 um
   const double rb = 18.5, width = 7.2, sigma = 0.25;
   const double e_prime = 2 * 210e9 / (2 * (1 - 0.3 * 0.3));  // [Pa]
-  const double deg = kPi / 180;
+  const double deg = camopt::pi / 180;
   double worst_u = 0, peak_u = 0, worst_h = 0, peak_h = 0;
   int empty = 0, sign_changes = 0;
   std::vector<double> crossings;
   for (std::size_t row = 0; row < 2 * np; ++row) {
     const std::size_t i = row % np;
     REQUIRE(dyn["cam_deg"][row] == kin["cam_deg"][i]);
-    const double w = dyn["rpm"][row] / 2 * 2 * kPi / 60;  // cam speed [rad/s]
+    const double w = dyn["rpm"][row] / 2 * 2 * camopt::pi / 60;  // cam speed [rad/s]
     const double L = kin["lift_mm"][i], L2 = kin["acc_mm_per_deg2"][i] / (deg * deg);  // [mm], [mm/rad^2]
     const double ue = w * (rb + L + 2 * L2) / 2 * 1e-3;                                   // [m/s]
     const double u_col = dyn["contact_cam_tappet_entrainment_m_per_s"][row];

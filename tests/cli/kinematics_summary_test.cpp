@@ -5,10 +5,10 @@
 #include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
-#include <numbers>
 #include <string>
 #include <vector>
 
+#include "camopt/core/units.hpp"
 #include "cli/cli_support.hpp"
 
 using namespace camopt::test;
@@ -23,7 +23,7 @@ std::string bundled(const std::string& name) { return (source_dir() / "designs" 
 bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 // the closed-form duration of 5 sin(theta) above h [cam deg]
-double duration(double h_mm) { return 180.0 - 2.0 * std::asin(h_mm / kE) * 180.0 / std::numbers::pi; }
+double duration(double h_mm) { return 180.0 - 2.0 * std::asin(h_mm / kE) * 180.0 / camopt::pi; }
 
 // run kinematics and return the first position of summary.json
 nlohmann::json run_summary(const std::vector<std::string>& extra, std::string* err = nullptr) {

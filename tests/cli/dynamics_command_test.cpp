@@ -8,6 +8,7 @@
 #include <regex>
 #include <string>
 
+#include "camopt/core/units.hpp"
 #include "cli/cli_support.hpp"
 #include "kinematics/kinematics_test_support.hpp"
 
@@ -185,7 +186,7 @@ TEST_CASE("camopt dynamics --model flexible: valve velocity and acceleration are
     REQUIRE(c.count(name) == 1);
   // central differences of the lift (0.02 deg at 1500 cam rpm: 2.2 us) against the columns,
   // away from the seat (its impacts make the force jump)
-  const double dt = 0.02 * camopt::kin_test::deg / (1500 * 2 * camopt::kin_test::pi / 60);
+  const double dt = 0.02 * camopt::rad_per_deg / (1500 * 2 * camopt::pi / 60);
   const auto& lift = c["lift_mm"];
   double worst_v = 0, worst_a = 0, peak_v = 0, peak_a = 0;
   for (std::size_t i = 1; i + 1 < lift.size(); ++i) {
@@ -246,7 +247,7 @@ TEST_CASE("camopt dynamics --model rigid: per node the inertia, spring, damping 
   // truncation (1 deg)^2 / 12 = 2.5e-5 of a harmonic) and m the follower's mass plus a third of
   // the spring's (0.10 + 0.01 / 3 kg, the design)
   const double kFollowerMass = 0.10 + 0.01 / 3;
-  const double dt = 1.0 * camopt::kin_test::deg / (1500 * 2 * camopt::kin_test::pi / 60);
+  const double dt = 1.0 * camopt::rad_per_deg / (1500 * 2 * camopt::pi / 60);
   const auto& lift = c["lift_mm"];
   double worst = 0, peak = 0;
   for (std::size_t i = 1; i + 1 < lift.size(); ++i) {
