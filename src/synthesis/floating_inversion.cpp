@@ -1,38 +1,32 @@
+// inversion of a target motion through a floating follower (floating_inversion.hpp): the
+// probe mechanism and the scan of L(q) (steps 1 and 2, floating_scan.cpp), then the walks
+// that invert the target on the monotone pieces of L(q) (step 3), the landings on the base
+// circle, and the bridges where the lift barely moves with the lever (step 4).
 #include "camopt/synthesis/floating_inversion.hpp"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <numbers>
-#include <optional>
+#include <vector>
 
+#include "camopt/core/units.hpp"
 #include "camopt/kinematics/detail/geometry.hpp"
-#include "camopt/kinematics/mechanism.hpp"
-#include "camopt/kinematics/solver.hpp"
+#include "camopt/synthesis/detail/floating_scan.hpp"
 #include "camopt/synthesis/detail/hermite.hpp"
-#include "camopt/synthesis/detail/radial_probe.hpp"
 
 namespace camopt::synthesis {
 
 namespace {
 
-constexpr double pi = std::numbers::pi;
 using Jet3 = Jet<3>;
+using detail::kScanStep;
 
 std::string fmt(double v) { return format_value(v, 6); }
 std::string deg_of(double rad) { return fmt(rad * 180 / pi); }
 
-// probe travel per scan step [mm] and the slope, relative to the mean slope of the lift
-// over the scan, below which L(q) counts as flat (idle travel): at a quadratic ramp foot
-// the lift there is ~ 1e-8 of the full lift. 0.04 mm: the bundled Valvetronic input cam
-// is within 1.4e-7 mm of the 0.01 mm scan's, its round trip 3.15e-8 mm against 3.13e-8 mm
-// (the round trip holds up to 0.07 mm; at 0.08 mm it stops at the cam's rest junction)
-constexpr double kScanStep = 0.04;
+// the slope, relative to the mean slope of the lift over the scan, below which L(q) counts
+// as flat (idle travel): at a quadratic ramp foot the lift there is ~ 1e-8 of the full lift
 constexpr double kFlatSlope = 1e-5;
-// [mm] probe travel between solves of the whole mechanism where the scan takes the lever's
-// pose from them (septic hermite in q)
-constexpr double kLeverStep = 0.5;
-constexpr double kMaxTravel = 100.0;  // [mm] the scan gives up beyond this probe travel
 // [mm per mm of peak lift] how close the target's turning lift must come to the lever's
 // (the target is sampled: its extreme sample misses the true turn by ~ L'' h^2 / 8)
 constexpr double kTurnTolerance = 1e-4;
@@ -44,9 +38,6 @@ constexpr double kTurnTolerance = 1e-4;
 // down to the rest
 constexpr double kLandingSlope = 1e-3;
 constexpr int kMaxLandingSamples = 64;
-// [mm per mm of peak lift] a monotone piece of L(q) over which the lift moves by less is
-// not told apart from its neighbours (its turns are dropped)
-constexpr double kTinyPiece = 1e-8;
 
 // the landing of the lever's travel on the base circle from the jets q(tau) of the last
 // inverted sample, tau the distance walked towards the rest [rad]: the septic hermite from
@@ -104,274 +95,52 @@ Jet3 compose_in(const Jet3& f_of_q, const Jet3& q) {
   return compose(d, q);
 }
 
-}  // namespace
+// what each sample's lever travel comes from: not yet reached by a walk, the rest (base
+// circle), inverted on a piece of L(q), or bridged between inverted neighbours
+enum class Kind : char { open, rest, inverted, bridged };
 
-Status invert_floating_follower(const DesignSpec& spec, const MechanismCut& cut, const std::string& target_node,
-                                const std::vector<double>& controls, const std::vector<double>& theta,
-                                const std::vector<Jet3>& motion, FloatingInversion& out) {
-  const auto& conn = spec.connections[static_cast<std::size_t>(cut.connection)];
-  const SurfaceSpec& follower_surface = cut.profile_on_a ? conn.surface_b : conn.surface_a;
-  if (follower_surface.shape != SurfaceShape::circle)
-    throw InputError(conn.where, "synthesize: the follower '" + cut.follower_node + "' of contact '" + conn.name +
-                                     "' is a floating lever; through a floating lever the follower must be a roller "
-                                     "or pad (circle), not a " + to_string(follower_surface.shape));
-  const NodeSpec* cam_node = nullptr;
-  for (const auto& n : spec.nodes)
-    if (n.name == cut.cam_node) cam_node = &n;
-  CAMOPT_ASSERT(cam_node);
-  if (cam_node->kind != NodeKind::rotational)
-    throw InputError(conn.where, "synthesize: a floating follower '" + cut.follower_node +
-                                     "' needs a rotational cam, not the " + to_string(cam_node->kind) + " '" +
-                                     cut.cam_node + "'");
-  // the probe (detail/radial_probe.hpp) pushes the roller along the cam's radial direction
-  const double c0x = follower_surface.origin_mm[0], c0y = follower_surface.origin_mm[1];
-  const double px = cam_node->pivot_mm[0], py = cam_node->pivot_mm[1];
-  const double base = std::hypot(c0x - px, c0y - py);  // [mm] roller centre from the cam pivot on the base circle
-  if (!(base > 1e-9))
-    throw InputError(conn.where, "synthesize: the roller of '" + cut.follower_node + "' is centred on the cam pivot");
-  auto probe_parts = [&](double cx, double cy) { return detail::radial_probe(follower_surface, px, py, cx, cy); };
-  auto make_probe = [&](double cx, double cy) {
-    DesignSpec probe_spec = cut.downstream;
-    auto [probe, face] = probe_parts(cx, cy);
-    probe_spec.nodes.push_back(probe);
-    probe_spec.connections.push_back(face);
-    probe_spec.driver.node = probe.name;
-    probe_spec.output_node = target_node;
-    return kin::compile(probe_spec);
-  };
-  // the compiled probe mechanism moved to push through (cx, cy): compile takes nothing else
-  // from the probe than its node's line and its face (and their distances from the origin
-  // for the length scale), so moving those gives what a fresh compile would, without
-  // building the lever's profiles again. false (m untouched) when the length scale would
-  // change: compile afresh then.
-  auto move_probe = [&](kin::Mechanism& mech, double cx, double cy) {
-    const auto [probe, face] = probe_parts(cx, cy);
-    kin::Node& node = mech.nodes[static_cast<std::size_t>(mech.node_index(probe.name))];
-    kin::Connection& contact = mech.connections.back();
-    CAMOPT_ASSERT(contact.name == face.name && mech.spec.connections.back().name == face.name &&
-                  mech.spec.nodes.back().name == probe.name);
-    const Eigen::Vector2d origin(probe.origin_mm[0], probe.origin_mm[1]);
-    const Eigen::Vector2d face_origin(face.surface_a.origin_mm[0], face.surface_a.origin_mm[1]);
-    const double scale = mech.length_scale;
-    if (!(std::max({node.pivot.norm(), contact.surface_a.origin.norm(), origin.norm(), face_origin.norm()}) < scale))
-      return false;
-    node.pivot = origin;
-    node.direction = Eigen::Vector2d(probe.direction[0], probe.direction[1]).normalized();  // as compile does
-    contact.surface_a.origin = face_origin;
-    contact.surface_a.normal = Eigen::Vector2d(face.surface_a.normal[0], face.surface_a.normal[1]).normalized();
-    mech.spec.nodes.back() = probe;
-    mech.spec.connections.back() = face;
-    return true;
-  };
-  // the lever at rest: its cam roller on the base circle (as far from the cam pivot as in
-  // the drawing). Away from the drawing's control position the other contacts move the
-  // rest pose (a Valvetronic eccentric turns the lever about the camshaft), so it is found
-  // by newton on |c(q) - pivot| = base with a probe along the drawing's radial direction
-  double rest_x = c0x, rest_y = c0y;
-  kin::Mechanism m0 = make_probe(c0x, c0y);
-  {
-    kin::Workspace ws0(m0);
-    ws0.set_controls(controls);
-    const int f0 = m0.node_index(cut.follower_node);
-    double q = 0.0;
-    for (int it = 0;; ++it) {
-      const Status st = kin::solve(m0, ws0, q, {1, false});
-      if (!st.ok()) return {st.code, "placing the lever '" + cut.follower_node + "' at rest: " + st.message, "cam base circle"};
-      const auto c = kin::detail::node_pose(m0, f0, ws0.vars.data(), ws0.pivots.data()).apply(c0x, c0y);
-      const Jet3 rho = sqrt((c.x - px) * (c.x - px) + (c.y - py) * (c.y - py));
-      rest_x = c.x.value(), rest_y = c.y.value();
-      const double miss = rho.value() - base;
-      if (std::abs(miss) < 1e-12 * base) break;
-      if (it == 50 || !(std::abs(rho.c[1]) > 1e-9))
-        return {StatusCode::no_convergence,
-                "placing the lever '" + cut.follower_node + "' at rest with its roller on the base circle (" +
-                    fmt(base) + " mm from the cam pivot): " + fmt(miss) + " mm off",
-                "cam base circle"};
-      q -= miss / rho.c[1];
-    }
-  }
-  // the probe through the rest pose (the drawing's own when the lever rests as drawn, to
-  // the rest newton's tolerance)
-  const bool rests_as_drawn = std::hypot(rest_x - c0x, rest_y - c0y) < 1e-12 * base;
-  if (!rests_as_drawn && !move_probe(m0, rest_x, rest_y)) m0 = make_probe(rest_x, rest_y);
-  const kin::Mechanism m = std::move(m0);
-  kin::Workspace ws(m);
-  ws.set_controls(controls);
-  const int lift_var = m.nodes[static_cast<std::size_t>(m.node_index(target_node))].first_variable;
-  const int follower = m.node_index(cut.follower_node);
-  auto centre_in = [&](const kin::Workspace& w) {
-    return kin::detail::node_pose(m, follower, w.vars.data(), w.pivots.data()).apply(c0x, c0y);
-  };
+// the inversion of the target on the monotone pieces of the scanned L(q), sample by sample
+struct Walker {
+  detail::LeverScan& scan;
+  const detail::LiftPieces& pieces;
+  const std::vector<double>& theta;
+  const std::vector<Jet3>& motion;
+  FloatingInversion& out;
+  int n = 0;
+  double h = 0.0;           // [rad] between samples
+  double motion_hi = 0.0;   // [mm] the target's peak
+  double mean_slope = 0.0;  // [mm per mm] of L(q) over the scan
+  double flat = 0.0;        // |dL/dq| below which q is not inverted
+  double rest_lift = 0.0;   // [mm] the lever's lift at rest (q = 0)
+  double reverse = 0.0;     // [mm] target turning, beyond round-off
+  std::vector<Kind> kind;
+  std::vector<Jet3> q_of;         // the lever's travel at each sample, jets in theta
+  std::vector<double> slope_of;   // dL/dq at each inverted sample
 
-  const int n = static_cast<int>(theta.size());
-  double motion_hi = -1e300;
-  for (const auto& L : motion) motion_hi = std::max(motion_hi, L.value());
+  Walker(detail::LeverScan& s, const detail::LiftPieces& p, const std::vector<double>& th,
+         const std::vector<Jet3>& mo, double peak_lift, FloatingInversion& o)
+      : scan(s), pieces(p), theta(th), motion(mo), out(o), n(static_cast<int>(th.size())) {
+    const std::vector<double>& grid_lift = scan.lift;
+    h = 2 * pi / n;
+    motion_hi = peak_lift;
+    mean_slope = std::abs(grid_lift[scan.top] - grid_lift[0]) / (scan.top * kScanStep);
+    flat = kFlatSlope * mean_slope;
+    rest_lift = grid_lift[0];
+    reverse = 1e-9 * std::max(1.0, mean_slope);
+    kind.assign(n, Kind::open);
+    q_of.assign(n, Jet3(0.0));
+    slope_of.assign(n, 0.0);
+  }
 
-  // 1. scan L(q) from the rest up past the largest target lift, keeping the lift and the
-  // roller centre with three derivatives in q at every scan point: between them they are
-  // septic hermite pieces in q (kScanStep apart), so the inversion below needs no solves
-  //
-  // The lever itself is smooth in q where its other contacts are analytic (the bundled
-  // Valvetronic's rollers on a disc and a circle), the lift is not (the working curve is a
-  // table): there, and where the kernel can take the lever as given (kin::solve_prescribed),
-  // the whole mechanism is solved only every kLeverStep, and at the
-  // scan points between them the lever's pose is septic hermite in q from those solves and
-  // only the contacts after it are solved
-  std::vector<double> grid_lift;
-  std::vector<std::array<double, 12>> grid_jets;  // [L, centre x, centre y][derivative 0..3]
-  const bool lever_given = kin::can_prescribe(m, follower) && detail::held_analytically(m, follower);
-  const kin::Node& lever = m.nodes[static_cast<std::size_t>(follower)];
-  std::vector<std::array<double, 12>> lever_grid;  // [x, y, phi][derivative 0..3] every kLeverStep
-  detail::SepticPieces lever_pieces(3);             // between them
-  std::optional<kin::Workspace> scan_ws;  // the scan between the lever's solves
-  auto solve_whole = [&](double q) -> Status {
-    const Status st = kin::solve(m, ws, q, {3, false});
-    if (!st.ok())
-      return {st.code,
-              "the lever '" + cut.follower_node + "' pushed " + fmt(q) + " mm along its cam roller's radial path "
-              "cannot be solved with its other contacts (" + st.message + ") before the valve reaches the target's " +
-                  fmt(motion_hi) + " mm",
-              "probe travel " + fmt(q) + " mm"};
-    return Status::success();
-  };
-  // the lever's pose as just solved in ws, a point of lever_grid
-  auto record_lever = [&] {
-    std::array<double, 12>& g = lever_grid.emplace_back();
-    for (int k = 0; k < 3; ++k)
-      for (int d = 0; d < 4; ++d) g[4 * k + d] = ws.vars[static_cast<std::size_t>(lever.first_variable + k)].derivative(d);
-    if (lever_grid.size() >= 2)
-      lever_pieces.add_interval(lever_grid[lever_grid.size() - 2].data(), lever_grid.back().data(), kLeverStep);
-  };
-  // the scan point at q: solved in ws, or with the lever given in scan_ws (`at`: which)
-  const kin::Workspace* at = &ws;
-  auto scan_at = [&](double q) -> Status {
-    if (!lever_given) return solve_whole(q);
-    if (q == 0.0) {
-      if (const Status st = solve_whole(q); !st.ok()) return st;
-      record_lever();
-      scan_ws = ws;
-      at = &*scan_ws;
-      return Status::success();
-    }
-    while (static_cast<double>(lever_grid.size() - 1) * kLeverStep < q) {
-      if (const Status st = solve_whole(static_cast<double>(lever_grid.size()) * kLeverStep); !st.ok()) return st;
-      record_lever();
-    }
-    Jet3 pose[3];
-    for (int k = 0; k < 3; ++k) {
-      double d[4];
-      lever_pieces.eval_at(q / kLeverStep, k, d);
-      pose[k] = jet_from_derivatives<3>(d);
-    }
-    if (kin::solve_prescribed(m, *scan_ws, q, {3, false}, follower, pose).ok()) return Status::success();
-    // the step from the last scan point was rejected: the whole mechanism there
-    const Status st = kin::solve(m, *scan_ws, q, {3, false});
-    if (!st.ok())
-      return {st.code, "the valve train after the lever '" + cut.follower_node + "' pushed " + fmt(q) +
-                           " mm along its cam roller's radial path: " + st.message,
-              "probe travel " + fmt(q) + " mm"};
-    return Status::success();
-  };
-  for (int j = 0;; ++j) {
-    const double q = j * kScanStep;
-    if (const Status st = scan_at(q); !st.ok()) return st;
-    grid_lift.push_back(at->vars[static_cast<std::size_t>(lift_var)].value());
-    const auto c = centre_in(*at);
-    std::array<double, 12>& g = grid_jets.emplace_back();
-    for (int d = 0; d < 4; ++d) {
-      g[d] = at->vars[static_cast<std::size_t>(lift_var)].derivative(d);
-      g[4 + d] = c.x.derivative(d);
-      g[8 + d] = c.y.derivative(d);
-    }
-    if (grid_lift.back() > motion_hi && j > 0) break;
-    if (q > kMaxTravel)
-      return {StatusCode::cannot_assemble,
-              "the valve lift through the lever '" + cut.follower_node + "' stays below the target's " +
-                  fmt(motion_hi) + " mm over " + fmt(kMaxTravel) + " mm of cam-roller travel",
-              "probe travel " + fmt(q) + " mm"};
-  }
-  const int top = static_cast<int>(grid_lift.size()) - 1;
-  detail::SepticPieces scan_pieces(3);  // the scan's septic hermite pieces
-  for (int j = 0; j < top; ++j)
-    scan_pieces.add_interval(grid_jets[static_cast<std::size_t>(j)].data(), grid_jets[static_cast<std::size_t>(j + 1)].data(),
-                             kScanStep);
-  // the lift and the roller centre at travel q as jets in q: hermite between scan points,
-  // a solve beyond the scan (continued from the last one)
-  auto probe_at = [&](double q, Jet3& lift, kin::detail::V2<Jet3>& centre) -> Status {
-    if (q >= 0.0 && q <= top * kScanStep) {
-      Jet3* out3[3] = {&lift, &centre.x, &centre.y};
-      for (int f = 0; f < 3; ++f) {
-        double d[4];
-        scan_pieces.eval_at(q / kScanStep, f, d);
-        *out3[f] = jet_from_derivatives<3>(d);
-      }
-      return Status::success();
-    }
-    const Status st = kin::solve(m, ws, q, {3, false});
-    if (!st.ok()) return st;
-    lift = ws.vars[static_cast<std::size_t>(lift_var)];
-    centre = centre_in(ws);
-    return Status::success();
-  };
-  // 2. monotone pieces of L(q) between its turning points. A turn lies where dL/dq changes
-  // sign between scan points; it is located on the hermite piece (bisection on dL/dq), as a
-  // turn taken at the nearest scan point leaves the piece next to it non-monotone (the
-  // bundled Valvetronic at 0.25 deg of control turns 0.017 mm before a scan point: its
-  // input cam came out with a 0.038 mm step)
-  std::vector<double> turn_q{0.0}, turn_lift{grid_lift[0]};  // piece ends [mm], ascending, and the lift there
-  for (int j = 0; j < top; ++j) {
-    const double s0 = grid_jets[static_cast<std::size_t>(j)][1], s1 = grid_jets[static_cast<std::size_t>(j + 1)][1];
-    if (s0 == 0.0 && j > 0 && (grid_lift[j] - grid_lift[j - 1]) * (grid_lift[j + 1] - grid_lift[j]) < 0) {
-      turn_q.push_back(j * kScanStep), turn_lift.push_back(grid_lift[j]);  // a turn on the scan point itself
-      continue;
-    }
-    if (!((s0 > 0 && s1 < 0) || (s0 < 0 && s1 > 0))) continue;
-    double lo = 0.0, hi = 1.0, d[4];
-    for (int it = 0; it < 60 && hi - lo > 1e-13; ++it) {
-      const double mid = 0.5 * (lo + hi);
-      scan_pieces.eval(static_cast<std::size_t>(j), 0, mid, d);
-      ((d[1] > 0) == (s0 > 0) ? lo : hi) = mid;
-    }
-    scan_pieces.eval(static_cast<std::size_t>(j), 0, 0.5 * (lo + hi), d);
-    turn_q.push_back((j + 0.5 * (lo + hi)) * kScanStep), turn_lift.push_back(d[0]);
-  }
-  turn_q.push_back(top * kScanStep), turn_lift.push_back(grid_lift[top]);
-  // a piece over which the lift moves by less than kTinyPiece of the target's peak is below
-  // what the target can tell: its turns are dropped (a first piece merges into the next, as
-  // the bundled Valvetronic's 2.2e-8 mm hump next to its rest at 0 deg of control)
-  for (std::size_t k = 0; k + 1 < turn_q.size();) {
-    if (turn_q.size() <= 2 || std::abs(turn_lift[k + 1] - turn_lift[k]) >= kTinyPiece * std::max(1.0, motion_hi)) {
-      ++k;
-      continue;
-    }
-    // the turns to drop: the first piece's upper end, the last one's lower end, else both ends
-    const std::size_t first = k == 0 ? 1 : k, count = (k == 0 || k + 2 == turn_q.size()) ? 1 : 2;
-    if (first + count > turn_q.size() - 1) break;  // would remove the scan's end
-    turn_q.erase(turn_q.begin() + static_cast<std::ptrdiff_t>(first), turn_q.begin() + static_cast<std::ptrdiff_t>(first + count));
-    turn_lift.erase(turn_lift.begin() + static_cast<std::ptrdiff_t>(first),
-                    turn_lift.begin() + static_cast<std::ptrdiff_t>(first + count));
-    k = 0;
-  }
-  const int pieces = static_cast<int>(turn_q.size()) - 1;
-  if (turn_lift[static_cast<std::size_t>(pieces)] <= turn_lift[static_cast<std::size_t>(pieces - 1)])
-    return {StatusCode::cannot_assemble, "the valve lift falls as the lever '" + cut.follower_node +
-                                             "' is pushed towards the target's peak", "probe travel " + fmt(top * kScanStep) + " mm"};
-  const double mean_slope = std::abs(grid_lift[top] - grid_lift[0]) / (top * kScanStep);
-  const double flat = kFlatSlope * mean_slope;  // |dL/dq| below which q is not inverted
-  const double rest_lift = grid_lift[0];
-  const double reverse = 1e-9 * std::max(1.0, mean_slope);  // [mm] target turning, beyond round-off
+  int wrap(int i) const { return (i % n + n) % n; }
 
-  out = {};
-  out.centre_x.assign(n, Jet3(0.0));
-  out.centre_y.assign(n, Jet3(0.0));
-  enum class Kind : char { open, rest, inverted, bridged };
-  std::vector<Kind> kind(n, Kind::open);
-  std::vector<Jet3> q_of(n, Jet3(0.0));
-  std::vector<double> slope_of(n, 0.0);  // dL/dq at each inverted sample
-  // invert sample i on piece k (newton inside the piece's grid bracket)
-  // guess: the travel predicted from the neighbouring sample (NaN: none), else linear in
-  // the scan's bracket
-  auto invert_on = [&](int i, int k, double guess, double& a1) -> Status {
+  // invert sample i on piece k: newton inside the piece's grid bracket, safeguarded by
+  // bisection; guess: the travel predicted from the neighbouring sample (NaN: none), else
+  // linear in the scan's bracket. a1: dL/dq there
+  Status invert_on(int i, int k, double guess, double& a1) {
+    const std::vector<double>& grid_lift = scan.lift;
+    const std::vector<double>& turn_q = pieces.turn_q;
+    const std::vector<double>& turn_lift = pieces.turn_lift;
     const double target = motion[i].value();
     const auto piece = static_cast<std::size_t>(k);
     const double sign = turn_lift[piece + 1] > turn_lift[piece] ? 1.0 : -1.0;
@@ -403,7 +172,7 @@ Status invert_floating_follower(const DesignSpec& spec, const MechanismCut& cut,
     Jet3 L;
     kin::detail::V2<Jet3> c;
     for (int it = 0; it < 100; ++it) {
-      const Status st = probe_at(q, L, c);
+      const Status st = scan.at(q, L, c);
       if (!st.ok()) return {st.code, st.message, "cam " + deg_of(theta[i]) + " deg"};
       const double f = (L.value() - target) * sign;  // increasing in q on this piece
       if (std::abs(f) <= 1e-13 * std::max(1.0, motion_hi) || hi - lo < 1e-15) {
@@ -419,34 +188,31 @@ Status invert_floating_follower(const DesignSpec& spec, const MechanismCut& cut,
       q = next;
     }
     return {StatusCode::no_convergence,
-            "inverting the valve lift " + fmt(target) + " mm for the travel of the lever '" + cut.follower_node +
+            "inverting the valve lift " + fmt(target) + " mm for the travel of the lever '" + scan.follower_name() +
                 "' did not converge",
             "cam " + deg_of(theta[i]) + " deg"};
-  };
-  // 3. from the peak back along the opening stroke (q falls) and on along the closing
-  // stroke (q falls): each sample on the piece the lever has reached; the walk moves to the
-  // previous piece where the target turns back at that piece's turning lift, and stops
-  // where the target is at the lever's rest (q = 0)
-  int peak = 0;
-  for (int i = 1; i < n; ++i)
-    if (motion[i].value() > motion[peak].value()) peak = i;
-  // (the walks invert on the scan's hermite pieces: the scan continued from the rest keeps
-  // the drawing's assembly branch; a cold start next to the peak may land on another one)
-  const double h = 2 * pi / n;
-  int landing_anchor[2] = {-1, -1};  // per walk (opening, closing): its last inverted sample when it reached the rest
-  for (int dir : {-1, +1}) {
-    int k = pieces - 1;
+  }
+
+  // one walk from the peak (dir -1: back along the opening stroke, +1: on along the closing
+  // stroke; q falls either way): each sample on the piece the lever has reached; the walk
+  // moves to the previous piece where the target turns back at that piece's turning lift,
+  // and stops where the target is at the lever's rest (q = 0). landing_anchor: its last
+  // inverted sample when it reached the rest on the first piece (else unchanged)
+  Status walk(int dir, int peak, int& landing_anchor) {
+    const std::vector<double>& turn_q = pieces.turn_q;
+    const std::vector<double>& turn_lift = pieces.turn_lift;
+    int k = pieces.count() - 1;
     int last = -1, last_piece = -1;  // the walk's last inverted sample and its piece
     double extreme = motion[peak].value();  // the target's running extreme on this piece
     bool near_rest = false;  // on the first piece, past the target's last turn: bridged to the rest
     // each walk covers half the revolution (the opening stroke and the base circle before
     // it, the closing stroke and the base circle after it), unless it reaches the rest
     for (int step = dir < 0 ? 0 : 1; dir < 0 ? step <= n / 2 : step < n - n / 2; ++step) {
-      const int i = ((peak + dir * step) % n + n) % n;
+      const int i = wrap(peak + dir * step);
       if (kind[i] != Kind::open) break;  // met the other walk
       const double target = motion[i].value();
       if (k == 0 && std::abs(target - rest_lift) <= reverse) {  // the lever at rest: the base circle
-        if (last_piece == 0) landing_anchor[dir > 0] = last;
+        if (last_piece == 0) landing_anchor = last;
         break;
       }
       if (near_rest) {
@@ -467,7 +233,7 @@ Status invert_floating_follower(const DesignSpec& spec, const MechanismCut& cut,
         }
         if (std::abs(extreme - turn_lift[piece]) > kTurnTolerance * std::max(1.0, motion_hi))
           return {StatusCode::singular,
-                  "the target lift turns back at " + fmt(extreme) + " mm, but the lever '" + cut.follower_node +
+                  "the target lift turns back at " + fmt(extreme) + " mm, but the lever '" + scan.follower_name() +
                       "' turns back only at " + fmt(turn_lift[piece]) + " mm of lift (its idle travel, at " +
                       fmt(turn_q[piece]) + " mm of cam-roller travel): the lift does not fix the lever's "
                       "travel there",
@@ -475,14 +241,14 @@ Status invert_floating_follower(const DesignSpec& spec, const MechanismCut& cut,
         --k;
         // the samples on both sides of the turn: dL/dq ~ 0, their jets by reversion are
         // ill-conditioned, so they are bridged
-        kind[((i - dir) % n + n) % n] = Kind::bridged;
+        kind[wrap(i - dir)] = Kind::bridged;
         kind[i] = Kind::bridged;
         extreme = target;
         continue;
       }
       extreme = (target - extreme) * rises < 0 ? target : extreme;
       double a1 = 0.0, guess = NAN;
-      if (last == ((i - dir) % n + n) % n && last_piece == k) {
+      if (last == wrap(i - dir) && last_piece == k) {
         // cubic taylor of the neighbour's travel, one sample on
         const Jet3& q = q_of[last];
         const double s1 = dir * h;
@@ -494,16 +260,17 @@ Status invert_floating_follower(const DesignSpec& spec, const MechanismCut& cut,
       slope_of[i] = a1;
       last = i, last_piece = k;
     }
+    return Status::success();
   }
-  // a walk whose last inverted sample barely moves the lift lands on the rest as designed
-  // (landing_samples) instead of where the target's lift first meets the rest lift: there
-  // the lever's travel is ~1e-3 mm, and stepping it to 0 in one sample put a slope step
-  // (a -124 mm radius) on the synthesized cam
-  for (int side = 0; side < 2; ++side) {
-    const int anchor = landing_anchor[side], dir = side == 0 ? -1 : 1;
+
+  // a walk whose last inverted sample (anchor) barely moves the lift lands on the rest as
+  // designed (landing_samples) instead of where the target's lift first meets the rest
+  // lift: there the lever's travel is ~1e-3 mm, and stepping it to 0 in one sample would put
+  // a slope step on the synthesized cam (a -124 mm radius on the bundled Valvetronic)
+  void land(int anchor, int dir) {
     if (anchor < 0 || kind[anchor] != Kind::inverted || !(std::abs(slope_of[anchor]) < kLandingSlope * mean_slope))
-      continue;
-    auto walked = [&](int j) { return ((anchor + dir * j) % n + n) % n; };
+      return;
+    auto walked = [&](int j) { return wrap(anchor + dir * j); };
     // samples past the anchor that the landing may take: the walk's own bridged tail, then
     // the rest up to the other walk
     int available = 1;
@@ -512,69 +279,124 @@ Status invert_floating_follower(const DesignSpec& spec, const MechanismCut& cut,
     Jet3 q_tau = q_of[anchor];  // its travel in the walked angle tau = dir (theta - theta_anchor)
     q_tau.c[1] *= dir, q_tau.c[3] *= dir;
     const int landing = landing_samples(q_tau, h, available - 1);
-    if (landing == 0) continue;
+    if (landing == 0) return;
     for (int j = 1; j < available; ++j) kind[walked(j)] = j < landing ? Kind::bridged : Kind::open;
   }
-  for (auto& kd : kind)
-    if (kd == Kind::open) kd = Kind::rest;  // between the two walks: the base circle
+
   // where the walks meet without reaching the rest, they must agree: the lever rests past
   // its drawing rest (a target whose base circle lies beyond the lever's idle travel)
-  const int meet_a = ((peak - n / 2) % n + n) % n, meet_b = (meet_a + n - 1) % n;  // the walks' last samples
-  if (kind[meet_a] != Kind::rest && kind[meet_b] != Kind::rest) {
+  Status check_meeting(int peak) {
+    const int meet_a = wrap(peak - n / 2), meet_b = (meet_a + n - 1) % n;  // the walks' last samples
+    if (kind[meet_a] == Kind::rest || kind[meet_b] == Kind::rest) return Status::success();
     const double gap = std::abs(q_of[meet_a].value() - q_of[meet_b].value());
     if (kind[meet_a] == Kind::inverted && kind[meet_b] == Kind::inverted && gap > 1e-3)
       return {StatusCode::singular,
-              "the opening and closing strokes leave the lever '" + cut.follower_node + "' " + fmt(gap) +
+              "the opening and closing strokes leave the lever '" + scan.follower_name() + "' " + fmt(gap) +
                   " mm of cam-roller travel apart on the base circle: the target's base circle lies on two pieces of "
                   "the lever's lift (before and after its idle travel)",
               "cam " + deg_of(theta[meet_a]) + " deg"};
     out.rest_travel_mm = q_of[meet_a].value();
+    return Status::success();
   }
-  // 4. bridges: runs of samples where the lift barely moves with q (next to a turning
-  // point or the rest) take q from septic hermite pieces between their neighbours' jets
-  int rest_samples = 0, bridged_samples = 0;
-  const kin::detail::V2<Jet3> rest_centre{Jet3(grid_jets[0][4]), Jet3(grid_jets[0][8])};
-  for (int i = 0; i < n; ++i)
-    if (kind[i] == Kind::rest) {
-      ++rest_samples;
-      out.centre_x[i] = Jet3(rest_centre.x.value());
-      out.centre_y[i] = Jet3(rest_centre.y.value());
-      q_of[i] = Jet3(0.0);
-    }
-  for (int i = 0; i < n; ++i) {
-    if (kind[i] != Kind::bridged || kind[(i + n - 1) % n] == Kind::bridged) continue;
-    int count = 0;
-    while (count < n && kind[(i + count) % n] == Kind::bridged) ++count;
-    if (count >= n) return {StatusCode::singular, "the lift does not fix the lever anywhere", "whole revolution"};
-    const int before = (i + n - 1) % n, after = (i + count) % n;
-    const double span = (count + 1) * h;
-    double p0[4], p1[4];
-    for (int o = 0; o < 4; ++o) {
-      p0[o] = q_of[before].derivative(o) * std::pow(span, o);
-      p1[o] = q_of[after].derivative(o) * std::pow(span, o);
-    }
-    const detail::Septic piece(p0, p1);
-    for (int c = 0; c < count; ++c) {
-      const int s = (i + c) % n;
-      double d[4];
-      piece.eval((c + 1.0) / (count + 1.0), d);  // derivatives per unit of the piece's parameter
-      d[0] = std::max(0.0, d[0]);
-      for (int o = 1; o < 4; ++o) d[o] /= std::pow(span, o);
-      const Jet3 q = jet_from_derivatives<3>(d);
-      Jet3 lift;
-      kin::detail::V2<Jet3> cc;
-      const Status st = probe_at(q.value(), lift, cc);
-      if (!st.ok()) return {st.code, st.message, "cam " + deg_of(theta[s]) + " deg"};
-      const double e = std::abs(lift.value() - motion[s].value());
-      if (e > out.fill_error_mm) out.fill_error_mm = e, out.fill_error_at_rad = theta[s];
-      out.centre_x[s] = compose_in(cc.x, q);
-      out.centre_y[s] = compose_in(cc.y, q);
-      ++bridged_samples;
-    }
+
+  // the samples at rest take the roller's rest centre; returns their count
+  int place_rest() {
+    int rest_samples = 0;
+    const kin::detail::V2<Jet3> rest_centre{Jet3(scan.jets[0][4]), Jet3(scan.jets[0][8])};
+    for (int i = 0; i < n; ++i)
+      if (kind[i] == Kind::rest) {
+        ++rest_samples;
+        out.centre_x[i] = Jet3(rest_centre.x.value());
+        out.centre_y[i] = Jet3(rest_centre.y.value());
+        q_of[i] = Jet3(0.0);
+      }
+    return rest_samples;
   }
-  out.rest_lift = rest_lift;
+
+  // runs of samples where the lift barely moves with q (next to a turning point or the
+  // rest) take q from septic hermite pieces between their neighbours' jets; the lever's
+  // lift there misses the target by at most out.fill_error_mm
+  Status bridge(int& bridged_samples) {
+    for (int i = 0; i < n; ++i) {
+      if (kind[i] != Kind::bridged || kind[(i + n - 1) % n] == Kind::bridged) continue;
+      int count = 0;
+      while (count < n && kind[(i + count) % n] == Kind::bridged) ++count;
+      if (count >= n) return {StatusCode::singular, "the lift does not fix the lever anywhere", "whole revolution"};
+      const int before = (i + n - 1) % n, after = (i + count) % n;
+      const double span = (count + 1) * h;
+      double p0[4], p1[4];
+      for (int o = 0; o < 4; ++o) {
+        p0[o] = q_of[before].derivative(o) * std::pow(span, o);
+        p1[o] = q_of[after].derivative(o) * std::pow(span, o);
+      }
+      const detail::Septic piece(p0, p1);
+      for (int c = 0; c < count; ++c) {
+        const int s = (i + c) % n;
+        double d[4];
+        piece.eval((c + 1.0) / (count + 1.0), d);  // derivatives per unit of the piece's parameter
+        d[0] = std::max(0.0, d[0]);
+        for (int o = 1; o < 4; ++o) d[o] /= std::pow(span, o);
+        const Jet3 q = jet_from_derivatives<3>(d);
+        Jet3 lift;
+        kin::detail::V2<Jet3> cc;
+        const Status st = scan.at(q.value(), lift, cc);
+        if (!st.ok()) return {st.code, st.message, "cam " + deg_of(theta[s]) + " deg"};
+        const double e = std::abs(lift.value() - motion[s].value());
+        if (e > out.fill_error_mm) out.fill_error_mm = e, out.fill_error_at_rad = theta[s];
+        out.centre_x[s] = compose_in(cc.x, q);
+        out.centre_y[s] = compose_in(cc.y, q);
+        ++bridged_samples;
+      }
+    }
+    return Status::success();
+  }
+};
+
+}  // namespace
+
+Status invert_floating_follower(const DesignSpec& spec, const MechanismCut& cut, const std::string& target_node,
+                                const std::vector<double>& controls, const std::vector<double>& theta,
+                                const std::vector<Jet3>& motion, FloatingInversion& out) {
+  // the follower's roller, checked: a circle on the lever against a rotational cam
+  const detail::FloatingRoller roller = detail::floating_roller(spec, cut);
+  // 1. the probe mechanism: a radial probe on the roller, through the lever's rest pose
+  kin::Mechanism probe;
+  if (Status st = detail::probe_through_rest(cut, roller, target_node, controls, probe); !st.ok()) return st;
+  // 2. L(q) and the roller centre scanned from the rest up past the target's largest lift
+  double motion_hi = -1e300;
+  for (const auto& L : motion) motion_hi = std::max(motion_hi, L.value());
+  detail::LeverScan scan(std::move(probe), controls, cut, roller, target_node);
+  if (Status st = scan.run(motion_hi); !st.ok()) return st;
+  // ... split into monotone pieces at its turning points
+  detail::LiftPieces pieces;
+  if (Status st = detail::monotone_pieces(scan, motion_hi, pieces); !st.ok()) return st;
+  out = {};
+  out.centre_x.assign(theta.size(), Jet3(0.0));
+  out.centre_y.assign(theta.size(), Jet3(0.0));
+  Walker walker(scan, pieces, theta, motion, motion_hi, out);
+  // 3. two walks from the target's peak, back along the opening stroke and on along the
+  // closing one (the scan continued from the rest keeps the drawing's assembly branch; a
+  // cold start next to the peak may land on another one)
+  const int n = walker.n;
+  int peak = 0;
+  for (int i = 1; i < n; ++i)
+    if (motion[i].value() > motion[peak].value()) peak = i;
+  int landing_anchor[2] = {-1, -1};  // per walk (opening, closing): its last inverted sample when it reached the rest
+  for (int dir : {-1, +1})
+    if (Status st = walker.walk(dir, peak, landing_anchor[dir > 0]); !st.ok()) return st;
+  // landings on the base circle where a walk's end barely moves the lift
+  for (int side = 0; side < 2; ++side) walker.land(landing_anchor[side], side == 0 ? -1 : 1);
+  // between the two walks: the base circle
+  for (auto& kd : walker.kind)
+    if (kd == Kind::open) kd = Kind::rest;
+  if (Status st = walker.check_meeting(peak); !st.ok()) return st;
+  // 4. the rest, then bridges where the lift barely moves with q
+  const int rest_samples = walker.place_rest();
+  int bridged_samples = 0;
+  if (Status st = walker.bridge(bridged_samples); !st.ok()) return st;
+  out.rest_lift = walker.rest_lift;
   out.fill_span = std::to_string(rest_samples) + " samples at the lever's rest, " + std::to_string(bridged_samples) +
-                  " bridged where the lift barely moves with the lever (" + std::to_string(pieces) +
+                  " bridged where the lift barely moves with the lever (" + std::to_string(pieces.count()) +
                   " monotone piece(s) of the lift against the cam-roller travel)";
   return Status::success();
 }

@@ -2,16 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 
+#include "camopt/core/units.hpp"
 #include "camopt/synthesis/undercut_windows.hpp"
 
 namespace camopt::synthesis::detail {
 
 namespace {
-
-constexpr double pi = std::numbers::pi;
-constexpr double kPerDeg = pi / 180;  // [rad per deg]
 
 // rate of the polar angle of a point (x, y) along its parameter, and its derivative
 // [rad per unit, per unit^2]: (x y' - y x') / r^2
@@ -84,11 +81,11 @@ Status revolution_fold_status(const std::vector<P2<Jet<2>>>& env, const std::vec
   int first_failing = -1;
   for (int i = 0; i < n; ++i) {
     s.cam_deg.push_back(360.0 * i / n);
-    s.polar_deg.push_back(sign * phi[static_cast<std::size_t>(i)] / kPerDeg);
+    s.polar_deg.push_back(sign * phi[static_cast<std::size_t>(i)] / rad_per_deg);
     double rate, slope;
     polar_rate(env[static_cast<std::size_t>(i)], rate, slope);
     s.turn.push_back(sign * rate);
-    s.turn_slope.push_back(sign * slope * kPerDeg);
+    s.turn_slope.push_back(sign * slope * rad_per_deg);
     bool fails = !(sign * rate > 0);
     if (roller) {
       // the envelope's speed along its centre path, e'.c' = |c'|^2 (1 - roller kappa)
@@ -99,7 +96,7 @@ Status revolution_fold_status(const std::vector<P2<Jet<2>>>& env, const std::vec
       double kappa, kappa_slope;
       path_curvature(c, orient, kappa, kappa_slope);
       s.cusp.push_back(along / (x1 * x1 + y1 * y1));
-      s.cusp_slope.push_back(-roller_mm * kappa_slope * kPerDeg);
+      s.cusp_slope.push_back(-roller_mm * kappa_slope * rad_per_deg);
       s.centre_radius_mm.push_back(kappa != 0.0 ? 1.0 / kappa : 0.0);
       fails = fails || along <= 0.0;
     }
@@ -125,7 +122,7 @@ Status swing_fold_status(const std::vector<P2<Jet<2>>>& env, const std::vector<d
     const int i = run[j];
     // cam angle along the run (it may pass 360 deg)
     s.cam_deg.push_back(360.0 * static_cast<double>(run[0] + static_cast<int>(j)) / static_cast<double>(theta.size()));
-    s.polar_deg.push_back(dir * phi[j] / kPerDeg);
+    s.polar_deg.push_back(dir * phi[j] / rad_per_deg);
     // the polar rate of the envelope point, or of its step from the last sample if that turns back
     double rate, slope;
     polar_rate(env[j], rate, slope);
@@ -153,7 +150,7 @@ Status swing_fold_status(const std::vector<P2<Jet<2>>>& env, const std::vector<d
       if (j > from) {
         const auto before = static_cast<std::size_t>(run[static_cast<std::size_t>(j - 1)]);
         t.lift_mm += 0.5 * (valve_rate[before] + valve_rate[i]) * h;
-        t.swing_deg += 0.5 * (cam_rate[before] + cam_rate[i]) * h / kPerDeg;
+        t.swing_deg += 0.5 * (cam_rate[before] + cam_rate[i]) * h / rad_per_deg;
       }
       if (j >= w.first && j <= w.last) t.slowest = std::min(t.slowest, std::abs(cam_rate[i]) / max_rate);
     }

@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 #include <string>
 
 #include "camopt/core/trig_cache.hpp"
+#include "camopt/core/units.hpp"
 #include "camopt/kinematics/detail/geometry.hpp"
 #include "camopt/synthesis/detail/hermite.hpp"
 #include "camopt/synthesis/detail/radial_probe.hpp"
@@ -29,12 +29,20 @@ constexpr int kMaxScanPoints = 4000;
 constexpr double kRelativeTolerance = 1e-13;
 
 std::string fmt(double v) { return format_value(v, 6); }
-std::string driver_deg(double theta) { return "driver " + fmt(theta * 180 / std::numbers::pi) + " deg"; }
+std::string driver_deg(double theta) { return "driver " + fmt(theta * 180 / pi) + " deg"; }
 
 // grid entry f (0..2: lever variables, 3, 4: roller centre x, y) at travel q: value and
 // three derivatives in q (septic hermite between scan points), or the value and slope only
 void grid_at(const LeverPath& p, int f, double q, double out[4], bool slope_only = false) {
   p.pieces.eval_at((q - p.q_first) / p.step, f, out, slope_only);
+}
+
+// the probe's node and face names are not used by the design (else compile would reject
+// the probe spec as a duplicate)
+bool probe_names_free(const DesignSpec& spec) {
+  return std::none_of(spec.nodes.begin(), spec.nodes.end(), [](const NodeSpec& n) { return n.name == detail::kProbeNode; }) &&
+         std::none_of(spec.connections.begin(), spec.connections.end(),
+                      [](const ConnectionSpec& c) { return c.name == detail::kProbeFace; });
 }
 
 }  // namespace
@@ -92,12 +100,12 @@ Status build_lever_path(const DesignSpec& upstream, const kin::Mechanism& up, in
   probe_spec.driver = DriverSpec{};
   probe_spec.driver.node = probe.name;
   probe_spec.output_node = lever_name;
-  kin::Mechanism m;
-  try {
-    m = kin::compile(probe_spec);
-  } catch (const InputError&) {
-    return Status::success();  // the other contacts do not hold the lever to one degree of freedom
-  }
+  // the probe spec has the structure of the upstream half (the driver's angle and the cam
+  // contact's two equations in the cam parameter and the lever become the probe's travel
+  // and the face contact's two equations in the face parameter and the lever), whose
+  // assembly analysis compile() passed: it compiles too, unless a name is taken
+  if (!probe_names_free(upstream)) return Status::success();
+  const kin::Mechanism m = kin::compile(probe_spec);
   const int lv = m.node_index(lever_name);
   if (!detail::held_analytically(m, lv)) return Status::success();  // not smooth enough for the path's steps
   const kin::Node& probe_lever = m.nodes[static_cast<std::size_t>(lv)];

@@ -3,16 +3,15 @@
 #include "camopt/synthesis/lift_law.hpp"
 
 #include <cmath>
-#include <numbers>
 #include <sstream>
 
 #include "camopt/core/error.hpp"
+#include "camopt/core/units.hpp"
 
 namespace camopt::synthesis {
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 
 std::string num(double v) { return format_value(v, 10); }
 
@@ -97,11 +96,11 @@ struct SegmentedLaw {
 // modified trapezoid [norton]: unit-amplitude shape, scaled by the constructor
 const SegmentedLaw<5>& modified_trapezoid() {
   static const SegmentedLaw<5> law({{
-      {0.0, 0.125, 0.0, 1.0, 4.0 * kPi, 0.0},               // quarter sine up
+      {0.0, 0.125, 0.0, 1.0, 4.0 * pi, 0.0},               // quarter sine up
       {0.125, 0.375, 1.0, 0.0, 1.0, 0.0},                   // constant +
-      {0.375, 0.625, 0.0, 1.0, 4.0 * kPi, 0.5 * kPi},       // half cosine + -> -
+      {0.375, 0.625, 0.0, 1.0, 4.0 * pi, 0.5 * pi},       // half cosine + -> -
       {0.625, 0.875, -1.0, 0.0, 1.0, 0.0},                  // constant -
-      {0.875, 1.0, 0.0, 1.0, 4.0 * kPi, -0.5 * kPi},        // quarter sine back to 0
+      {0.875, 1.0, 0.0, 1.0, 4.0 * pi, -0.5 * pi},        // quarter sine back to 0
   }});
   return law;
 }
@@ -109,9 +108,9 @@ const SegmentedLaw<5>& modified_trapezoid() {
 // modified sine [norton]
 const SegmentedLaw<3>& modified_sine() {
   static const SegmentedLaw<3> law({{
-      {0.0, 0.125, 0.0, 1.0, 4.0 * kPi, 0.0},                    // quarter sine, period 1/2
-      {0.125, 0.875, 0.0, 1.0, 4.0 * kPi / 3.0, 0.5 * kPi},      // half cosine, period 3/2
-      {0.875, 1.0, 0.0, 1.0, 4.0 * kPi, -0.5 * kPi},             // quarter sine back to 0
+      {0.0, 0.125, 0.0, 1.0, 4.0 * pi, 0.0},                    // quarter sine, period 1/2
+      {0.125, 0.875, 0.0, 1.0, 4.0 * pi / 3.0, 0.5 * pi},      // half cosine, period 3/2
+      {0.875, 1.0, 0.0, 1.0, 4.0 * pi, -0.5 * pi},             // quarter sine back to 0
   }});
   return law;
 }
@@ -190,7 +189,7 @@ Motion Polynomial4567::unit_inside(double x) const noexcept {
 // ---- cycloidal -------------------------------------------------------------------------
 
 Motion Cycloidal::unit_inside(double x) const noexcept {
-  const double w = 2.0 * kPi;
+  const double w = 2.0 * pi;
   const double s = std::sin(w * x), c = std::cos(w * x);
   return {x - s / w, 1.0 - c, w * s, w * w * c};
 }
@@ -213,9 +212,9 @@ Polydyne::Polydyne(double height_mm, double duration_deg, double dynamic_factor)
 
 double Polydyne::dynamic_factor(double engine_rpm, double natural_frequency_hz, double duration_deg,
                                 double crank_per_cam) noexcept {
-  const double omega_cam = engine_rpm / crank_per_cam * 2.0 * kPi / 60.0;  // [rad/s]
-  const double omega_n = 2.0 * kPi * natural_frequency_hz;                  // [rad/s]
-  const double beta = duration_deg * kPi / 180.0;                          // [rad]
+  const double omega_cam = engine_rpm / crank_per_cam * 2.0 * pi / 60.0;  // [rad/s]
+  const double omega_n = 2.0 * pi * natural_frequency_hz;                  // [rad/s]
+  const double beta = duration_deg * pi / 180.0;                          // [rad]
   const double r = omega_cam / (omega_n * beta);
   return r * r;
 }

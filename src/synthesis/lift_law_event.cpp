@@ -5,18 +5,17 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <numbers>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "camopt/core/error.hpp"
+#include "camopt/core/units.hpp"
 
 namespace camopt::synthesis {
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 constexpr double kCycleDeg = 360.0;
 // velocity below -kMonotonicTol * (mean flank velocity) counts as a falling flank
 constexpr double kMonotonicTol = 1e-9;
@@ -209,7 +208,7 @@ Motion Ramp::evaluate(double phi) const noexcept {
   if (length_ <= 0.0) return {};
   if (phi < blend_length_) {
     // cycloidal velocity blend 0 -> vr over [0, Lb]: v = vr (u - sin(2 pi u) / (2 pi))
-    const double lb = blend_length_, w = 2.0 * kPi;
+    const double lb = blend_length_, w = 2.0 * pi;
     const double u = std::max(phi, 0.0) / lb;
     const double s = std::sin(w * u), c = std::cos(w * u);
     return {v * lb * (0.5 * u * u + (c - 1.0) / (w * w)), v * (u - s / w), v / lb * (1.0 - c),

@@ -5,18 +5,16 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <numbers>
 #include <string>
 #include <vector>
 
 #include "camopt/core/error.hpp"
+#include "camopt/core/units.hpp"
 
 namespace camopt::synthesis {
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-constexpr double kDegToRad = kPi / 180.0;
 constexpr double kCycleDeg = 360.0;
 constexpr double kMaxLift = 1000.0;  // [mm] no valve lifts a metre: larger values are a unit or column mistake
 constexpr double kRoundingNegative = 1e-3;  // [mm] negatives treated as rounding of 0 (1 um: exported or measured tables)
@@ -86,10 +84,16 @@ bool equally_spaced(const std::vector<Site>& data, std::size_t first, std::size_
   return true;
 }
 
+// "file:line" of input row i, for messages
+struct RowRef {
+  const std::string& file;
+  const std::vector<int>& lines;  // file line of each row (may be empty)
+  std::string operator()(std::size_t i) const { return where(file, lines.empty() ? 0 : lines[i]); }
+};
+
 // clean tables only: an exact interpolant rings at a step and follows noise in its
 // acceleration, so both are rejected with the row, the values and the remedy
-template <class AtRow>
-void check_steps_and_noise(const std::vector<Site>& data, const AtRow& at_row) {
+void check_steps_and_noise(const std::vector<Site>& data, const RowRef& at_row) {
   const std::size_t n = data.size();
   double peak = 0.0;
   for (const Site& s : data) peak = std::max(peak, s.lift);
@@ -166,9 +170,12 @@ void find_slope_step(const std::vector<Site>& data, TargetLift& out) {
 }  // namespace
 
 double PeriodicBSpline::derivative(double cam_deg, int k) const {
-  CAMOPT_ASSERT(k >= 0 && k <= kDegree);
+  CAMOPT_THROW_UNLESS(k >= 0 && k <= kDegree,
+                      "PeriodicBSpline::derivative: order k = " + std::to_string(k) + " must be in 0 .. 5");
   const int m = static_cast<int>(coef.size());
-  CAMOPT_ASSERT(m >= kDegree + 1 && spacing_deg > 0);
+  CAMOPT_THROW_UNLESS(m >= kDegree + 1 && spacing_deg > 0,
+                      "PeriodicBSpline: " + std::to_string(m) + " coefficients at spacing_deg = " +
+                          format_value(spacing_deg) + " must be >= 6 at a spacing > 0 (a fitted spline)");
   // derivative of a uniform b-spline series: differences of the coefficients over the
   // spacing, one degree lower (de Boor, ch. X)
   std::vector<double> c = coef;
@@ -191,15 +198,17 @@ double PeriodicBSpline::derivative(double cam_deg, int k) const {
   return s;
 }
 
-PeriodicBSpline fit_periodic_bspline(std::span<const double> cam_deg, std::span<const double> lift_mm,
-                                     double knot_spacing_deg, const std::string& source) {
-  CAMOPT_ASSERT(cam_deg.size() == lift_mm.size());
+Status fit_periodic_bspline(std::span<const double> cam_deg, std::span<const double> lift_mm,
+                            double knot_spacing_deg, PeriodicBSpline& fit, const std::string& source) {
+  CAMOPT_THROW_UNLESS(cam_deg.size() == lift_mm.size(),
+                      "fit_periodic_bspline: lift_mm has " + std::to_string(lift_mm.size()) +
+                          " values, must have as many as cam_deg (" + std::to_string(cam_deg.size()) + ")");
   if (!std::isfinite(knot_spacing_deg) || knot_spacing_deg <= 0 || knot_spacing_deg > kCycleDeg / (kDegree + 1)) {
     throw InputError(where(source, 0) + ": smoothing knot spacing " + fmt(knot_spacing_deg) +
                      " cam deg: must be > 0 and <= 60 cam deg (at least 6 knots per cycle)");
   }
   const int m = std::max(kDegree + 1, static_cast<int>(std::lround(kCycleDeg / knot_spacing_deg)));
-  PeriodicBSpline fit;
+  fit = {};
   fit.spacing_deg = kCycleDeg / m;
 
   // normal equations a^t a c = a^t y; row i of a holds the 6 basis values at site i
@@ -231,54 +240,26 @@ PeriodicBSpline fit_periodic_bspline(std::span<const double> cam_deg, std::span<
     }
   }
   const Eigen::LLT<Eigen::MatrixXd> llt(normal);
-  if (llt.info() != Eigen::Success) {
-    throw NumericalError(Status{StatusCode::singular, "least-squares smoothing: normal equations not positive definite",
-                                source});
-  }
+  if (llt.info() != Eigen::Success)
+    return {StatusCode::singular, "least-squares smoothing: normal equations not positive definite", source};
   const Eigen::VectorXd c = llt.solve(rhs);
   fit.coef.assign(c.data(), c.data() + m);
-  return fit;
+  return Status::success();
 }
 
-double TargetLift::lift_at(double cam_deg) const { return lift(cam_deg * kDegToRad); }
+double TargetLift::lift_at(double cam_deg) const { return lift(cam_deg * rad_per_deg); }
 
-TargetLift fit_target_lift(std::span<const double> cam_deg, std::span<const double> lift_mm,
-                           const std::vector<int>& lines, const TargetLiftOptions& options) {
-  const std::string& file = options.source;
-  const std::size_t n_in = cam_deg.size();
-  CAMOPT_ASSERT(lift_mm.size() == n_in);
-  CAMOPT_ASSERT(lines.empty() || lines.size() == n_in);
-  const auto line_of = [&](std::size_t i) { return lines.empty() ? 0 : lines[i]; };
-  const auto at_row = [&](std::size_t i) { return where(file, line_of(i)); };
+namespace {
 
-  // options, one rule per line
-  if (!std::isfinite(options.closure_tolerance_mm) || options.closure_tolerance_mm < 0) {
-    throw InputError(where(file, 0) + ": closure tolerance " + fmt(options.closure_tolerance_mm) +
-                     " mm: must be finite and >= 0");
-  }
-  if (n_in < 2) {
-    throw InputError(where(file, 0) + ": a target lift table needs at least 2 rows (has " + std::to_string(n_in) + ")");
-  }
-  for (std::size_t i = 0; i < n_in; ++i) {
-    CAMOPT_ASSERT(std::isfinite(cam_deg[i]) && std::isfinite(lift_mm[i]));
-    if (i > 0) CAMOPT_ASSERT_MSG(cam_deg[i] > cam_deg[i - 1], "angles must be strictly increasing (caller checks)");
-  }
-  // rows closer than this make the interpolating spline's collocation system singular (no
-  // lift table is measured that finely) [cam deg]
-  constexpr double min_spacing_deg = 1e-6;
-  for (std::size_t i = 1; i < n_in; ++i)
-    if (cam_deg[i] - cam_deg[i - 1] < min_spacing_deg)
-      throw InputError(at_row(i) + ": angle " + fmt(cam_deg[i]) + " cam deg is only " +
-                       fmt(cam_deg[i] - cam_deg[i - 1]) + " deg after the previous row's " + fmt(cam_deg[i - 1]) +
-                       ": the angles are too close together for a lift table (rows must be at least " +
-                       fmt(min_spacing_deg) + " deg apart: merge them)");
-
-  // lift >= 0; rounding negatives are clamped when interpolating, noise kept when smoothing
+// the rows as sites: lift >= 0 (rounding negatives clamped to 0 when interpolating, noise
+// kept when smoothing) and <= kMaxLift
+std::vector<Site> sites_from_rows(std::span<const double> cam_deg, std::span<const double> lift_mm,
+                                  const TargetLiftOptions& options, const RowRef& at_row) {
   const double tol = options.closure_tolerance_mm;
   const double negative_limit = options.smooth ? std::max(kRoundingNegative, tol) : kRoundingNegative;
   std::vector<Site> data;
-  data.reserve(n_in);
-  for (std::size_t i = 0; i < n_in; ++i) {
+  data.reserve(cam_deg.size());
+  for (std::size_t i = 0; i < cam_deg.size(); ++i) {
     double y = lift_mm[i];
     if (y < -negative_limit) {
       throw InputError(at_row(i) + ": lift " + fmt(y) + " mm at " + fmt(cam_deg[i]) +
@@ -292,73 +273,120 @@ TargetLift fit_target_lift(std::span<const double> cam_deg, std::span<const doub
     if (y < 0 && !options.smooth) y = 0.0;
     data.push_back({cam_deg[i], y, static_cast<int>(i)});
   }
+  return data;
+}
 
-  // a cam's lift is measured from its base circle: the table must come down to it
+// the arguments of fit_target_lift, one rule per check: sizes, finite values, ascending
+// angles at least min_spacing_deg apart (InputError naming the field, the value and the rule)
+void check_rows(std::span<const double> cam_deg, std::span<const double> lift_mm, const std::vector<int>& lines,
+                const TargetLiftOptions& options, const RowRef& at_row) {
+  const std::string& file = options.source;
+  const std::size_t n_in = cam_deg.size();
+  CAMOPT_THROW_UNLESS(lift_mm.size() == n_in, "fit_target_lift: lift_mm has " + std::to_string(lift_mm.size()) +
+                                                  " rows, must have as many as cam_deg (" + std::to_string(n_in) + ")");
+  CAMOPT_THROW_UNLESS(lines.empty() || lines.size() == n_in,
+                      "fit_target_lift: lines has " + std::to_string(lines.size()) +
+                          " entries, must be empty or one per row (" + std::to_string(n_in) + ")");
+  if (n_in < 2) {
+    throw InputError(where(file, 0) + ": a target lift table needs at least 2 rows (has " + std::to_string(n_in) + ")");
+  }
+  for (std::size_t i = 0; i < n_in; ++i) {
+    CAMOPT_THROW_UNLESS(std::isfinite(cam_deg[i]) && std::isfinite(lift_mm[i]),
+                        at_row(i) + ": angle " + format_value(cam_deg[i]) + " cam deg and lift " +
+                            format_value(lift_mm[i]) + " mm must both be finite");
+    if (i > 0)
+      CAMOPT_THROW_UNLESS(cam_deg[i] > cam_deg[i - 1], at_row(i) + ": angle " + format_value(cam_deg[i]) +
+                                                           " cam deg must be above the previous row's " +
+                                                           format_value(cam_deg[i - 1]) + " (strictly increasing)");
+  }
+  // rows closer than this make the interpolating spline's collocation system singular (no
+  // lift table is measured that finely) [cam deg]
+  constexpr double min_spacing_deg = 1e-6;
+  for (std::size_t i = 1; i < n_in; ++i)
+    if (cam_deg[i] - cam_deg[i - 1] < min_spacing_deg)
+      throw InputError(at_row(i) + ": angle " + fmt(cam_deg[i]) + " cam deg is only " +
+                       fmt(cam_deg[i] - cam_deg[i - 1]) + " deg after the previous row's " + fmt(cam_deg[i - 1]) +
+                       ": the angles are too close together for a lift table (rows must be at least " +
+                       fmt(min_spacing_deg) + " deg apart: merge them)");
+}
+
+// a cam's lift is measured from its base circle: the table must come down to it
+void check_reaches_base_circle(const std::vector<Site>& data, double tol, const RowRef& at_row) {
   const auto lowest = std::min_element(data.begin(), data.end(), [](const Site& a, const Site& b) { return a.lift < b.lift; });
   if (lowest->lift > tol)
     throw InputError(at_row(static_cast<std::size_t>(lowest->row)) + ": the lift never comes down to the base circle: its " +
                      "smallest value is " + fmt(lowest->lift) + " mm (at " + fmt(lowest->deg) + " cam deg), above the " +
                      "closure tolerance " + fmt(tol) + " mm; a target is measured from the base circle (zero lift), so " +
                      "subtract the offset (a lash or another datum) from every row");
+}
 
-  // at most one cycle; exactly one cycle repeats the first site at the end
+// at most one cycle; exactly one cycle repeats the first site at the end: with
+// interpolation the last row is dropped, with smoothing both are kept. true when the table
+// spans the full cycle; message: what was done
+bool close_seam(std::vector<Site>& data, const TargetLiftOptions& options, const RowRef& at_row, std::string& message) {
+  const std::string& file = options.source;
+  const double tol = options.closure_tolerance_mm;
   const double first = data.front().deg;
   const double span = data.back().deg - first;
-  std::string message;
   if (span > kCycleDeg * (1 + kSpanRelTol)) {
     throw InputError(where(file, 0) + ": the table spans " + fmt(span) + " cam deg (" + fmt(first) + " .. " +
                      fmt(data.back().deg) +
                      "), more than one cycle (360 cam deg); give at most one cycle (crank-angle tables: 720 crank deg)");
   }
-  bool repeated_seam = false;
-  if (span >= kCycleDeg * (1 - kSpanRelTol)) {
-    repeated_seam = true;
-    const Site& last = data.back();
-    const double step = std::abs(last.lift - data.front().lift);
-    if (!options.smooth) {
-      if (step > tol) {
-        throw InputError(at_row(static_cast<std::size_t>(last.row)) + ": the table spans one full cycle (" + fmt(first) +
-                         " .. " + fmt(last.deg) + " cam deg) but its last row (" + fmt(last.deg) + " cam deg, " +
-                         fmt(last.lift) + " mm) does not repeat its first (" + fmt(first) + " cam deg, " +
-                         fmt(data.front().lift) + " mm): a step of " + fmt(step, 3) +
-                         " mm at the seam, more than the closure tolerance " + fmt(tol) +
-                         " mm; make the last lift equal the first, drop the last row, or smooth the table");
-      }
-      message = "table covers the full cycle (" + fmt(first) + " .. " + fmt(last.deg) + " cam deg); the last row repeats the first angle and was dropped";
-      if (step > 0) message += " (its lift differs by " + fmt(step, 3) + " mm; the first row's " + fmt(data.front().lift) + " mm is kept)";
-      data.pop_back();
-    } else {
-      message = "table covers the full cycle (" + fmt(first) + " .. " + fmt(last.deg) +
-                " cam deg); the first and last rows are the same angle and both enter the fit";
+  if (!(span >= kCycleDeg * (1 - kSpanRelTol))) return false;
+  const Site& last = data.back();
+  const double step = std::abs(last.lift - data.front().lift);
+  if (!options.smooth) {
+    if (step > tol) {
+      throw InputError(at_row(static_cast<std::size_t>(last.row)) + ": the table spans one full cycle (" + fmt(first) +
+                       " .. " + fmt(last.deg) + " cam deg) but its last row (" + fmt(last.deg) + " cam deg, " +
+                       fmt(last.lift) + " mm) does not repeat its first (" + fmt(first) + " cam deg, " +
+                       fmt(data.front().lift) + " mm): a step of " + fmt(step, 3) +
+                       " mm at the seam, more than the closure tolerance " + fmt(tol) +
+                       " mm; make the last lift equal the first, drop the last row, or smooth the table");
     }
+    message = "table covers the full cycle (" + fmt(first) + " .. " + fmt(last.deg) + " cam deg); the last row repeats the first angle and was dropped";
+    if (step > 0) message += " (its lift differs by " + fmt(step, 3) + " mm; the first row's " + fmt(data.front().lift) + " mm is kept)";
+    data.pop_back();
+  } else {
+    message = "table covers the full cycle (" + fmt(first) + " .. " + fmt(last.deg) +
+              " cam deg); the first and last rows are the same angle and both enter the fit";
   }
-  if (data.size() < 2) {
-    throw InputError(where(file, 0) + ": a target lift table needs at least 2 distinct angles");
-  }
+  return true;
+}
 
-  // median spacing of the table (the fill spacing)
+// the median spacing of the table [cam deg] (the fill spacing)
+double median_spacing(const std::vector<Site>& data) {
   std::vector<double> gaps;
   for (std::size_t i = 1; i < data.size(); ++i) gaps.push_back(data[i].deg - data[i - 1].deg);
   std::nth_element(gaps.begin(), gaps.begin() + static_cast<std::ptrdiff_t>(gaps.size() / 2), gaps.end());
-  const double h = gaps[gaps.size() / 2];
+  return gaps[gaps.size() / 2];
+}
 
-  // zero-lift points at about spacing h strictly inside (a, b)
+// zero-lift points at about spacing h strictly inside (a, b) appended to sites
+void fill_zero_lift(double a, double b, double h, const std::string& file, std::vector<Site>& sites) {
+  constexpr double kMaxFillPoints = 1e5;  // far above any real table (0.01 deg over a 360 deg gap: 3.6e4)
+  const double count = std::ceil((b - a) / h - 1e-9);
+  if (!(count <= kMaxFillPoints))
+    throw InputError(where(file, 0) + ": the gap " + fmt(a) + " .. " + fmt(b) +
+                     " cam deg would be filled with zero lift at the table's median spacing " + fmt(h) +
+                     " deg, i.e. " + fmt(count) + " points (more than " + fmt(kMaxFillPoints) +
+                     "); the angles are too close together for a lift table: check the angle column");
+  const int k = std::max(1, static_cast<int>(count));
+  for (int j = 1; j < k; ++j) sites.push_back({a + (b - a) * j / k, 0.0, -1});
+}
+
+// the sites of the spline: the data, with interior gaps on the base circle filled with zero
+// lift and the cycle closed on the base circle over the wrap-around interval when the table
+// does not cover it. closed: it was; message: what was added
+std::vector<Site> close_cycle(const std::vector<Site>& data, bool repeated_seam, const TargetLiftOptions& options,
+                              const RowRef& at_row, bool& closed, std::string& message) {
+  const std::string& file = options.source;
+  const double tol = options.closure_tolerance_mm;
+  const double h = median_spacing(data);
+  const auto on_base_circle = [&](const Site& s) { return s.lift <= tol; };
   std::vector<Site> sites;
   sites.reserve(data.size() * 2);
-  constexpr double kMaxFillPoints = 1e5;  // far above any real table (0.01 deg over a 360 deg gap: 3.6e4)
-  const auto fill = [&](double a, double b) {
-    const double count = std::ceil((b - a) / h - 1e-9);
-    if (!(count <= kMaxFillPoints))
-      throw InputError(where(file, 0) + ": the gap " + fmt(a) + " .. " + fmt(b) +
-                       " cam deg would be filled with zero lift at the table's median spacing " + fmt(h) +
-                       " deg, i.e. " + fmt(count) + " points (more than " + fmt(kMaxFillPoints) +
-                       "); the angles are too close together for a lift table: check the angle column");
-    const int k = std::max(1, static_cast<int>(count));
-    for (int j = 1; j < k; ++j) sites.push_back({a + (b - a) * j / k, 0.0, -1});
-  };
-  const auto on_base_circle = [&](const Site& s) { return s.lift <= tol; };
-
-  bool closed = false;
   std::string interior_msg;
   for (std::size_t i = 0; i < data.size(); ++i) {
     sites.push_back(data[i]);
@@ -374,13 +402,14 @@ TargetLift fit_target_lift(std::span<const double> cam_deg, std::span<const doub
                        fmt(off.deg) + " cam deg: a gap may only span the base circle (lift <= " + fmt(tol) +
                        " mm at both ends); fill in the rows");
     }
-    fill(a.deg, b.deg);
+    fill_zero_lift(a.deg, b.deg, h, file, sites);
     interior_msg += (interior_msg.empty() ? "" : ", ") + fmt(a.deg) + " .. " + fmt(b.deg);
   }
-
   // closure over the wrap-around interval
+  const double first = data.front().deg;
   const double last_deg = data.back().deg;
   const double wrap = first + kCycleDeg - last_deg;
+  closed = false;
   if (!repeated_seam && wrap > kWrapGapFactor * h) {
     const Site& s0 = data.front();
     const Site& s1 = data.back();
@@ -392,7 +421,7 @@ TargetLift fit_target_lift(std::span<const double> cam_deg, std::span<const doub
                        fmt(end->lift) + " mm: a table that does not cover the cycle must end on the base circle (lift <= " +
                        fmt(tol) + " mm); give the full cycle or a table that returns to zero lift");
     }
-    fill(last_deg, first + kCycleDeg);
+    fill_zero_lift(last_deg, first + kCycleDeg, h, file, sites);
     closed = true;
     message = "table covers " + fmt(last_deg - first) + " deg (" + fmt(first) + " .. " + fmt(last_deg) +
               " cam deg); closed on the base circle (zero lift) over the remaining " + fmt(wrap) + " deg";
@@ -409,62 +438,65 @@ TargetLift fit_target_lift(std::span<const double> cam_deg, std::span<const doub
     throw InputError(where(file, 0) + ": a target lift table needs at least 6 points per cycle (has " +
                      std::to_string(sites.size()) + ")");
   }
+  return sites;
+}
 
-  // after the gap and closure rules, so a table with both hears about its ends first
-  if (!options.smooth) check_steps_and_noise(data, at_row);
-
-  TargetLift out;
-  out.closed_on_base_circle = closed;
-  out.closure_message = message;
-  if (!options.smooth) find_slope_step(data, out);
-
+// exact interpolation, knots at the sites
+void interpolate_sites(const std::vector<Site>& sites, TargetLift& out) {
   std::vector<double> x, y;
-  if (!options.smooth) {
-    // exact interpolation, knots at the data sites
-    x.reserve(sites.size());
-    y.reserve(sites.size());
-    for (const Site& s : sites) {
-      x.push_back(s.deg * kDegToRad);
-      y.push_back(s.lift);
-    }
-    out.lift = PeriodicSpline::interpolate(x, y, 2 * kPi);
-  } else {
-    std::vector<double> sd, sy;
-    for (const Site& s : sites) {
-      sd.push_back(s.deg);
-      sy.push_back(s.lift);
-    }
-    const PeriodicBSpline fit = fit_periodic_bspline(sd, sy, options.smoothing_knot_spacing_deg, file);
-    // grid refining the knots: the fitted spline lies in the interpolant's space
-    const int per_knot = static_cast<int>(std::ceil(fit.spacing_deg / kFineGridDeg - 1e-9));
-    const int count = static_cast<int>(fit.coef.size()) * per_knot;
-    const double step = fit.spacing_deg / per_knot;
-    x.resize(static_cast<std::size_t>(count));
-    y.resize(static_cast<std::size_t>(count));
-    for (int i = 0; i < count; ++i) {
-      x[static_cast<std::size_t>(i)] = i * step * kDegToRad;
-      y[static_cast<std::size_t>(i)] = fit(i * step);
-    }
-    out.lift = PeriodicSpline::interpolate(x, y, 2 * kPi);
-
-    // residual against the rows of the table
-    double sum2 = 0.0;
-    for (std::size_t i = 0; i < n_in; ++i) {
-      const double r = out.lift_at(cam_deg[i]) - lift_mm[i];
-      sum2 += r * r;
-      if (std::abs(r) > out.residual_max_mm) {
-        out.residual_max_mm = std::abs(r);
-        out.residual_max_at_deg = cam_deg[i];
-      }
-    }
-    out.residual_rms_mm = std::sqrt(sum2 / static_cast<double>(n_in));
+  x.reserve(sites.size());
+  y.reserve(sites.size());
+  for (const Site& s : sites) {
+    x.push_back(s.deg * rad_per_deg);
+    y.push_back(s.lift);
   }
+  out.lift = PeriodicSpline::interpolate(x, y, 2 * pi);
+}
 
-  // peak lift: best breakpoint or piece midpoint, refined by newton on f' = 0
+// least-squares smoothing of the sites, converted to the periodic spline on a grid that
+// refines the knots (the fitted spline lies in the interpolant's space), with the residual
+// against the rows of the table
+Status smooth_sites(const std::vector<Site>& sites, std::span<const double> cam_deg, std::span<const double> lift_mm,
+                    const TargetLiftOptions& options, TargetLift& out) {
+  std::vector<double> sd, sy;
+  for (const Site& s : sites) {
+    sd.push_back(s.deg);
+    sy.push_back(s.lift);
+  }
+  PeriodicBSpline fit;
+  if (Status st = fit_periodic_bspline(sd, sy, options.smoothing_knot_spacing_deg, fit, options.source); !st.ok())
+    return st;
+  const int per_knot = static_cast<int>(std::ceil(fit.spacing_deg / kFineGridDeg - 1e-9));
+  const int count = static_cast<int>(fit.coef.size()) * per_knot;
+  const double step = fit.spacing_deg / per_knot;
+  std::vector<double> x(static_cast<std::size_t>(count)), y(static_cast<std::size_t>(count));
+  for (int i = 0; i < count; ++i) {
+    x[static_cast<std::size_t>(i)] = i * step * rad_per_deg;
+    y[static_cast<std::size_t>(i)] = fit(i * step);
+  }
+  out.lift = PeriodicSpline::interpolate(x, y, 2 * pi);
+  // residual against the rows of the table
+  const std::size_t n_in = cam_deg.size();
+  double sum2 = 0.0;
+  for (std::size_t i = 0; i < n_in; ++i) {
+    const double r = out.lift_at(cam_deg[i]) - lift_mm[i];
+    sum2 += r * r;
+    if (std::abs(r) > out.residual_max_mm) {
+      out.residual_max_mm = std::abs(r);
+      out.residual_max_at_deg = cam_deg[i];
+    }
+  }
+  out.residual_rms_mm = std::sqrt(sum2 / static_cast<double>(n_in));
+  return Status::success();
+}
+
+// peak lift: best breakpoint or piece midpoint, refined by newton on f' = 0; its angle in
+// the table's range first .. first + 360 [cam deg]
+void find_peak(double first, TargetLift& out) {
   const auto knots = out.lift.knots();
   double best_x = knots[0], best_f = -1e300;
   for (std::size_t i = 0; i < knots.size(); ++i) {
-    const double next = i + 1 < knots.size() ? knots[i + 1] : knots[0] + 2 * kPi;
+    const double next = i + 1 < knots.size() ? knots[i + 1] : knots[0] + 2 * pi;
     for (int q = 0; q < 4; ++q) {
       const double xq = knots[i] + (next - knots[i]) * q / 4.0;
       const double f = out.lift(xq);
@@ -480,15 +512,70 @@ TargetLift fit_target_lift(std::span<const double> cam_deg, std::span<const doub
     out.lift.evaluate(xn, 2, d);
     if (!(d[2] < 0)) break;
     const double dx = -d[1] / d[2];
-    if (std::abs(dx) > 0.5 * kDegToRad) break;  // stay near the sampled peak
+    if (std::abs(dx) > 0.5 * rad_per_deg) break;  // stay near the sampled peak
     xn += dx;
     if (std::abs(dx) < 1e-14) break;
   }
   if (out.lift(xn) >= best_f) best_x = xn;
   out.max_lift_mm = out.lift(best_x);
-  double at = best_x / kDegToRad;
+  double at = best_x / rad_per_deg;
   at = first + wrap360(at - first);
   out.max_lift_at_deg = at;
+}
+
+}  // namespace
+
+void TargetLiftOptions::validate() const {
+  CAMOPT_THROW_UNLESS(std::isfinite(closure_tolerance_mm) && closure_tolerance_mm >= 0,
+                      where(source, 0) + ": target lift option closure_tolerance_mm = " +
+                          format_value(closure_tolerance_mm) + " mm must be finite and >= 0");
+  CAMOPT_THROW_UNLESS(!smooth || (std::isfinite(smoothing_knot_spacing_deg) && smoothing_knot_spacing_deg > 0 &&
+                                  smoothing_knot_spacing_deg <= kCycleDeg / (kDegree + 1)),
+                      where(source, 0) + ": target lift option smoothing_knot_spacing_deg = " +
+                          format_value(smoothing_knot_spacing_deg) +
+                          " cam deg must be > 0 and <= 60 cam deg when smoothing (at least 6 knots per cycle)");
+}
+
+Status fit_target_lift(std::span<const double> cam_deg, std::span<const double> lift_mm, const std::vector<int>& lines,
+                       const TargetLiftOptions& options, TargetLift& out) {
+  const RowRef at_row{options.source, lines};
+  // the options and the rows, one rule per check
+  options.validate();
+  check_rows(cam_deg, lift_mm, lines, options, at_row);
+  // the rows as sites, lift >= 0, coming down to the base circle
+  std::vector<Site> data = sites_from_rows(cam_deg, lift_mm, options, at_row);
+  check_reaches_base_circle(data, options.closure_tolerance_mm, at_row);
+  // at most one cycle: a repeated seam dropped (interpolation) or kept (smoothing)
+  const double first = data.front().deg;
+  std::string message;
+  const bool repeated_seam = close_seam(data, options, at_row, message);
+  if (data.size() < 2) {
+    throw InputError(where(options.source, 0) + ": a target lift table needs at least 2 distinct angles");
+  }
+  // gaps on the base circle filled, the cycle closed on the base circle
+  bool closed = false;
+  const std::vector<Site> sites = close_cycle(data, repeated_seam, options, at_row, closed, message);
+  // after the gap and closure rules, so a table with both hears about its ends first
+  if (!options.smooth) check_steps_and_noise(data, at_row);
+  out = {};
+  out.closed_on_base_circle = closed;
+  out.closure_message = message;
+  if (!options.smooth) find_slope_step(data, out);
+  // the periodic spline: interpolated at the sites, or least-squares smoothed
+  if (!options.smooth) {
+    interpolate_sites(sites, out);
+  } else if (Status st = smooth_sites(sites, cam_deg, lift_mm, options, out); !st.ok()) {
+    return st;
+  }
+  // the peak and its angle
+  find_peak(first, out);
+  return Status::success();
+}
+
+TargetLift fit_target_lift(std::span<const double> cam_deg, std::span<const double> lift_mm,
+                           const std::vector<int>& lines, const TargetLiftOptions& options) {
+  TargetLift out;
+  if (Status st = fit_target_lift(cam_deg, lift_mm, lines, options, out); !st.ok()) throw NumericalError(st);
   return out;
 }
 

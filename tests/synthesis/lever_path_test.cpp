@@ -3,18 +3,17 @@
 #include <catch2/catch.hpp>
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 
+#include "camopt/core/units.hpp"
 #include "camopt/io/design_file.hpp"
 #include "camopt/kinematics/mechanism.hpp"
 #include "camopt/kinematics/solver.hpp"
+#include "camopt/synthesis/detail/radial_probe.hpp"
 #include "camopt/synthesis/mechanism_cut.hpp"
 
 using namespace camopt;
 
 namespace {
-
-constexpr double pi = std::numbers::pi;
 
 struct Upstream {
   DesignSpec spec;
@@ -100,4 +99,17 @@ TEST_CASE("lever path: only a floating lever driven through one cam contact on a
   synthesis::LeverPath tabled;
   REQUIRE(synthesis::build_lever_path(v.spec, v.mech, v.lever, {0.0}, tabled).ok());
   CHECK(tabled.contact == -1);
+}
+
+TEST_CASE("lever path: a design already using the probe's names has none (solved whole), without an exception",
+          "[synthesis][lever_path]") {
+  // the lever's gate contact renamed to the probe face's name: the probe spec would have two
+  // connections of that name, so no lever path is built and the upstream is solved whole
+  Upstream v("valvetronic");
+  for (auto& c : v.spec.connections)
+    if (c.name == "gate") c.name = synthesis::detail::kProbeFace;
+  v.mech = kin::compile(v.spec);
+  synthesis::LeverPath path;
+  REQUIRE(synthesis::build_lever_path(v.spec, v.mech, v.lever, {0.0}, path).ok());
+  CHECK(path.contact == -1);
 }

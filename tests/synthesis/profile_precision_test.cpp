@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "camopt/core/spline.hpp"
+#include "camopt/core/units.hpp"
 #include "camopt/io/csv.hpp"
 #include "camopt/io/design_file.hpp"
 #include "camopt/kinematics/sweep.hpp"
@@ -18,7 +19,7 @@ using namespace camopt;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using camopt::pi;
 
 // the valve acceleration [mm/deg^2] over one revolution at 0.05 deg
 std::vector<double> valve_acceleration(const DesignSpec& design) {
@@ -71,8 +72,8 @@ TEST_CASE("synthesis: a 36000-point profile read back from its CSV gives the val
   const io::AngleTable target = io::read_angle_table(
       io::read_csv(std::string(CAMOPT_SOURCE_DIR) + "/designs/targets/rff_intake_lift.csv"), {"lift_mm"});
   std::vector<double> cam_rad;
-  for (const double a : target.angle_deg) cam_rad.push_back(a * kPi / 180.0);
-  const PeriodicSpline lift = PeriodicSpline::interpolate(cam_rad, target.value, 2 * kPi);
+  for (const double a : target.angle_deg) cam_rad.push_back(a * pi / 180.0);
+  const PeriodicSpline lift = PeriodicSpline::interpolate(cam_rad, target.value, 2 * pi);
   synthesis::SynthesisOptions options;
   options.points = options.samples = 36000;
   synthesis::SynthesisResult result;

@@ -5,12 +5,12 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdint>
-#include <numbers>
 #include <random>
 #include <string>
 #include <vector>
 
 #include "camopt/core/error.hpp"
+#include "camopt/core/units.hpp"
 #include "camopt/io/csv.hpp"
 #include "camopt/synthesis/target_lift.hpp"
 
@@ -20,8 +20,8 @@ using namespace camopt::synthesis;
 using camopt::InputError;
 using Catch::Matchers::Contains;
 
-constexpr double pi = std::numbers::pi;
-constexpr double kDeg = pi / 180.0;
+using camopt::pi;
+using camopt::rad_per_deg;
 
 // named tolerances
 constexpr double kExactAbs = 1e-12;       // [mm] interpolation at the data
@@ -64,7 +64,7 @@ void require_c4(const camopt::PeriodicSpline& s) {
     s.evaluate(x, 5, right);
     s.evaluate(x - kJoinEps, 5, left);
     for (int k = 0; k <= 4; ++k) {
-      INFO("knot " << x / kDeg << " deg, derivative " << k);
+      INFO("knot " << x / rad_per_deg << " deg, derivative " << k);
       REQUIRE(std::abs(right[k] - left[k]) <= kContinuityRel * scale[k] + 2 * kJoinEps * scale[k + 1]);
     }
   }
@@ -393,7 +393,8 @@ TEST_CASE("target lift: smoothing recovers a noisy cycloidal rise-fall", "[synth
   require_c4(t.lift);
 
   // the conversion to PeriodicSpline reproduces the fitted b-spline
-  const PeriodicBSpline fit = fit_periodic_bspline(deg, lift, opt.smoothing_knot_spacing_deg);
+  PeriodicBSpline fit;
+  REQUIRE(fit_periodic_bspline(deg, lift, opt.smoothing_knot_spacing_deg, fit).ok());
   double conv = 0.0;
   for (double d = 0.0; d < 360.0; d += 0.05) conv = std::max(conv, std::abs(t.lift_at(d) - fit(d)));
   INFO("conversion error " << conv);
@@ -409,7 +410,8 @@ TEST_CASE("target lift: periodic b-spline fit reproduces a spline in its space",
     deg.push_back(d);
     lift.push_back(s(d));
   }
-  const PeriodicBSpline fit = fit_periodic_bspline(deg, lift, 10.0);
+  PeriodicBSpline fit;
+  REQUIRE(fit_periodic_bspline(deg, lift, 10.0, fit).ok());
   for (std::size_t j = 0; j < s.coef.size(); ++j) REQUIRE(std::abs(fit.coef[j] - s.coef[j]) < 1e-10);
   // derivatives against central differences
   for (double d = 3.3; d < 360.0; d += 17.0) {
@@ -422,7 +424,59 @@ TEST_CASE("target lift: periodic b-spline fit reproduces a spline in its space",
   // a knot interval without data is rejected
   std::vector<double> sparse = {0.0, 100.0, 200.0};
   std::vector<double> vals = {1.0, 2.0, 3.0};
-  CHECK_THROWS_AS(fit_periodic_bspline(sparse, vals, 10.0, "sparse.csv"), InputError);
+  PeriodicBSpline unfitted;
+  CHECK_THROWS_AS((void)fit_periodic_bspline(sparse, vals, 10.0, unfitted, "sparse.csv"), InputError);
+  // so is a knot spacing giving fewer than 6 knots, and a derivative order beyond 5
+  CHECK_THROWS_WITH((void)fit_periodic_bspline(deg, lift, 61.0, unfitted, "wide.csv"),
+                    Contains("smoothing knot spacing 61 cam deg: must be > 0 and <= 60 cam deg"));
+  CHECK_THROWS_AS(s.derivative(10.0, 6), InputError);
+  CHECK_THROWS_WITH(s.derivative(10.0, 6), Contains("order k = 6 must be in 0 .. 5"));
+  CHECK_THROWS_WITH(unfitted.derivative(10.0, 0), Contains("must be >= 6 at a spacing > 0"));
+}
+
+TEST_CASE("target lift: each option and argument rule is an input error naming the field, the value and the rule",
+          "[synthesis][target_lift][errors]") {
+  const std::vector<double> deg = {0, 90, 180, 270}, lift = {0, 1, 2, 1};
+  const std::vector<int> lines = {2, 3, 4, 5};
+  TargetLiftOptions opt;
+  opt.source = "t.csv";
+  CHECK_NOTHROW(opt.validate());
+  SECTION("closure_tolerance_mm") {
+    for (const double bad : {-0.1, std::nan("")}) {
+      opt.closure_tolerance_mm = bad;
+      CHECK_THROWS_AS(opt.validate(), InputError);
+      const std::string e = error_of(deg, lift, lines, opt);
+      CHECK_THAT(e, Contains("t.csv: target lift option closure_tolerance_mm = "));
+      CHECK_THAT(e, Contains(" mm must be finite and >= 0"));
+    }
+  }
+  SECTION("smoothing_knot_spacing_deg, when smoothing") {
+    opt.smoothing_knot_spacing_deg = 0.0;
+    CHECK_NOTHROW(opt.validate());  // not used without smoothing
+    opt.smooth = true;
+    for (const double bad : {0.0, -4.0, 61.0}) {
+      opt.smoothing_knot_spacing_deg = bad;
+      CHECK_THROWS_AS(opt.validate(), InputError);
+      CHECK_THAT(error_of(deg, lift, lines, opt),
+                 Contains("target lift option smoothing_knot_spacing_deg = " + camopt::format_value(bad) +
+                          " cam deg must be > 0 and <= 60 cam deg when smoothing"));
+    }
+  }
+  SECTION("one lift per angle") {
+    CHECK_THAT(error_of(deg, {0, 1, 2}, {}, opt), Contains("lift_mm has 3 rows, must have as many as cam_deg (4)"));
+  }
+  SECTION("one line per row, or none") {
+    CHECK_THAT(error_of(deg, lift, {2, 3}, opt), Contains("lines has 2 entries, must be empty or one per row (4)"));
+  }
+  SECTION("finite rows") {
+    CHECK_THAT(error_of(deg, {0, 1, std::nan(""), 1}, lines, opt), Contains("t.csv:4: angle 180 cam deg and lift nan mm must both be finite"));
+    CHECK_THAT(error_of({0, 90, INFINITY, 270}, lift, lines, opt), Contains("angle inf cam deg and lift 2 mm must both be finite"));
+  }
+  SECTION("strictly increasing angles") {
+    const std::string e = error_of({0, 90, 90, 270}, lift, lines, opt);
+    CHECK_THAT(e, Contains("t.csv:4: angle 90 cam deg must be above the previous row's 90 (strictly increasing)"));
+    CHECK_THAT(e, Contains("(rule: "));
+  }
 }
 
 TEST_CASE("target lift: absurd values and crowded angles are input errors naming the row", "[synthesis][target]") {

@@ -9,16 +9,18 @@
 // of its cam roller's centre along the cam's radial direction in the drawing (a probe face
 // pushing the roller; the lever's other contacts fix the rest of its pose, solved by the
 // kinematics with exact jets in q):
-//   1. L(q) is scanned from the rest (q = 0) up past the target's largest lift and split
-//      into monotone pieces at its turning points (a Valvetronic lever's valve lift first
-//      dips while the idle arc slides past the finger roller, then rises);
-//   2. from the target's peak back along the opening stroke and on along the closing one
+//   1. the probe mechanism is placed through the lever's rest pose (its cam roller on the
+//      base circle), and L(q) with the roller's centre is scanned from the rest (q = 0) up
+//      past the target's largest lift (detail/floating_scan.hpp);
+//   2. L(q) is split into monotone pieces at its turning points (a Valvetronic lever's
+//      valve lift first dips while the idle arc slides past the finger roller, then rises);
+//   3. from the target's peak back along the opening stroke and on along the closing one
 //      the lever's travel falls: each sample is inverted on the piece the lever is on
 //      (safeguarded newton; jets by series reversion of L(q) composed with L(theta)),
 //      moving to the previous piece where the target turns back at that piece's turning
 //      lift (else the lift does not fix the lever: a Status naming the angle), down to
 //      the rest (q = 0, the base circle) where the target reaches the lever's rest lift;
-//   3. samples where dL/dq is too small to invert (next to a turning point or the rest)
+//   4. samples where dL/dq is too small to invert (next to a turning point or the rest)
 //      are bridged by septic hermite pieces in theta between their neighbours' q jets;
 //      the lever's lift there misses the target by at most fill_error_mm (reported).
 #include <string>

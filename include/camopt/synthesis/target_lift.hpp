@@ -34,6 +34,7 @@
 #include <string>
 #include <vector>
 
+#include "camopt/core/error.hpp"
 #include "camopt/core/spline.hpp"
 
 namespace camopt::synthesis {
@@ -43,6 +44,9 @@ struct TargetLiftOptions {
   double smoothing_knot_spacing_deg = 4.0;  // [cam deg] knot spacing of the smoothing spline
   double closure_tolerance_mm = 0.05;       // [mm] largest lift at the table ends that may be closed on the base circle
   std::string source = "";                  // file name for messages
+
+  // throws InputError naming the field, its value and the rule it breaks (one rule per check)
+  void validate() const;
 };
 
 struct TargetLift {
@@ -63,7 +67,14 @@ struct TargetLift {
   double lift_at(double cam_deg) const;  // [mm] at [cam deg]
 };
 
-// cam_deg, lift_mm and lines (file line of each row; may be empty) have one entry per row
+// cam_deg, lift_mm and lines (file line of each row; may be empty) have one entry per row.
+// InputError for bad options (TargetLiftOptions::validate) or a table that breaks a rule
+// above; a Status when the smoothing's least-squares fit is singular (out then undefined)
+[[nodiscard]] Status fit_target_lift(std::span<const double> cam_deg, std::span<const double> lift_mm,
+                                     const std::vector<int>& lines, const TargetLiftOptions& options, TargetLift& out);
+
+// the same, returning the fit; a failed Status is thrown as NumericalError (the form the
+// CLI uses, where NumericalError maps to its exit code)
 TargetLift fit_target_lift(std::span<const double> cam_deg, std::span<const double> lift_mm,
                            const std::vector<int>& lines, const TargetLiftOptions& options);
 
@@ -74,15 +85,18 @@ struct PeriodicBSpline {
   double spacing_deg = 0.0;   // [cam deg], 360 / coef.size()
   std::vector<double> coef;   // [mm]
 
-  // d^k f / dtheta^k at theta [cam deg] for k = 0..5, in [mm / deg^k]
+  // d^k f / dtheta^k at theta [cam deg] for k = 0..5, in [mm / deg^k]; InputError for
+  // another k or an unfitted spline
   double derivative(double cam_deg, int k) const;
   double operator()(double cam_deg) const { return derivative(cam_deg, 0); }
 };
 
 // fit to (cam_deg, lift_mm) at any angles (wrapped modulo 360; repeats allowed) with knot
 // spacing 360 / round(360 / knot_spacing_deg) (at least 6 knots). throws InputError when
-// a knot interval holds no site (the fit would be singular there).
-PeriodicBSpline fit_periodic_bspline(std::span<const double> cam_deg, std::span<const double> lift_mm,
-                                     double knot_spacing_deg, const std::string& source = "");
+// the knot spacing is not in (0, 60] or a knot interval holds no site (the fit would be
+// singular there); a singular Status when the normal equations are not positive definite.
+[[nodiscard]] Status fit_periodic_bspline(std::span<const double> cam_deg, std::span<const double> lift_mm,
+                                          double knot_spacing_deg, PeriodicBSpline& fit,
+                                          const std::string& source = "");
 
 }  // namespace camopt::synthesis
