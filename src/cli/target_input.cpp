@@ -15,7 +15,8 @@ ValveTarget read_valve_target(const io::CsvTable& table, const std::string& path
     for (auto& a : cam_deg) a /= spec.driver.crank_per_cam;
   synthesis::TargetLiftOptions fit = options;
   fit.source = path;
-  t.fit = synthesis::fit_target_lift(cam_deg, at.value, at.lines, fit);
+  if (const Status st = synthesis::fit_target_lift(cam_deg, at.value, at.lines, fit, t.fit); !st.ok())
+    throw NumericalError(st);
   if (t.fit.closed_on_base_circle) info("target " + path + ": " + t.fit.closure_message);
   return t;
 }
