@@ -9,11 +9,13 @@
 #include <cstdint>
 #include <numbers>
 #include <random>
-#include <stdexcept>
 #include <vector>
+
+#include "camopt/core/error.hpp"
 
 namespace {
 
+using camopt::InputError;
 using camopt::Jet;
 using camopt::PeriodicSpline;
 using camopt::Spline;

@@ -1,12 +1,18 @@
-// a run computes only the outputs it asked for (the brief: "skip what a scene doesn't
-// need"), beyond what its continuation needs: the Taylor series to order 3 at every point
-// (the predictor and the step control use them, whatever is requested, so every request
+// kin::sweep: its error contract (a bad spec is an InputError naming the field, the value
+// and the rule; an exception in a worker thread reaches the caller), and a run computes
+// only the outputs it asked for, beyond what its continuation needs: the Taylor series to
+// order 3 at every point (the predictor and the step control use them, whatever is requested, so every request
 // takes the same steps and gives the same values). The solver's work counters show that a
 // lift-only sweep and a derivative sweep do the same continuation work and compute no
 // contact quantity, and that a lift-only sweep returns no derivative.
+#include <atomic>
 #include <catch2/catch.hpp>
+#include <chrono>
+#include <cmath>
 #include <filesystem>
+#include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "camopt/io/design_file.hpp"
@@ -76,4 +82,67 @@ TEST_CASE("sweeps compute only the requested outputs, on every bundled design", 
       CHECK(p.stats.contact_outputs == contacts * static_cast<long>(all.driver.size()));
     }
   }
+}
+
+namespace {
+kin::Mechanism bundled(const std::string& name) {
+  return kin::compile(io::load_design(std::string(CAMOPT_SOURCE_DIR) + "/designs/" + name + ".toml"));
+}
+}  // namespace
+
+TEST_CASE("sweep: a bad spec is an InputError naming the field, the value and the rule", "[kinematics][sweep]") {
+  const kin::Mechanism m = bundled("bucket_tappet");
+  kin::SweepSpec spec;
+  spec.step = 0.0;
+  CHECK_THROWS_AS(kin::sweep(m, spec), InputError);
+  CHECK_THROWS_WITH(kin::sweep(m, spec), Catch::Contains("sweep step = 0 must be > 0"));
+  spec.step = 1.0;
+  spec.start = 10.0;
+  spec.stop = 5.0;
+  CHECK_THROWS_WITH(kin::sweep(m, spec), Catch::Contains("sweep stop = 5 must be >= start = 10"));
+  spec.stop = NAN;
+  CHECK_THROWS_WITH(kin::sweep(m, spec), Catch::Contains("sweep stop = nan must be finite"));
+  spec = {};
+  spec.request = {4, false};
+  CHECK_THROWS_WITH(kin::sweep(m, spec), Catch::Contains("request.derivative_order = 4 must be in [0, 3]"));
+  spec.request = {0, true};
+  CHECK_THROWS_WITH(kin::sweep(m, spec), Catch::Contains("request.contacts = true needs request.derivative_order >= 1"));
+  spec = {};
+  spec.control_positions = {{1.0, 2.0}};
+  CHECK_THROWS_AS(kin::sweep(m, spec), InputError);
+  CHECK_THROWS_WITH(kin::sweep(m, spec), Catch::Contains("sweep control_positions[0] has 2 value(s)"));
+}
+
+TEST_CASE("sweep: an exception in a worker thread reaches the caller", "[kinematics][sweep]") {
+  const kin::Mechanism m = bundled("cvvl_swing_cam");
+  REQUIRE(!m.controls.empty());
+  kin::SweepSpec spec;
+  spec.step = 30.0;
+  spec.request = {0, false};
+  spec.threads = 2;
+  for (int k = 0; k < 4; ++k) spec.control_positions.push_back(m.default_controls());
+  // the caller's thread waits in its first progress call until a worker thread has run one
+  // (so the worker thread surely takes a position); the worker thread throws
+  const std::thread::id caller = std::this_thread::get_id();
+  std::atomic<bool> worker_ran{false};
+  spec.on_position_done = [&] {
+    if (std::this_thread::get_id() != caller) {
+      worker_ran = true;
+      throw InputError("a bad argument found inside the worker");
+    }
+    for (int i = 0; i < 10000 && !worker_ran; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  };
+  CHECK_THROWS_AS(kin::sweep(m, spec), InputError);
+  CHECK_THROWS_WITH(kin::sweep(m, spec), "a bad argument found inside the worker");
+  CHECK(worker_ran);
+}
+
+TEST_CASE("sweep: periodic_motion rejects a bad step and a node that is not a body", "[kinematics][sweep]") {
+  const kin::Mechanism m = bundled("bucket_tappet");
+  PeriodicSpline motion;
+  CHECK_THROWS_AS((void)kin::periodic_motion(m, m.output_node, {}, 0.0, motion), InputError);
+  CHECK_THROWS_WITH((void)kin::periodic_motion(m, m.output_node, {}, 0.0, motion),
+                    Catch::Contains("periodic_motion: step_deg = 0 must be in (0, 360)"));
+  CHECK_THROWS_WITH((void)kin::periodic_motion(m, 0, {}, 1.0, motion),
+                    Catch::Contains("periodic_motion: node = 0 must be a body index"));
 }
