@@ -7,7 +7,6 @@
 #include <array>
 #include <cmath>
 #include <sstream>
-#include <stdexcept>
 #include <string>
 
 #include "camopt/core/bspline_basis.hpp"
@@ -37,29 +36,29 @@ constexpr std::array<double, 6> kInvFactorial = {1.0,       1.0,        1.0 / 2.
 
 std::string fmt(double v) { return format_value(v, 17); }
 
-// size, finiteness and strict monotonicity of the data (programmer misuse -> throw)
+// size, finiteness and strict monotonicity of the data: an InputError naming the point
 void check_data(const char* who, std::span<const double> x, std::span<const double> y,
                 std::size_t min_points) {
-  if (x.size() != y.size()) {
-    throw std::invalid_argument(std::string(who) + ": x has " + std::to_string(x.size()) +
-                                " points but y has " + std::to_string(y.size()));
-  }
-  if (x.size() < min_points) {
-    throw std::invalid_argument(std::string(who) + ": " + std::to_string(x.size()) +
-                                " points given, at least " + std::to_string(min_points) +
-                                " required");
-  }
+  CAMOPT_THROW_UNLESS(x.size() == y.size(), std::string(who) + ": x has " + std::to_string(x.size()) +
+                                                " points but y has " + std::to_string(y.size()));
+  CAMOPT_THROW_UNLESS(x.size() >= min_points, std::string(who) + ": " + std::to_string(x.size()) +
+                                                  " points given, at least " + std::to_string(min_points) +
+                                                  " required");
   for (std::size_t i = 0; i < x.size(); ++i) {
-    if (!std::isfinite(x[i]) || !std::isfinite(y[i])) {
-      throw std::invalid_argument(std::string(who) + ": point " + std::to_string(i) + " (" +
-                                  fmt(x[i]) + ", " + fmt(y[i]) + ") is not finite");
-    }
-    if (i > 0 && !(x[i] > x[i - 1])) {
-      throw std::invalid_argument(std::string(who) + ": x[" + std::to_string(i) + "] = " +
-                                  fmt(x[i]) + " is not greater than x[" + std::to_string(i - 1) +
-                                  "] = " + fmt(x[i - 1]) + " (x must be strictly increasing)");
-    }
+    CAMOPT_THROW_UNLESS(std::isfinite(x[i]) && std::isfinite(y[i]),
+                        std::string(who) + ": point " + std::to_string(i) + " (" + fmt(x[i]) + ", " + fmt(y[i]) +
+                            ") is not finite");
+    CAMOPT_THROW_UNLESS(i == 0 || x[i] > x[i - 1],
+                        std::string(who) + ": x[" + std::to_string(i) + "] = " + fmt(x[i]) +
+                            " is not greater than x[" + std::to_string(i - 1) + "] = " +
+                            fmt(x[i - 1]) + " (x must be strictly increasing)");
   }
+}
+
+// a collocation system that cannot be solved: the data's x values are too close together
+// for their spread (the data is at fault, not the solve)
+[[noreturn]] void singular_collocation(const char* who) {
+  throw InputError(std::string(who) + ": singular collocation system: x values nearly coincide for their spread");
 }
 
 Eigen::VectorXd solve(const char* who, const Eigen::SparseMatrix<double>& A,
@@ -69,22 +68,16 @@ Eigen::VectorXd solve(const char* who, const Eigen::SparseMatrix<double>& A,
     // analysis cost more than the factorisation itself at this size)
     const Eigen::PartialPivLU<Eigen::MatrixXd> dense{Eigen::MatrixXd(A)};
     const auto pivots = dense.matrixLU().diagonal().cwiseAbs();
-    if (!(pivots.minCoeff() > 1e-14 * pivots.maxCoeff()))
-      throw std::invalid_argument(std::string(who) + ": singular collocation system (nearly coincident x?)");
+    if (!(pivots.minCoeff() > 1e-14 * pivots.maxCoeff())) singular_collocation(who);
     Eigen::VectorXd c = dense.solve(b);
-    if (!c.allFinite()) throw std::invalid_argument(std::string(who) + ": collocation solve failed");
+    if (!c.allFinite()) singular_collocation(who);
     return c;
   }
   Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> lu;
   lu.compute(A);
-  if (lu.info() != Eigen::Success) {
-    throw std::invalid_argument(std::string(who) +
-                                ": singular collocation system (nearly coincident x?)");
-  }
+  if (lu.info() != Eigen::Success) singular_collocation(who);
   Eigen::VectorXd c = lu.solve(b);
-  if (lu.info() != Eigen::Success || !c.allFinite()) {
-    throw std::invalid_argument(std::string(who) + ": collocation solve failed");
-  }
+  if (lu.info() != Eigen::Success || !c.allFinite()) singular_collocation(who);
   return c;
 }
 
@@ -395,11 +388,9 @@ PeriodicSpline PeriodicSpline::interpolate_periodic(std::span<const double> x, s
                                                     double period, bool banded) {
   constexpr const char* who = "PeriodicSpline::interpolate";
   check_data(who, x, y, 6);
-  if (!std::isfinite(period) || !(x.back() - x.front() < period)) {
-    throw std::invalid_argument(
-        std::string(who) + ": period = " + fmt(period) +
-        " must exceed the data span x.back() - x.front() = " + fmt(x.back() - x.front()));
-  }
+  CAMOPT_THROW_UNLESS(std::isfinite(period) && x.back() - x.front() < period,
+                      std::string(who) + ": period = " + fmt(period) +
+                          " must exceed the data span x.back() - x.front() = " + fmt(x.back() - x.front()));
   const int n = static_cast<int>(x.size());
   constexpr int p = kDegree;
 
@@ -581,8 +572,7 @@ Spline Spline::interpolate(std::span<const double> x, std::span<const double> y)
   }
   end_rows(last_span, n + 2);
   Eigen::VectorXd c = b;
-  if (!solve_banded(nb, kl, ku, band, c))
-    throw std::invalid_argument(std::string(who) + ": singular collocation system (nearly coincident x?)");
+  if (!solve_banded(nb, kl, ku, band, c)) singular_collocation(who);
 
   // taylor coefficients at the left end of each piece from the differenced coefficients
   // (as PeriodicSpline::interpolate_periodic) c^(k)_j = (q + 1) (c^(k-1)_j - c^(k-1)_{j-1}) /

@@ -2,14 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 #include <vector>
+
+#include "camopt/core/units.hpp"
 
 namespace camopt::kin {
 
 namespace {
-constexpr double two_pi = 2.0 * std::numbers::pi;
-constexpr double deg = std::numbers::pi / 180.0;
 
 void require(bool ok, const ProfileSpec& spec, const std::string& rule) {
   if (!ok) throw InputError(spec.where, "profile '" + spec.name + "': " + rule);
@@ -40,14 +39,14 @@ CamProfile CamProfile::build(const ProfileSpec& spec) {
               "needs at least 6 (angle, radius) points of equal count");
       std::vector<double> u(values.size()), r(values.size());
       for (std::size_t i = 0; i < values.size(); ++i) {
-        u[i] = spec.angle_deg[i] * deg;
+        u[i] = spec.angle_deg[i] * rad_per_deg;
         r[i] = lift ? spec.base_radius_mm + values[i] : values[i];
         if (!(r[i] > 0)) require(false, spec, "radius at " + std::to_string(spec.angle_deg[i]) + " deg is not > 0");
         if (i > 0 && !(u[i] > u[i - 1])) require(false, spec, "angles must be strictly increasing");
       }
-      require(u.back() - u.front() < two_pi, spec, "angles must span less than 360 deg");
+      require(u.back() - u.front() < 2.0 * pi, spec, "angles must span less than 360 deg");
       p.polar_ = true;
-      p.r_ = PeriodicSpline::interpolate(u, r, two_pi);
+      p.r_ = PeriodicSpline::interpolate(u, r, 2.0 * pi);
       break;
     }
     case ProfileForm::xy: {
@@ -65,10 +64,10 @@ CamProfile CamProfile::build(const ProfileSpec& spec) {
         area2 += spec.x_mm[i] * spec.y_mm[j] - spec.x_mm[j] * spec.y_mm[i];
       }
       require(area2 > 0, spec, "points must run counter-clockwise around the profile origin");
-      for (auto& v : s) v *= two_pi / total;
+      for (auto& v : s) v *= 2.0 * pi / total;
       p.polar_ = false;
-      p.x_ = PeriodicSpline::interpolate(s, spec.x_mm, two_pi);
-      p.y_ = PeriodicSpline::interpolate(s, spec.y_mm, two_pi);
+      p.x_ = PeriodicSpline::interpolate(s, spec.x_mm, 2.0 * pi);
+      p.y_ = PeriodicSpline::interpolate(s, spec.y_mm, 2.0 * pi);
       break;
     }
   }
@@ -76,11 +75,11 @@ CamProfile CamProfile::build(const ProfileSpec& spec) {
   // profile's on a fine scan
   double rmin = 1e300, rmax = 0.0;
   if (p.polar_) {
-    p.r_.value_range(p.r_.knots().front() + two_pi, rmin, rmax);
+    p.r_.value_range(p.r_.knots().front() + 2.0 * pi, rmin, rmax);
   } else {
     constexpr int scan = 4096;
     for (int i = 0; i < scan; ++i) {
-      const auto c = p.point(two_pi * i / scan);
+      const auto c = p.point(2.0 * pi * i / scan);
       const double rad = std::hypot(c.x, c.y);
       rmin = std::min(rmin, rad);
       rmax = std::max(rmax, rad);
@@ -99,8 +98,8 @@ double CamProfile::radius_at(double polar_angle_rad) const {
     return e * std::cos(a) + std::sqrt(disc_radius_ * disc_radius_ - e * e * std::sin(a) * std::sin(a));
   }
   // xy: find the parameter whose polar angle matches by bisection on the monotone angle
-  const double target = std::remainder(polar_angle_rad, two_pi);
-  double lo = 0.0, hi = two_pi;
+  const double target = std::remainder(polar_angle_rad, 2.0 * pi);
+  double lo = 0.0, hi = 2.0 * pi;
   auto angle_of = [&](double u) {
     const auto c = point(u);
     return std::atan2(c.y, c.x);
@@ -108,13 +107,13 @@ double CamProfile::radius_at(double polar_angle_rad) const {
   const double a0 = angle_of(0.0);
   auto unwrapped = [&](double u) {
     double a = angle_of(u) - a0;
-    while (a < 0) a += two_pi;
-    if (u > 0 && a == 0) a = two_pi;
+    while (a < 0) a += 2.0 * pi;
+    if (u > 0 && a == 0) a = 2.0 * pi;
     return a;
   };
   double t = target - a0;
-  while (t < 0) t += two_pi;
-  while (t >= two_pi) t -= two_pi;
+  while (t < 0) t += 2.0 * pi;
+  while (t >= 2.0 * pi) t -= 2.0 * pi;
   for (int it = 0; it < 80; ++it) {
     const double mid = 0.5 * (lo + hi);
     (unwrapped(mid) < t ? lo : hi) = mid;

@@ -1,9 +1,9 @@
 #include "camopt/kinematics/drawing_check.hpp"
 
 #include <cmath>
-#include <numbers>
 #include <sstream>
 
+#include "camopt/core/units.hpp"
 #include "camopt/kinematics/solver.hpp"
 
 namespace camopt::kin {
@@ -23,13 +23,13 @@ std::vector<std::string> check_drawing(const Mechanism& mech) {
     const int n = mech.variables[v].node;
     if (n < 0 || n == mech.driver_node || at_rest[n]) continue;
     const bool angle = mech.variables[v].is_angle;
-    const double tol = angle ? 1e-3 * std::numbers::pi / 180.0 : 1e-3;  // 0.001 deg or 0.001 mm
+    const double tol = angle ? 1e-3 * pi / 180.0 : 1e-3;  // 0.001 deg or 0.001 mm
     const double x = ws.values[v];
     if (std::abs(x) > tol) {
       std::ostringstream os;
       os.precision(6);
       os << "drawing not assembled: '" << mech.variables[v].name << "' solves to "
-         << (angle ? x * 180.0 / std::numbers::pi : x) << (angle ? " deg" : " mm")
+         << (angle ? x * 180.0 / pi : x) << (angle ? " deg" : " mm")
          << " at driver 0 instead of 0 (its drawing position); check the drawing coordinates or length_mm";
       notes.push_back(os.str());
     }

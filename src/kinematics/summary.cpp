@@ -3,16 +3,15 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numbers>
 #include <optional>
 
+#include "camopt/core/units.hpp"
 #include "camopt/kinematics/grid_refine.hpp"
 #include "camopt/kinematics/sweep.hpp"
 
 namespace camopt::kin {
 
 namespace {
-constexpr double deg = std::numbers::pi / 180.0;
 constexpr double inf = std::numeric_limits<double>::infinity();
 
 // one quantity over the grid with its derivatives, and where lash gaps open or close
@@ -145,7 +144,7 @@ Separation separation(const Mechanism& m, const SweepResult& r, std::size_t posi
   const SolveStep& st = m.plan[step];
   const Node& node = m.nodes[st.output_node];
   const int v = node.first_variable;
-  const double rest = m.variables[v].is_angle ? node.rest / deg : node.rest;
+  const double rest = m.variables[v].is_angle ? node.rest / rad_per_deg : node.rest;
   Series s = variable_series(r, position, m.variables.size(), v, rest);
   const std::uint64_t bit = std::uint64_t{1} << std::min(step, 63);
   auto open = [&](std::size_t i) { return (s.lash[i] & bit) != 0; };
@@ -228,13 +227,13 @@ void contact_radii(const Mechanism& m, const SweepResult& r, std::size_t positio
 void contact_extremes(const Mechanism& m, const SweepResult& r, std::size_t position, PositionSummary& s) {
   const PositionResult& p = r.positions[position];
   const std::size_t nc = m.connections.size();
-  const double unit = m.driver_is_angle() ? deg : 1.0;
+  const double unit = m.driver_is_angle() ? rad_per_deg : 1.0;
   for (std::size_t c = 0; c < nc; ++c) {
     const Connection& conn = m.connections[c];
     if (conn.kind != ConnectionKind::contact) continue;
     for (std::size_t i = 0; i < r.driver.size(); ++i) {
       const ContactState& cs = p.contacts[i * nc + c];
-      const double pa = cs.pressure_angle / deg;
+      const double pa = cs.pressure_angle / rad_per_deg;
       if (!cs.open && pa > s.max_pressure_angle_deg)
         s.max_pressure_angle_deg = pa, s.max_pressure_angle_at = r.driver[i], s.max_pressure_angle_contact = conn.name;
       s.max_roller_speed = std::max(s.max_roller_speed, std::abs(cs.roller_speed) * unit);
@@ -259,7 +258,7 @@ PositionSummary summarize(const Mechanism& m, const SweepResult& r, std::size_t 
   // the output node's lift, measured from its rest position, with its derivatives
   const Node& out = m.nodes[m.output_node];
   const int v = out.first_variable;
-  const Series lift = variable_series(r, position, nv, v, m.variables[v].is_angle ? out.rest / deg : out.rest);
+  const Series lift = variable_series(r, position, nv, v, m.variables[v].is_angle ? out.rest / rad_per_deg : out.rest);
   s.refined = lift.order > 0;
   // extremes, durations and area of the lift
   lift_extremes(lift, s);

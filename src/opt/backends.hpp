@@ -36,8 +36,9 @@ class CachedProblem {
  public:
   explicit CachedProblem(CamProblem& p) : problem_(p) {}
   // evaluates at x unless it is the cached point (with gradients if asked); false on a
-  // failed evaluation (status() says why)
-  bool at(const double* x, bool gradients);
+  // failed evaluation (status() says why, an exception's message included: nothing is thrown
+  // into the solvers' callbacks)
+  bool at(const double* x, bool gradients) noexcept;
   const Evaluation& eval() const { return eval_; }
   const Status& status() const { return status_; }
   CamProblem& problem() { return problem_; }

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "camopt/core/units.hpp"
 #include "camopt/kinematics/detail/geometry.hpp"
 #include "camopt/kinematics/mechanism.hpp"
 #include "camopt/kinematics/solver.hpp"
@@ -118,7 +119,7 @@ Status CamContactModel::evaluate(double cam_rad, const double lift[3], ContactWo
   // cam node motion psi(theta) and its pivot
   Status st = kin::solve(m.up, ws.up_ws, cam_rad, {2, false});
   if (!st.ok()) {
-    st.where = "cam " + fmt(cam_rad * 180.0 / 3.141592653589793) + " deg";
+    st.where = "cam " + fmt(cam_rad * 180.0 / pi) + " deg";
     return st;
   }
   const kin::Node& cn = m.up.nodes[static_cast<std::size_t>(m.cam)];
@@ -130,7 +131,7 @@ Status CamContactModel::evaluate(double cam_rad, const double lift[3], ContactWo
   st = kin::solve(m.down, ws.down_ws, lift[0], {3, false});
   if (!st.ok()) {
     st.message = "inverting the valve lift " + fmt(lift[0]) + " mm through '" + follower_node_ + "': " + st.message;
-    st.where = "cam " + fmt(cam_rad * 180.0 / 3.141592653589793) + " deg";
+    st.where = "cam " + fmt(cam_rad * 180.0 / pi) + " deg";
     return st;
   }
   const kin::Node& fn = m.down.nodes[static_cast<std::size_t>(m.follower)];
@@ -180,7 +181,7 @@ Status CamContactModel::evaluate(double cam_rad, const double lift[3], ContactWo
     const G speed = sqrt(dot(P1, P1));
     if (!(speed.v > 1e-12))
       return {StatusCode::undercut, "the follower centre stands still relative to the cam (no envelope)",
-              "cam " + fmt(cam_rad * 180.0 / 3.141592653589793) + " deg"};
+              "cam " + fmt(cam_rad * 180.0 / pi) + " deg"};
     const double s = cross(w, P1).v >= 0.0 ? 1.0 : -1.0;
     const V nu{P1.y * (s / speed), -P1.x * (s / speed)};  // outward normal of the pitch curve, cam -> follower
     out.pitch_curvature = s * cross(P1, P2) / (speed * speed * speed);
@@ -222,7 +223,7 @@ Status CamContactModel::evaluate(double cam_rad, const double lift[3], ContactWo
   const G b2 = (m.rotational_follower ? qd2 : G(0.0)) - psi2;      // d2(beta)/dtheta2
   if (!(std::abs(b1.v) > 1e-12))
     return {StatusCode::undercut, "the flat face does not turn relative to the cam (no envelope)",
-            "cam " + fmt(cam_rad * 180.0 / 3.141592653589793) + " deg"};
+            "cam " + fmt(cam_rad * 180.0 / pi) + " deg"};
   const G hb = h1 / b1;
   const G hbb = (h2 * b1 - h1 * b2) / (b1 * b1 * b1);
   out.cam_radius = h + hbb;

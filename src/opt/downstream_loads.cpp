@@ -3,6 +3,7 @@
 #include <Eigen/Core>
 #include <numeric>
 
+#include "camopt/core/units.hpp"
 #include "camopt/dynamics/model.hpp"
 #include "camopt/kinematics/detail/geometry.hpp"
 #include "camopt/kinematics/mechanism.hpp"
@@ -14,7 +15,6 @@ namespace camopt::opt {
 namespace {
 
 constexpr double kMilli = 1e-3;  // kg mm/s^2 -> N
-constexpr double kDegPerRad = 180.0 / 3.141592653589793;
 
 // connected components of the downstream bodies without connection `skip` (ground joins nothing)
 std::vector<int> components(const kin::Mechanism& m, int skip) {
@@ -138,7 +138,7 @@ Status DownstreamLoads::evaluate(double cam_rad, const double lift[3], LoadWorks
   Status st = kin::solve(m.down, ws, lift[0], {3, false});
   if (!st.ok()) {
     st.message = "the loads at valve lift " + format_value(lift[0], 6) + " mm: " + st.message;
-    st.where = "cam " + format_value(cam_rad * kDegPerRad, 6) + " deg";
+    st.where = "cam " + format_value(cam_rad * deg_per_rad, 6) + " deg";
     return st;
   }
   const double L1 = lift[1], L2 = lift[2];
@@ -202,7 +202,7 @@ Status DownstreamLoads::evaluate(double cam_rad, const double lift[3], LoadWorks
   }
 
   // gas force against the valve's opening at this crank angle
-  const double crank_deg = cam_rad * kDegPerRad * m.crank_per_cam;
+  const double crank_deg = cam_rad * deg_per_rad * m.crank_per_cam;
   for (const Impl::Gas& g : m.gas) {
     const auto& x = vars[static_cast<std::size_t>(m.down.nodes[static_cast<std::size_t>(g.node)].first_variable)];
     const double f = g.gas.at(crank_deg);

@@ -84,13 +84,10 @@ double worst(const Elastic& c, const Evaluation& e, bool hard_only) {
   return v;
 }
 
-bool ok_at(Elastic& c, const double* x, bool gradients) {
-  bool ok = false;
-  try {
-    ok = c.cache->at(x, gradients);
-  } catch (...) {
-    ok = false;
-  }
+// the evaluation at x (the cache keeps a failure's status, an exception's message included);
+// a failure stops the run
+bool ok_at(Elastic& c, const double* x, bool gradients) noexcept {
+  const bool ok = c.cache->at(x, gradients);
   if (!ok) {
     c.failed = true;
     nlopt_force_stop(c.opt);

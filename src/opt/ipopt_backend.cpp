@@ -1,6 +1,7 @@
 // Ipopt 3.11 TNLP around a CamProblem (Wächter & Biegler, Math. Prog. 106 (2006) 25-57).
 // g = (closure A u - b, inequalities); bounds [0, 0] and (-inf, 0]. no exception leaves a
-// callback: every callback catches and reports failure to Ipopt. every iteration is reported
+// callback: an evaluation's failure, an exception's message included, is kept by the cache
+// (CachedProblem::at) and reported to Ipopt as a failed callback. every iteration is reported
 // to SolverOptions::progress from intermediate_callback, every working-set round is a phase.
 #include <IpIpoptApplication.hpp>
 #include <IpTNLP.hpp>
@@ -268,13 +269,9 @@ class CamTnlp : public Ipopt::TNLP {
   const IpRow& ip_row(Index i) {
     return all_[static_cast<std::size_t>(working_[static_cast<std::size_t>(i - neq())])];
   }
-  bool guarded(const Number* x, bool gradients) {
-    try {
-      return cache_.at(x, gradients);
-    } catch (...) {
-      return false;
-    }
-  }
+  // the evaluation at x; a failure (its status, an exception's message included, kept by
+  // the cache) is reported to Ipopt as a failed callback
+  bool guarded(const Number* x, bool gradients) noexcept { return cache_.at(x, gradients); }
 };
 
 const char* describe(Ipopt::SolverReturn s) {
@@ -297,8 +294,8 @@ const char* describe(Ipopt::SolverReturn s) {
   }
 }
 
-// row screening. ipopt's time goes into its KKT system, one row per constraint (MUMPS, about
-// 9 us per row and iteration), and on a cam only the rows near a peak of their quantity can
+// row screening. ipopt's time goes into its KKT system, one row per constraint (MUMPS: the
+// cost grows with the rows), and on a cam only the rows near a peak of their quantity can
 // be active. the working set starts with the scalar rows, every kStride-th grid point (no
 // stretch of the lift is left free) and the rows within kStartMargin of their limit at the
 // start. after each solve every row is evaluated: the rows past the feasibility tolerance,
@@ -390,12 +387,7 @@ void run_ipopt(CamProblem& problem, const SolverOptions& options, const std::vec
       options.ipopt_hessian == IpoptHessian::objective ||
       (options.ipopt_hessian == IpoptHessian::automatic && !problem.is_swing());
   CachedProblem cache(problem);
-  bool start_ok = false;
-  try {
-    start_ok = cache.at(start.data(), true);
-  } catch (...) {
-    start_ok = false;
-  }
+  const bool start_ok = cache.at(start.data(), true);
   Ipopt::SmartPtr<CamTnlp> nlp = new CamTnlp(cache, pair_rows(problem, start_ok ? &cache.eval() : nullptr), start,
                                              options.time_limit_s, objective_hessian, progress);
   const bool screening = options.ipopt_screening && start_ok;
@@ -444,13 +436,7 @@ void run_ipopt(CamProblem& problem, const SolverOptions& options, const std::vec
     if (!screening) break;
     const bool first_loose = loose_first && rounds == 1;
     if (!first_loose && working.size() == nlp->all_rows().size()) break;
-    bool ok = false;
-    try {
-      ok = cache.at(nlp->x_.data(), false);
-    } catch (...) {
-      ok = false;
-    }
-    if (!ok) break;
+    if (!cache.at(nlp->x_.data(), false)) break;
     if (!grow_working_set(problem, nlp->all_rows(), cache.eval(), options.constraint_tolerance, working) && !first_loose)
       break;
     if (rounds + 1 >= kMaxRounds) take_every_row();

@@ -1,15 +1,14 @@
 #include "load_rows.hpp"
 
 #include <cmath>
-#include <numbers>
 
+#include "camopt/core/units.hpp"
 #include "camopt/dynamics/ehl.hpp"
 
 namespace camopt::opt::detail {
 
 namespace {
 
-constexpr double kDegPerRad = 180.0 / std::numbers::pi;
 // the largest separation speed a row reports [rpm]: "none below this"
 constexpr double kNoSeparationRpm = 1e6;
 // Dowson-Higginson line contact (dynamics/ehl.hpp): h = 2.65 U^0.70 G^0.54 W^-0.13 R
@@ -108,7 +107,7 @@ LoadRows::LoadRows(const DesignSpec& design, const OptimizationSpec& spec, const
   // row scales: each contact's static load with the valve at rest
   const double rest[3] = {0.0, 0.0, 0.0};
   reference_.assign(contacts_.size(), 1.0);
-  if (prepare(spec.cam == "swing" ? 0.0 : spec.event.start_deg / kDegPerRad, rest, 0).ok())
+  if (prepare(spec.cam == "swing" ? 0.0 : spec.event.start_deg / deg_per_rad, rest, 0).ok())
     for (std::size_t k = 0; k < contacts_.size(); ++k)
       reference_[k] = std::max(1.0, std::abs(loads_[k].statics.v));
 }
@@ -260,7 +259,7 @@ Grad3 LoadRows::cam_force() const { return loads_[0].at(omega_); }
 LoadRowValue LoadRows::row(const LoadRowSpec& r, const Grad3& ratio, const ContactQuantities* cq) const {
   const auto& l = spec_.limits;
   LoadRowValue out;
-  const double to_rpm = 60.0 / (2.0 * std::numbers::pi) * crank_per_cam_;  // cam rad/s -> engine rpm
+  const double to_rpm = 60.0 / (2.0 * pi) * crank_per_cam_;  // cam rad/s -> engine rpm
   switch (r.kind) {
     case ConstraintKind::separation: {
       // the least force over 0 .. the limit speed: A + C w + B w^2 is smallest at an end, or

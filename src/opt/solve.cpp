@@ -11,12 +11,21 @@ namespace camopt::opt {
 
 namespace detail {
 
-bool CachedProblem::at(const double* x, bool gradients) {
+bool CachedProblem::at(const double* x, bool gradients) noexcept {
   const int n = problem_.variables();
   if (valid_ && (!gradients || eval_.have_gradients) && std::equal(x, x + n, x_.begin())) return status_.ok();
-  x_.assign(x, x + n);
   ++evaluations_;
-  status_ = problem_.evaluate(x_, eval_, gradients);
+  // an exception is kept as the evaluation's status: the callers are C callbacks
+  try {
+    x_.assign(x, x + n);
+    status_ = problem_.evaluate(x_, eval_, gradients);
+  } catch (const NumericalError& e) {
+    status_ = e.status();
+  } catch (const std::exception& e) {
+    status_ = {StatusCode::no_convergence, std::string("the evaluation failed: ") + e.what(), ""};
+  } catch (...) {
+    status_ = {StatusCode::no_convergence, "the evaluation failed with an unknown exception", ""};
+  }
   valid_ = true;
   // a non-finite value is a failed evaluation, never handed to a solver
   if (status_.ok() && (!std::isfinite(eval_.objective) || !eval_.g.allFinite() ||

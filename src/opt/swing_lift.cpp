@@ -3,10 +3,10 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 
 #include "camopt/core/bspline_basis.hpp"
 #include "camopt/core/jet.hpp"
+#include "camopt/core/units.hpp"
 #include "camopt/kinematics/mechanism.hpp"
 #include "camopt/kinematics/solver.hpp"
 #include "camopt/synthesis/detail/hermite.hpp"
@@ -17,8 +17,6 @@ namespace camopt::opt {
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-constexpr double kRadPerDeg = kPi / 180.0;
 constexpr int kZeroCoefficients = 4;  // h, h', h'', h''' = 0 at s_a
 
 std::string num(double v) { return format_value(v, 8); }
@@ -49,6 +47,7 @@ void validate(const SwingProfileSpec& s) {
 }
 
 struct SwingCamLift::Impl {
+  struct Build;  // the construction steps
   struct Point {
     int position = 0;
     double cam_deg = 0.0;
@@ -161,19 +160,54 @@ struct SwingCamLift::Impl {
     return false;
   }
 
-  Status evaluate(const Point& pt, std::span<const double> c, double& q, double motion[4],
-                  Eigen::Ref<Eigen::Matrix<double, 4, Eigen::Dynamic>> rows, SwingContact* contact = nullptr) const {
-    auto where = [&] { return "cam " + num(pt.cam_deg) + " deg, control position " + num(positions[static_cast<std::size_t>(pt.position)]); };
+  // the follower's motion at one point as series in the cam angle [per cam rad]
+  struct FollowerSeries {
+    Jet<3> q;             // follower angle q(theta) [rad]
+    double s0 = 0.0;      // contact polar angle from the rest direction [rad]
+    double hd[5] = {};    // h^(m)(s0) [mm / rad^m]
+    Jet<3> ds;            // s(theta) - s0 [rad]
+    Jet<3> g_q, s_q;      // G_q [mm/rad] and s_q along the motion
+    Jet<3> lift, lift_q;  // valve lift [mm] and dL/dq [mm/rad]
+  };
+
+  // the pitch curvature kappa(rho, rho_phi, rho_phiphi) in polar form (phi = sigma s: only
+  // rho_phi^2 enters) and its partials
+  struct CurvaturePartials {
+    double rho = 0.0;            // rho0 + h [mm]
+    double num_k = 0.0, d15 = 0.0;  // kappa = num_k / d15
+    double k_rho = 0.0, k_a = 0.0, k_b = 0.0;  // d kappa / d (rho, rho_phi, rho_phiphi)
+    double k_s = 0.0;            // d kappa / ds along the curve
+    double s_shift = 0.0;        // ds/dc_j = s_shift N_j
+  };
+
+  // partials of the contact quantities in q, rho and rho_phi (SwingContact)
+  struct ContactPartials {
+    double a_q = 0.0, a_rho = 0.0, a_rphi = 0.0;  // pressure angle
+    double f_q = 0.0, f_rho = 0.0, f_rphi = 0.0;  // force ratio
+    double w_q0 = 0.0, w_q1 = 0.0;                // roller speed, in q and q'
+  };
+
+  // the follower angle q [rad] on the pitch curve c: newton from q, else from the rest
+  Status solve_follower(const Point& pt, std::span<const double> c, double& q) const {
     const double psi0 = pt.psi.value();
     double qn = q;
     if (!solve_q(c, psi0, pt.pivot, qn, false)) {
       qn = 0.0;  // restart from the rest
       if (!solve_q(c, psi0, pt.pivot, qn, false))
-        return {StatusCode::no_convergence, "the follower roller finds no contact with the swing cam's pitch curve", where()};
+        return {StatusCode::no_convergence, "the follower roller finds no contact with the swing cam's pitch curve",
+                "cam " + num(pt.cam_deg) + " deg, control position " +
+                    num(positions[static_cast<std::size_t>(pt.position)])};
     }
     q = qn;
-    // taylor coefficients of q(theta), order by order: q_k = -G_k / G_q
-    double hd[5];
+    return Status::success();
+  }
+
+  // q(theta) by implicit differentiation of the closure, order by order: q_k = -G_k / G_q;
+  // then G_q and s_q along the motion and the valve lift of the pad on the valve face
+  FollowerSeries follower_series(const Point& pt, std::span<const double> c, double qn) const {
+    FollowerSeries f;
+    const double psi0 = pt.psi.value();
+    double* hd = f.hd;
     Jet<3> Q(qn), px, py, s;
     frame(Q, pt.psi, pt.pivot, px, py, s);
     const double s0 = s.value();
@@ -201,85 +235,103 @@ struct SwingCamLift::Impl {
     const Jet<3> pqx = cp * gx + sp * gy, pqy = cp * gy - sp * gx;
     const Jet<3> r2 = px * px + py * py, r = sqrt(r2);
     const Jet<3> r_q = (px * pqx + py * pqy) / r;
-    const Jet<3> s_q = sigma * (px * pqy - py * pqx) / r2;
-    const Jet<3> g_q = r_q - taylor(hd + 1, 4, ds) * s_q;
+    f.s_q = sigma * (px * pqy - py * pqx) / r2;
+    f.g_q = r_q - taylor(hd + 1, 4, ds) * f.s_q;
     // valve: pad centre C(q) on the line through P_0 + L d with normal n
     const Eigen::Vector2d b = c0 - pf;
     const Jet<3> cx = pf.x() + cq * b.x() - sq * b.y(), cy = pf.y() + sq * b.x() + cq * b.y();
-    const Jet<3> lift = (n.x() * (cx - p0.x()) + n.y() * (cy - p0.y()) - r_pad) / nd;
-    const Jet<3> lift_q = (n.x() * (-(sq * b.x() + cq * b.y())) + n.y() * (cq * b.x() - sq * b.y())) / nd;
-    double scale = 1.0;
-    for (int k = 0; k <= 3; ++k) {
-      motion[k] = lift.derivative(k) * scale;
-      scale *= kRadPerDeg;
-    }
-    rows.setZero();
-    // pitch curvature in polar form (phi = sigma s: only rho_phi^2 enters) and its partials
-    const double rho = rho0 + hd[0], ra = hd[1], rb = hd[2];
+    f.lift = (n.x() * (cx - p0.x()) + n.y() * (cy - p0.y()) - r_pad) / nd;
+    f.lift_q = (n.x() * (-(sq * b.x() + cq * b.y())) + n.y() * (cq * b.x() - sq * b.y())) / nd;
+    f.q = Q;
+    f.s0 = s0;
+    f.ds = ds;
+    return f;
+  }
+
+  CurvaturePartials curvature_partials(const FollowerSeries& f) const {
+    CurvaturePartials k;
+    const double* hd = f.hd;
+    k.rho = rho0 + hd[0];
+    const double rho = k.rho, ra = hd[1], rb = hd[2];
     const double dd = rho * rho + ra * ra, d15 = dd * std::sqrt(dd), d25 = d15 * dd;
-    const double num_k = rho * rho + 2 * ra * ra - rho * rb;
-    const double k_rho = (2 * rho - rb) / d15 - 3.0 * num_k * rho / d25;
-    const double k_a = 4 * ra / d15 - 3.0 * num_k * ra / d25;
-    const double k_b = -rho / d15;
-    const double k_s = k_rho * hd[1] + k_a * hd[2] + k_b * hd[3];
-    const double s_shift = s_q.value() / g_q.value();  // ds/dc_j = s_shift N_j
-    // pressure angle alpha = atan2(|cr|, |dt|), dt = n . p_q, cr = p_q x n, as a function of
-    // q (through the frame and the contact's shift along the profile), rho and rho_phi
-    double a_q = 0.0, a_rho = 0.0, a_rphi = 0.0;
-    double f_q = 0.0, f_rho = 0.0, f_rphi = 0.0;  // force ratio partials
-    double w_q0 = 0.0, w_q1 = 0.0;                // roller speed partials in q and q'
-    if (contact) {
-      Jet<2> x2, y2, s2;
-      frame(Jet<2>::variable(qn), Jet<2>(psi0), pt.pivot, x2, y2, s2);
-      const Jet<2> r_ = sqrt(x2 * x2 + y2 * y2), ph = atan2(y2, x2);
-      const double sq0 = s2.derivative(1);
-      Jet<1> r1(r_.value()), rq(r_.derivative(1)), phq(ph.derivative(1)), rh(rho), rph(sigma * hd[1]);
-      r1.c[1] = r_.derivative(1);
-      rq.c[1] = r_.derivative(2);
-      phq.c[1] = ph.derivative(2);
-      rh.c[1] = hd[1] * sq0;
-      rph.c[1] = sigma * hd[2] * sq0;
-      const Jet<1> dt = rh * rq - rph * r1 * phq, cr = -(rq * rph) - r1 * phq * rh;
-      const double sx = dt.value() < 0 ? -1.0 : 1.0, sy = cr.value() < 0 ? -1.0 : 1.0;
-      const double X = std::abs(dt.value()), Y = std::abs(cr.value()), den = X * X + Y * Y;
-      contact->pressure_angle = std::atan2(Y, X);
-      a_q = (X * sy * cr.c[1] - Y * sx * dt.c[1]) / den;
-      a_rho = (X * sy * (-r1.value() * phq.value()) - Y * sx * rq.value()) / den;
-      a_rphi = (X * sy * (-rq.value()) - Y * sx * (-r1.value() * phq.value())) / den;
-      // force ratio |L_q| N / |dt|, N = |n|; L_q, L_qq of the pad on the valve face
-      const double cq0 = std::cos(qn), sq0n = std::sin(qn);
-      const double lq = (n.x() * (-(sq0n * b.x() + cq0 * b.y())) + n.y() * (cq0 * b.x() - sq0n * b.y())) / nd;
-      const double lqq = -(n.x() * (cq0 * b.x() - sq0n * b.y()) + n.y() * (sq0n * b.x() + cq0 * b.y())) / nd;
-      const Jet<1> nn = sqrt(rh * rh + rph * rph);
-      const double sl = lq < 0 ? -1.0 : 1.0, alq = std::abs(lq);
-      contact->force_ratio = alq * nn.value() / X;
-      f_q = sl * lqq * nn.value() / X + alq * nn.c[1] / X - alq * nn.value() * sx * dt.c[1] / (X * X);
-      f_rho = alq * (rho / nn.value()) / X - alq * nn.value() * sx * rq.value() / (X * X);
-      f_rphi = alq * (sigma * hd[1] / nn.value()) / X - alq * nn.value() * sx * (-r1.value() * phq.value()) / (X * X);
-      // roller speed: p' = p_q q' + p_psi psi', p_psi = -J p
-      const Eigen::Vector2d p0v{x2.value(), y2.value()}, pq{x2.derivative(1), y2.derivative(1)},
-          pqq{x2.derivative(2), y2.derivative(2)};
-      const double q1 = Q.derivative(1), psi1 = pt.psi.derivative(1);
-      auto mj = [](const Eigen::Vector2d& v) { return Eigen::Vector2d{v.y(), -v.x()}; };  // -J v
-      const Eigen::Vector2d vel = pq * q1 + mj(p0v) * psi1;
-      const double speed = vel.norm();
-      const double sgn = p0v.x() * vel.y() - p0v.y() * vel.x() < 0 ? -1.0 : 1.0;
-      contact->roller_speed = sgn * speed / r_roller + psi1 - q1;
-      if (speed > 1e-12) {
-        w_q0 = sgn / r_roller * vel.dot(pqq * q1 + mj(pq) * psi1) / speed;
-        w_q1 = sgn / r_roller * vel.dot(pq) / speed - 1.0;
-      } else {
-        w_q1 = -1.0;
-      }
-      contact->s_rad = s0;
-      contact->curvature = num_k / d15;
-      contact->curvature_row.setZero(free());
-      contact->pressure_angle_row.setZero(free());
-      contact->force_ratio_row.setZero(free());
-      contact->roller_speed_row.setZero(free());
+    k.num_k = rho * rho + 2 * ra * ra - rho * rb;
+    k.d15 = d15;
+    k.k_rho = (2 * rho - rb) / d15 - 3.0 * k.num_k * rho / d25;
+    k.k_a = 4 * ra / d15 - 3.0 * k.num_k * ra / d25;
+    k.k_b = -rho / d15;
+    k.k_s = k.k_rho * hd[1] + k.k_a * hd[2] + k.k_b * hd[3];
+    k.s_shift = f.s_q.value() / f.g_q.value();  // ds/dc_j = s_shift N_j
+    return k;
+  }
+
+  // the contact quantities at the point (into contact, rows zeroed) and their partials.
+  // pressure angle alpha = atan2(|cr|, |dt|), dt = n . p_q, cr = p_q x n, as a function of
+  // q (through the frame and the contact's shift along the profile), rho and rho_phi
+  ContactPartials contact_quantities(const Point& pt, double qn, const FollowerSeries& f, const CurvaturePartials& kp,
+                                     SwingContact& contact) const {
+    ContactPartials cp;
+    const double psi0 = pt.psi.value();
+    const double* hd = f.hd;
+    const double rho = kp.rho;
+    const Eigen::Vector2d b = c0 - pf;
+    Jet<2> x2, y2, s2;
+    frame(Jet<2>::variable(qn), Jet<2>(psi0), pt.pivot, x2, y2, s2);
+    const Jet<2> r_ = sqrt(x2 * x2 + y2 * y2), ph = atan2(y2, x2);
+    const double sq0 = s2.derivative(1);
+    Jet<1> r1(r_.value()), rq(r_.derivative(1)), phq(ph.derivative(1)), rh(rho), rph(sigma * hd[1]);
+    r1.c[1] = r_.derivative(1);
+    rq.c[1] = r_.derivative(2);
+    phq.c[1] = ph.derivative(2);
+    rh.c[1] = hd[1] * sq0;
+    rph.c[1] = sigma * hd[2] * sq0;
+    const Jet<1> dt = rh * rq - rph * r1 * phq, cr = -(rq * rph) - r1 * phq * rh;
+    const double sx = dt.value() < 0 ? -1.0 : 1.0, sy = cr.value() < 0 ? -1.0 : 1.0;
+    const double X = std::abs(dt.value()), Y = std::abs(cr.value()), den = X * X + Y * Y;
+    contact.pressure_angle = std::atan2(Y, X);
+    cp.a_q = (X * sy * cr.c[1] - Y * sx * dt.c[1]) / den;
+    cp.a_rho = (X * sy * (-r1.value() * phq.value()) - Y * sx * rq.value()) / den;
+    cp.a_rphi = (X * sy * (-rq.value()) - Y * sx * (-r1.value() * phq.value())) / den;
+    // force ratio |L_q| N / |dt|, N = |n|; L_q, L_qq of the pad on the valve face
+    const double cq0 = std::cos(qn), sq0n = std::sin(qn);
+    const double lq = (n.x() * (-(sq0n * b.x() + cq0 * b.y())) + n.y() * (cq0 * b.x() - sq0n * b.y())) / nd;
+    const double lqq = -(n.x() * (cq0 * b.x() - sq0n * b.y()) + n.y() * (sq0n * b.x() + cq0 * b.y())) / nd;
+    const Jet<1> nn = sqrt(rh * rh + rph * rph);
+    const double sl = lq < 0 ? -1.0 : 1.0, alq = std::abs(lq);
+    contact.force_ratio = alq * nn.value() / X;
+    cp.f_q = sl * lqq * nn.value() / X + alq * nn.c[1] / X - alq * nn.value() * sx * dt.c[1] / (X * X);
+    cp.f_rho = alq * (rho / nn.value()) / X - alq * nn.value() * sx * rq.value() / (X * X);
+    cp.f_rphi = alq * (sigma * hd[1] / nn.value()) / X - alq * nn.value() * sx * (-r1.value() * phq.value()) / (X * X);
+    // roller speed: p' = p_q q' + p_psi psi', p_psi = -J p
+    const Eigen::Vector2d p0v{x2.value(), y2.value()}, pq{x2.derivative(1), y2.derivative(1)},
+        pqq{x2.derivative(2), y2.derivative(2)};
+    const double q1 = f.q.derivative(1), psi1 = pt.psi.derivative(1);
+    auto mj = [](const Eigen::Vector2d& v) { return Eigen::Vector2d{v.y(), -v.x()}; };  // -J v
+    const Eigen::Vector2d vel = pq * q1 + mj(p0v) * psi1;
+    const double speed = vel.norm();
+    const double sgn = p0v.x() * vel.y() - p0v.y() * vel.x() < 0 ? -1.0 : 1.0;
+    contact.roller_speed = sgn * speed / r_roller + psi1 - q1;
+    if (speed > 1e-12) {
+      cp.w_q0 = sgn / r_roller * vel.dot(pqq * q1 + mj(pq) * psi1) / speed;
+      cp.w_q1 = sgn / r_roller * vel.dot(pq) / speed - 1.0;
+    } else {
+      cp.w_q1 = -1.0;
     }
-    const double q_shift = 1.0 / g_q.value();  // dq/dc_j = q_shift N_j
-    if (s0 <= sa) return Status::success();
+    contact.s_rad = f.s0;
+    contact.curvature = kp.num_k / kp.d15;
+    contact.curvature_row.setZero(free());
+    contact.pressure_angle_row.setZero(free());
+    contact.force_ratio_row.setZero(free());
+    contact.roller_speed_row.setZero(free());
+    return cp;
+  }
+
+  // the gradients of the motion and of the contact quantities in the free coefficients
+  // c_j: dq/dc_j = N_j(s(theta)) / G_q along theta (rows zero on the dwell)
+  void coefficient_rows(const FollowerSeries& f, const CurvaturePartials& kp, const ContactPartials& cp,
+                        SwingContact* contact, Eigen::Ref<Eigen::Matrix<double, 4, Eigen::Dynamic>> rows) const {
+    const double q_shift = 1.0 / f.g_q.value();  // dq/dc_j = q_shift N_j
+    const double s0 = f.s0;
+    if (s0 <= sa) return;
     const double se = std::min(s0, sb);
     double ders[5][8];
     const int span = basis_derivatives(s0, ders);
@@ -288,108 +340,135 @@ struct SwingCamLift::Impl {
       if (j < 0) continue;
       double nd_[4];
       for (int m = 0; m < 4; ++m) nd_[m] = ders[m][ib];  // N_j^(m)(s0)
-      const Jet<3> sj = taylor(nd_, 4, ds) / g_q;  // dq/dc_j along theta
-      const Jet<3> dl = lift_q * sj;
+      const Jet<3> sj = taylor(nd_, 4, f.ds) / f.g_q;  // dq/dc_j along theta
+      const Jet<3> dl = f.lift_q * sj;
       if (contact) {
-        contact->force_ratio_row(j) = f_q * q_shift * nd_[0] + f_rho * nd_[0] + f_rphi * sigma * nd_[1];
-        contact->roller_speed_row(j) = w_q0 * sj.c[0] + w_q1 * sj.c[1];
-        contact->curvature_row(j) = k_rho * nd_[0] + k_a * nd_[1] + k_b * nd_[2] + k_s * s_shift * nd_[0];
-        contact->pressure_angle_row(j) = a_q * q_shift * nd_[0] + a_rho * nd_[0] + a_rphi * sigma * nd_[1];
+        contact->force_ratio_row(j) = cp.f_q * q_shift * nd_[0] + cp.f_rho * nd_[0] + cp.f_rphi * sigma * nd_[1];
+        contact->roller_speed_row(j) = cp.w_q0 * sj.c[0] + cp.w_q1 * sj.c[1];
+        contact->curvature_row(j) = kp.k_rho * nd_[0] + kp.k_a * nd_[1] + kp.k_b * nd_[2] + kp.k_s * kp.s_shift * nd_[0];
+        contact->pressure_angle_row(j) = cp.a_q * q_shift * nd_[0] + cp.a_rho * nd_[0] + cp.a_rphi * sigma * nd_[1];
       }
       double sc = 1.0;
       for (int k = 0; k <= 3; ++k) {
         rows(k, j) = dl.derivative(k) * sc;
-        sc *= kRadPerDeg;
+        sc *= rad_per_deg;
       }
     }
+  }
+
+  // valve lift and derivatives [mm/deg^k] at one point for the free coefficients c, their
+  // gradients rows(k, j) [per mm], and the contact quantities (contact non-null)
+  Status evaluate(const Point& pt, std::span<const double> c, double& q, double motion[4],
+                  Eigen::Ref<Eigen::Matrix<double, 4, Eigen::Dynamic>> rows, SwingContact* contact = nullptr) const {
+    // the follower angle on the pitch curve
+    if (Status st = solve_follower(pt, c, q); !st.ok()) return st;
+    // its series in the cam angle, and the valve's
+    const FollowerSeries f = follower_series(pt, c, q);
+    double scale = 1.0;
+    for (int k = 0; k <= 3; ++k) {
+      motion[k] = f.lift.derivative(k) * scale;
+      scale *= rad_per_deg;
+    }
+    rows.setZero();
+    // the pitch curvature at the contact and its partials
+    const CurvaturePartials kp = curvature_partials(f);
+    // the contact quantities and their partials
+    const ContactPartials cp = contact ? contact_quantities(pt, q, f, kp, *contact) : ContactPartials{};
+    // the gradients in the free coefficients
+    coefficient_rows(f, kp, cp, contact, rows);
     return Status::success();
   }
 };
 
-SwingCamLift::SwingCamLift(const DesignSpec& design, const SwingProfileSpec& spec, double grid_step_deg)
-    : impl_(std::make_unique<Impl>()) {
-  validate(spec);
-  Impl& m = *impl_;
-  m.spec = spec;
-  const synthesis::MechanismCut cut = synthesis::cut_mechanism(design, "swing", design.output_node);
-  const auto& conn = design.connections[static_cast<std::size_t>(cut.connection)];
-  m.profile = cut.profile;
-  m.connection = conn.name;
-  const SurfaceSpec& cam_s = cut.profile_on_a ? conn.surface_a : conn.surface_b;
-  const SurfaceSpec& fol_s = cut.profile_on_a ? conn.surface_b : conn.surface_a;
-  if (fol_s.shape != SurfaceShape::circle || fol_s.concave)
-    throw InputError(conn.where, "optimize --cam swing: the follower of contact '" + conn.name +
-                                     "' must be a convex circle (roller or pad)");
-  const NodeSpec* swing = find_node(design, cut.cam_node);
-  const NodeSpec* fol = find_node(design, cut.follower_node);
-  if (!fol || fol->kind != NodeKind::rotational || fol->pivot_motion)
-    throw InputError(conn.where, "optimize --cam swing: the follower '" + cut.follower_node +
-                                     "' must be a rotational node on a fixed pivot");
-  // the follower drives the output node through a circle on a line
-  const NodeSpec* out = find_node(design, design.output_node);
-  const ConnectionSpec* valve = nullptr;
-  bool circle_on_a = true;
-  for (const auto& k : design.connections) {
-    if (k.kind != ConnectionKind::contact) continue;
-    for (int side = 0; side < 2; ++side) {
-      const SurfaceSpec& s1 = side == 0 ? k.surface_a : k.surface_b;
-      const SurfaceSpec& s2 = side == 0 ? k.surface_b : k.surface_a;
-      if (s1.node == cut.follower_node && s1.shape == SurfaceShape::circle && !s1.concave && s2.node == design.output_node &&
-          s2.shape == SurfaceShape::line) {
-        valve = &k;
-        circle_on_a = side == 0;
+struct SwingCamLift::Impl::Build {
+  // the design's geometry the model works in (drawing) [mm]: the swing pivot, the follower's
+  // pivot and roller, and the pad on the valve face. InputError unless the follower is a
+  // rotational node on a fixed pivot, with a convex circle on the swing cam, that moves the
+  // output node (translational) through a circle on a line.
+  static void read_geometry(const DesignSpec& design, const synthesis::MechanismCut& cut, Impl& m) {
+    const auto& conn = design.connections[static_cast<std::size_t>(cut.connection)];
+    m.profile = cut.profile;
+    m.connection = conn.name;
+    const SurfaceSpec& cam_s = cut.profile_on_a ? conn.surface_a : conn.surface_b;
+    const SurfaceSpec& fol_s = cut.profile_on_a ? conn.surface_b : conn.surface_a;
+    if (fol_s.shape != SurfaceShape::circle || fol_s.concave)
+      throw InputError(conn.where, "optimize --cam swing: the follower of contact '" + conn.name +
+                                       "' must be a convex circle (roller or pad)");
+    const NodeSpec* swing = find_node(design, cut.cam_node);
+    const NodeSpec* fol = find_node(design, cut.follower_node);
+    if (!fol || fol->kind != NodeKind::rotational || fol->pivot_motion)
+      throw InputError(conn.where, "optimize --cam swing: the follower '" + cut.follower_node +
+                                       "' must be a rotational node on a fixed pivot");
+    // the follower drives the output node through a circle on a line
+    const NodeSpec* out = find_node(design, design.output_node);
+    const ConnectionSpec* valve = nullptr;
+    bool circle_on_a = true;
+    for (const auto& k : design.connections) {
+      if (k.kind != ConnectionKind::contact) continue;
+      for (int side = 0; side < 2; ++side) {
+        const SurfaceSpec& s1 = side == 0 ? k.surface_a : k.surface_b;
+        const SurfaceSpec& s2 = side == 0 ? k.surface_b : k.surface_a;
+        if (s1.node == cut.follower_node && s1.shape == SurfaceShape::circle && !s1.concave && s2.node == design.output_node &&
+            s2.shape == SurfaceShape::line) {
+          valve = &k;
+          circle_on_a = side == 0;
+        }
       }
     }
-  }
-  if (!valve || !out || out->kind != NodeKind::translational)
-    throw InputError("optimize --cam swing: the follower '" + cut.follower_node + "' must move the output node '" +
-                     design.output_node + "' (translational) through a circle on a line");
-  const SurfaceSpec& pad = circle_on_a ? valve->surface_a : valve->surface_b;
-  const SurfaceSpec& line = circle_on_a ? valve->surface_b : valve->surface_a;
-  m.ps0 = vec(swing->pivot_mm);
-  m.pf = vec(fol->pivot_mm);
-  m.f0 = vec(fol_s.origin_mm);
-  m.r_roller = fol_s.radius_mm;
-  m.c0 = vec(pad.origin_mm);
-  m.r_pad = pad.radius_mm;
-  m.p0 = vec(line.origin_mm);
-  m.n = vec(line.normal).normalized();
-  m.d = vec(out->direction).normalized();
-  m.nd = m.n.dot(m.d);
-  if (std::abs(m.nd) < 1e-6)
-    throw InputError(valve->where, "optimize --cam swing: the valve face of contact '" + valve->name +
-                                       "' is parallel to the valve's direction of motion");
-  m.rho0 = (m.f0 - m.ps0).norm();
-  m.e0 = (m.f0 - m.ps0) / m.rho0;
-  m.profile_origin = vec(cam_s.origin_mm);
-  m.profile_orientation = cam_s.orientation_deg * kRadPerDeg;
-
-  // control positions: the first control's values, the others at their defaults
-  if (design.controls.empty())
-    throw InputError("optimize --cam swing: design '" + design.name + "' has no [[control]]");
-  m.positions = spec.positions;
-  if (m.positions.empty()) {
-    const auto& c = design.controls[0];
-    for (int i = 0; i < 17; ++i) m.positions.push_back(c.min + (c.max - c.min) * i / 16.0);
-  }
-  for (double v : m.positions) {
-    std::vector<double> ctl;
-    for (const auto& c : design.controls) ctl.push_back(c.default_value);
-    ctl[0] = v;
-    m.controls.push_back(ctl);
+    if (!valve || !out || out->kind != NodeKind::translational)
+      throw InputError("optimize --cam swing: the follower '" + cut.follower_node + "' must move the output node '" +
+                       design.output_node + "' (translational) through a circle on a line");
+    const SurfaceSpec& pad = circle_on_a ? valve->surface_a : valve->surface_b;
+    const SurfaceSpec& line = circle_on_a ? valve->surface_b : valve->surface_a;
+    m.ps0 = vec(swing->pivot_mm);
+    m.pf = vec(fol->pivot_mm);
+    m.f0 = vec(fol_s.origin_mm);
+    m.r_roller = fol_s.radius_mm;
+    m.c0 = vec(pad.origin_mm);
+    m.r_pad = pad.radius_mm;
+    m.p0 = vec(line.origin_mm);
+    m.n = vec(line.normal).normalized();
+    m.d = vec(out->direction).normalized();
+    m.nd = m.n.dot(m.d);
+    if (std::abs(m.nd) < 1e-6)
+      throw InputError(valve->where, "optimize --cam swing: the valve face of contact '" + valve->name +
+                                         "' is parallel to the valve's direction of motion");
+    m.rho0 = (m.f0 - m.ps0).norm();
+    m.e0 = (m.f0 - m.ps0) / m.rho0;
+    m.profile_origin = vec(cam_s.origin_mm);
+    m.profile_orientation = cam_s.orientation_deg * rad_per_deg;
   }
 
-  // the design's own swing profile traced by the full kinematics at position 0: the side the
-  // roller runs onto (sigma), the extent of the working curve and the initial fit
-  std::vector<double> s_raw, h_raw;
-  {
+  // control positions: the first control's values (17 over its range by default), the
+  // others at their defaults
+  static void set_positions(const DesignSpec& design, const SwingProfileSpec& spec, Impl& m) {
+    if (design.controls.empty())
+      throw InputError("optimize --cam swing: design '" + design.name + "' has no [[control]]");
+    m.positions = spec.positions;
+    if (m.positions.empty()) {
+      const auto& c = design.controls[0];
+      for (int i = 0; i < 17; ++i) m.positions.push_back(c.min + (c.max - c.min) * i / 16.0);
+    }
+    for (double v : m.positions) {
+      std::vector<double> ctl;
+      for (const auto& c : design.controls) ctl.push_back(c.default_value);
+      ctl[0] = v;
+      m.controls.push_back(ctl);
+    }
+  }
+
+  // the design's own swing profile traced by the full kinematics at position 0 over one
+  // turn: the pitch curve's polar angle s [rad] and lift h [mm] at each point, and the side
+  // the roller runs onto (sigma)
+  static Status trace_design_profile(const DesignSpec& design, const synthesis::MechanismCut& cut, Impl& m,
+                                     std::vector<double>& s_raw, std::vector<double>& h_raw) {
     const kin::Mechanism full = kin::compile(design);
     kin::Workspace ws(full);
     ws.set_controls(m.controls[0]);
     const int sn = full.node_index(cut.cam_node), fn = full.node_index(cut.follower_node);
     for (int i = 0; i < 1440; ++i) {
-      const Status st = kin::solve(full, ws, 2 * kPi * i / 1440, {0, false});
-      if (!st.ok()) throw NumericalError({st.code, "tracing the design's swing profile: " + st.message, st.where});
+      const Status st = kin::solve(full, ws, 2 * pi * i / 1440, {0, false});
+      if (!st.ok()) return {st.code, "tracing the design's swing profile: " + st.message, st.where};
       const double psi = ws.vars[static_cast<std::size_t>(full.nodes[static_cast<std::size_t>(sn)].first_variable)].value();
       const double q = ws.vars[static_cast<std::size_t>(full.nodes[static_cast<std::size_t>(fn)].first_variable)].value();
       double px, py, s;
@@ -406,24 +485,31 @@ SwingCamLift::SwingCamLift(const DesignSpec& design, const SwingProfileSpec& spe
                        num(m.positions[0]));
     m.sigma = lifted > 0 ? 1.0 : -1.0;
     for (double& s : s_raw) s *= m.sigma;
+    return Status::success();
   }
-  m.sa = spec.start_deg * kRadPerDeg;
-  double s_max = m.sa;
-  for (std::size_t i = 0; i < s_raw.size(); ++i)
-    if (h_raw[i] > 1e-6) s_max = std::max(s_max, s_raw[i]);
-  m.sb = spec.end_deg > 0 ? spec.end_deg * kRadPerDeg : s_max + 3.0 * kRadPerDeg;
-  if (m.sb <= m.sa + 5.0 * kRadPerDeg)
-    throw InputError("swing_profile.end_deg: the working curve [" + num(spec.start_deg) + ", " + num(m.sb / kRadPerDeg) +
-                     "] swing deg is shorter than 5 deg");
 
-  // spline bases
-  m.p = spec.degree;
-  m.ncoef = spec.coefficients;
-  m.knots = synthesis::clamped_uniform_knots(m.ncoef, m.p, m.sa, m.sb);
-  // initial: least squares to the traced pitch curve over [s_a, s_max], with a weak penalty
-  // on the coefficients' second differences (the zero ones at s_a included) that carries the
-  // curve on smoothly past the traced range
-  {
+  // the working curve [s_a, s_b] [rad]: from the spec, s_b by default 3 deg past the
+  // farthest traced contact
+  static void set_working_range(const SwingProfileSpec& spec, const std::vector<double>& s_raw,
+                                const std::vector<double>& h_raw, Impl& m) {
+    m.sa = spec.start_deg * rad_per_deg;
+    double s_max = m.sa;
+    for (std::size_t i = 0; i < s_raw.size(); ++i)
+      if (h_raw[i] > 1e-6) s_max = std::max(s_max, s_raw[i]);
+    m.sb = spec.end_deg > 0 ? spec.end_deg * rad_per_deg : s_max + 3.0 * rad_per_deg;
+    if (m.sb <= m.sa + 5.0 * rad_per_deg)
+      throw InputError("swing_profile.end_deg: the working curve [" + num(spec.start_deg) + ", " +
+                       num(m.sb / rad_per_deg) + "] swing deg is shorter than 5 deg");
+  }
+
+  // the spline basis of h, and the initial coefficients: least squares to the traced pitch
+  // curve over [s_a, s_max], with a weak penalty on the coefficients' second differences
+  // (the zero ones at s_a included) that carries the curve on smoothly past the traced range
+  static void fit_initial(const SwingProfileSpec& spec, const std::vector<double>& s_raw,
+                          const std::vector<double>& h_raw, Impl& m) {
+    m.p = spec.degree;
+    m.ncoef = spec.coefficients;
+    m.knots = synthesis::clamped_uniform_knots(m.ncoef, m.p, m.sa, m.sb);
     const int nf = m.free();
     Eigen::MatrixXd ata = Eigen::MatrixXd::Zero(nf, nf);
     Eigen::VectorXd atb = Eigen::VectorXd::Zero(nf);
@@ -450,55 +536,93 @@ SwingCamLift::SwingCamLift(const DesignSpec& design, const SwingProfileSpec& spe
     m.initial.assign(c.data(), c.data() + nf);
   }
 
-  // upstream: the swing angle at every position and grid angle; points on the dwell for
-  // every design are left out
-  m.up = kin::compile(cut.upstream);
-  m.swing_node = m.up.node_index(cut.cam_node);
-  m.swing_var = m.up.nodes[static_cast<std::size_t>(m.swing_node)].first_variable;
-  const int steps = static_cast<int>(std::lround(360.0 / grid_step_deg));
-  for (std::size_t k = 0; k < m.positions.size(); ++k) {
-    m.up_ws.emplace_back(m.up);
-    kin::Workspace& ws = m.up_ws.back();
-    ws.set_controls(m.controls[k]);
-    std::vector<Impl::Point> all;
-    std::vector<char> working;
-    for (int i = 0; i < steps; ++i) {
-      const double deg = 360.0 * i / steps;
-      const Status st = kin::solve(m.up, ws, deg * kRadPerDeg, {3, false});
-      if (!st.ok())
-        throw NumericalError({st.code, "solving the swing cam's drive: " + st.message,
-                              "cam " + num(deg) + " deg, control position " + num(m.positions[k])});
-      Impl::Point pt;
-      pt.position = static_cast<int>(k);
-      pt.cam_deg = deg;
-      pt.psi = ws.vars[static_cast<std::size_t>(m.swing_var)];
-      pt.pivot = ws.pivots[static_cast<std::size_t>(m.swing_node)];
-      double q = 0.0;
-      if (!m.solve_q({}, pt.psi.value(), pt.pivot, q, true))
-        throw NumericalError({StatusCode::no_convergence, "the follower roller finds no contact with the dwell arc",
-                              "cam " + num(deg) + " deg, control position " + num(m.positions[k])});
-      double px, py, s;
-      m.frame(q, pt.psi.value(), pt.pivot, px, py, s);
-      pt.q = q;
-      all.push_back(pt);
-      working.push_back(s >= m.sa ? 1 : 0);
+  // upstream: the swing angle at every position and grid angle, each position's working
+  // points in a run starting on the dwell (cam angles unwrapped past 360); points on the
+  // dwell for every design are left out
+  static Status solve_drive(const synthesis::MechanismCut& cut, double grid_step_deg, Impl& m) {
+    m.up = kin::compile(cut.upstream);
+    m.swing_node = m.up.node_index(cut.cam_node);
+    m.swing_var = m.up.nodes[static_cast<std::size_t>(m.swing_node)].first_variable;
+    const int steps = static_cast<int>(std::lround(360.0 / grid_step_deg));
+    for (std::size_t k = 0; k < m.positions.size(); ++k) {
+      m.up_ws.emplace_back(m.up);
+      kin::Workspace& ws = m.up_ws.back();
+      ws.set_controls(m.controls[k]);
+      std::vector<Impl::Point> all;
+      std::vector<char> working;
+      for (int i = 0; i < steps; ++i) {
+        const double deg = 360.0 * i / steps;
+        const Status st = kin::solve(m.up, ws, deg * rad_per_deg, {3, false});
+        if (!st.ok())
+          return {st.code, "solving the swing cam's drive: " + st.message,
+                  "cam " + num(deg) + " deg, control position " + num(m.positions[k])};
+        Impl::Point pt;
+        pt.position = static_cast<int>(k);
+        pt.cam_deg = deg;
+        pt.psi = ws.vars[static_cast<std::size_t>(m.swing_var)];
+        pt.pivot = ws.pivots[static_cast<std::size_t>(m.swing_node)];
+        double q = 0.0;
+        if (!m.solve_q({}, pt.psi.value(), pt.pivot, q, true))
+          return {StatusCode::no_convergence, "the follower roller finds no contact with the dwell arc",
+                  "cam " + num(deg) + " deg, control position " + num(m.positions[k])};
+        double px, py, s;
+        m.frame(q, pt.psi.value(), pt.pivot, px, py, s);
+        pt.q = q;
+        all.push_back(pt);
+        working.push_back(s >= m.sa ? 1 : 0);
+      }
+      // start the position's run on the dwell, so its working points are consecutive
+      int first_dwell = 0;
+      while (first_dwell < steps && working[static_cast<std::size_t>(first_dwell)]) ++first_dwell;
+      if (first_dwell == steps)
+        throw InputError("optimize --cam swing: the follower never rests on the dwell arc at control position " +
+                         num(m.positions[k]));
+      for (int i = first_dwell; i < first_dwell + steps; ++i) {
+        const std::size_t w = static_cast<std::size_t>(i % steps);
+        if (!working[w]) continue;
+        Impl::Point pt = all[w];
+        if (i >= steps) pt.cam_deg += 360.0;
+        m.pts.push_back(pt);
+        m.public_pts.push_back({pt.position, pt.cam_deg});
+      }
     }
-    // start the position's run on the dwell, so its working points are consecutive (cam
-    // angles unwrapped past 360)
-    int first_dwell = 0;
-    while (first_dwell < steps && working[static_cast<std::size_t>(first_dwell)]) ++first_dwell;
-    if (first_dwell == steps)
-      throw InputError("optimize --cam swing: the follower never rests on the dwell arc at control position " +
-                       num(m.positions[k]));
-    for (int i = first_dwell; i < first_dwell + steps; ++i) {
-      const std::size_t w = static_cast<std::size_t>(i % steps);
-      if (!working[w]) continue;
-      Impl::Point pt = all[w];
-      if (i >= steps) pt.cam_deg += 360.0;
-      m.pts.push_back(pt);
-      m.public_pts.push_back({pt.position, pt.cam_deg});
-    }
+    return Status::success();
   }
+
+  static Status build(const DesignSpec& design, const SwingProfileSpec& spec, double grid_step_deg, Impl& m) {
+    // the spec's own rules
+    validate(spec);
+    m.spec = spec;
+    // the swing cam's contact and the geometry from the swing cam to the valve
+    const synthesis::MechanismCut cut = synthesis::cut_mechanism(design, "swing", design.output_node);
+    read_geometry(design, cut, m);
+    // control positions
+    set_positions(design, spec, m);
+    // the design's own swing profile, traced at position 0
+    std::vector<double> s_raw, h_raw;
+    if (Status st = trace_design_profile(design, cut, m, s_raw, h_raw); !st.ok()) return st;
+    // the working curve's extent
+    set_working_range(spec, s_raw, h_raw, m);
+    // the spline of h and its initial fit
+    fit_initial(spec, s_raw, h_raw, m);
+    // the drive's swing angle at every grid point
+    return solve_drive(cut, grid_step_deg, m);
+  }
+};
+
+Status SwingCamLift::create(const DesignSpec& design, const SwingProfileSpec& spec, double grid_step_deg,
+                            std::unique_ptr<SwingCamLift>& out) {
+  std::unique_ptr<SwingCamLift> model(new SwingCamLift());
+  if (Status st = Impl::Build::build(design, spec, grid_step_deg, *model->impl_); !st.ok()) return st;
+  out = std::move(model);
+  return Status::success();
+}
+
+SwingCamLift::SwingCamLift() : impl_(std::make_unique<Impl>()) {}
+
+SwingCamLift::SwingCamLift(const DesignSpec& design, const SwingProfileSpec& spec, double grid_step_deg)
+    : impl_(std::make_unique<Impl>()) {
+  if (Status st = Impl::Build::build(design, spec, grid_step_deg, *impl_); !st.ok()) throw NumericalError(st);
 }
 
 SwingCamLift::~SwingCamLift() = default;
@@ -541,7 +665,7 @@ Status SwingCamLift::evaluate_at(int position, double cam_deg, std::span<const d
   CAMOPT_ASSERT(near != nullptr);
   kin::Workspace& ws = m.up_ws[static_cast<std::size_t>(position)];
   for (double deg : {near->cam_deg, cam_deg}) {
-    const Status st = kin::solve(m.up, ws, deg * kRadPerDeg, {3, false});
+    const Status st = kin::solve(m.up, ws, deg * rad_per_deg, {3, false});
     if (!st.ok()) return st;
     if (deg == near->cam_deg &&
         std::abs(ws.vars[static_cast<std::size_t>(m.swing_var)].value() - near->psi.value()) > 1e-6) {
@@ -549,7 +673,7 @@ Status SwingCamLift::evaluate_at(int position, double cam_deg, std::span<const d
       ws.reset();
       for (const auto& o : m.pts)
         if (o.position == position && o.cam_deg <= near->cam_deg)
-          if (Status w = kin::solve(m.up, ws, o.cam_deg * kRadPerDeg, {0, false}); !w.ok()) return w;
+          if (Status w = kin::solve(m.up, ws, o.cam_deg * rad_per_deg, {0, false}); !w.ok()) return w;
     }
   }
   Impl::Point pt;
@@ -574,7 +698,7 @@ Status SwingCamLift::profile_table(std::span<const double> c, int points, double
   // dwell (c3 at the top). The nose is the shortest of kNoseLengths whose pitch curve keeps a
   // convex radius >= roller radius + min_convex_radius_mm (the surface then does not fold
   // and its convex radius is >= min_convex_radius_mm).
-  constexpr double kNoseMargin = 0.25 * kRadPerDeg;  // covers the grid's miss of the farthest contact
+  constexpr double kNoseMargin = 0.25 * rad_per_deg;  // covers the grid's miss of the farthest contact
   constexpr double kNoseLengths[] = {4, 6, 8, 10, 12, 16, 20, 24, 32, 40, 48};  // [swing deg]
   double s_c = m.sa;
   for (const auto& pt : m.pts) {
@@ -596,7 +720,7 @@ Status SwingCamLift::profile_table(std::span<const double> c, int points, double
   };
   double nose = 0.0, tightest = 0.0;
   for (double length_deg : kNoseLengths) {
-    const double length = length_deg * kRadPerDeg;
+    const double length = length_deg * rad_per_deg;
     double worst = 0.0;
     for (int k = 0; k <= 200; ++k) {
       double r[3];
@@ -613,17 +737,17 @@ Status SwingCamLift::profile_table(std::span<const double> c, int points, double
     return {StatusCode::undercut,
             "the swing cam's nose past the farthest contact cannot turn back within " +
                 num(kNoseLengths[std::size(kNoseLengths) - 1]) + " swing deg with a convex surface radius >= " +
-                num(min_convex_radius_mm) + " mm (pitch slope there " + num(hb[1] * kRadPerDeg) +
+                num(min_convex_radius_mm) + " mm (pitch slope there " + num(hb[1] * rad_per_deg) +
                 " mm per swing deg; tightest pitch radius " + num(1.0 / tightest) + " mm against roller " +
                 num(m.r_roller) + " mm)",
-            "swing " + num(s_e / kRadPerDeg) + " deg"};
+            "swing " + num(s_e / rad_per_deg) + " deg"};
   const double base = std::atan2(m.e0.y(), m.e0.x());
   const double s_n = s_e + nose, s_hi = 2 * s_n - m.sa;
   const double co = std::cos(m.profile_orientation), so = std::sin(m.profile_orientation);
   std::vector<std::pair<double, double>> polar;
   double previous = 0.0, turned = 0.0;  // the surface's polar angle, unwrapped along the table [rad]
   for (int i = 0; i < points; ++i) {
-    const double sv = s_hi - 2 * kPi + 2 * kPi * (i + 0.5) / points;
+    const double sv = s_hi - 2 * pi + 2 * pi * (i + 0.5) / points;
     const double se = sv > s_n ? 2 * s_n - sv : sv, sign = sv > s_n ? -1.0 : 1.0;
     double rho = m.rho0, drho = 0.0;
     if (se <= s_e) {
@@ -650,16 +774,16 @@ Status SwingCamLift::profile_table(std::span<const double> c, int points, double
     // the surface must run round its origin in one sense: a step back is a fold
     if (i > 0) {
       double step = a - previous;
-      step -= 2 * kPi * std::round(step / (2 * kPi));
+      step -= 2 * pi * std::round(step / (2 * pi));
       if (i > 1 && step * turned <= 0)
         return {StatusCode::undercut,
                 "the swing cam's surface folds back (undercut: the pitch curve's convex radius is below the roller "
                 "radius " + num(m.r_roller) + " mm)",
-                "swing " + num(se / kRadPerDeg) + " deg, profile " + num(a / kRadPerDeg) + " deg"};
+                "swing " + num(se / rad_per_deg) + " deg, profile " + num(a / rad_per_deg) + " deg"};
       turned += step;
     }
     previous = a;
-    polar.emplace_back(a < 0 ? a / kRadPerDeg + 360.0 : a / kRadPerDeg, local.norm());
+    polar.emplace_back(a < 0 ? a / rad_per_deg + 360.0 : a / rad_per_deg, local.norm());
   }
   std::sort(polar.begin(), polar.end());
   angle_deg.clear();

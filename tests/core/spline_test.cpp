@@ -9,11 +9,13 @@
 #include <cstdint>
 #include <numbers>
 #include <random>
-#include <stdexcept>
 #include <vector>
+
+#include "camopt/core/error.hpp"
 
 namespace {
 
+using camopt::InputError;
 using camopt::Jet;
 using camopt::PeriodicSpline;
 using camopt::Spline;
@@ -292,15 +294,21 @@ TEST_CASE("periodic spline: rejects misuse") {
   const std::vector<double> x = {0, 1, 2, 3, 4, 5};
   const std::vector<double> y = {0, 1, 0, 1, 0, 1};
   CHECK_NOTHROW(PeriodicSpline::interpolate(x, y, 6.0));
-  CHECK_THROWS_AS(PeriodicSpline::interpolate(x, y, 5.0), std::invalid_argument);
+  CHECK_THROWS_AS(PeriodicSpline::interpolate(x, y, 5.0), InputError);
   CHECK_THROWS_AS(PeriodicSpline::interpolate(std::span(x).first(5), std::span(y).first(5), 6.0),
-                  std::invalid_argument);
+                  InputError);
   CHECK_THROWS_AS(PeriodicSpline::interpolate(x, std::span(y).first(5), 6.0),
-                  std::invalid_argument);
+                  InputError);
   const std::vector<double> xd = {0, 1, 2, 2, 4, 5};
-  CHECK_THROWS_AS(PeriodicSpline::interpolate(xd, y, 6.0), std::invalid_argument);
+  CHECK_THROWS_AS(PeriodicSpline::interpolate(xd, y, 6.0), InputError);
   const std::vector<double> yn = {0, 1, NAN, 1, 0, 1};
-  CHECK_THROWS_AS(PeriodicSpline::interpolate(x, yn, 6.0), std::invalid_argument);
+  CHECK_THROWS_AS(PeriodicSpline::interpolate(x, yn, 6.0), InputError);
+  // the message names the value and the rule
+  CHECK_THROWS_WITH(PeriodicSpline::interpolate(x, y, 5.0),
+                    Catch::Contains("period = 5 must exceed the data span x.back() - x.front() = 5"));
+  CHECK_THROWS_WITH(PeriodicSpline::interpolate(xd, y, 6.0),
+                    Catch::Contains("x[3] = 2 is not greater than x[2] = 2 (x must be strictly increasing)"));
+  CHECK_THROWS_WITH(PeriodicSpline::interpolate(x, yn, 6.0), Catch::Contains("point 2 (2, nan) is not finite"));
 }
 
 // ---------------------------------------------------------------------------------------
@@ -440,10 +448,14 @@ TEST_CASE("spline: rejects misuse") {
   const std::vector<double> y = {0, 1, 0};
   CHECK_NOTHROW(Spline::interpolate(x, y));
   CHECK_THROWS_AS(Spline::interpolate(std::span(x).first(2), std::span(y).first(2)),
-                  std::invalid_argument);
+                  InputError);
   const std::vector<double> xd = {0, 2, 1};
-  CHECK_THROWS_AS(Spline::interpolate(xd, y), std::invalid_argument);
-  CHECK_THROWS_AS(Spline::interpolate(x, std::span(y).first(2)), std::invalid_argument);
+  CHECK_THROWS_AS(Spline::interpolate(xd, y), InputError);
+  CHECK_THROWS_AS(Spline::interpolate(x, std::span(y).first(2)), InputError);
+  CHECK_THROWS_WITH(Spline::interpolate(std::span(x).first(2), std::span(y).first(2)),
+                    Catch::Contains("Spline::interpolate: 2 points given, at least 3 required"));
+  CHECK_THROWS_WITH(Spline::interpolate(x, std::span(y).first(2)),
+                    Catch::Contains("Spline::interpolate: x has 3 points but y has 2"));
 }
 
 TEST_CASE("value_range: the extremes of a spline, inside its pieces too") {

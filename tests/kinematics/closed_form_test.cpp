@@ -497,8 +497,8 @@ TEST_CASE("closed form (g): flat tappet on a polar table cam (support function)"
 
 TEST_CASE("closed form (g): pressure angle of a flat tappet normal to its travel is zero",
           "[kinematics][closed_form]") {
-  // regression: acos(|dir . n|) lost half the digits near 0 (acos(1 - eps) = sqrt(2 eps) =
-  // 1.5e-8 rad); the kernel now uses atan2(|dir x n|, |dir . n|)
+  // acos(|dir . n|) would lose half the digits near 0 (acos(1 - eps) = sqrt(2 eps) = 1.5e-8
+  // rad); the kernel takes atan2(|dir x n|, |dir . n|), exact to round-off there
   const PeriodicSpline spline = lobe_spline();
   for (const double orientation : {90 * deg, 0.0}) {
     const oracles::FlatFollowerPolarCam o{[&](double phi, double* r) { spline.evaluate(phi, 3, r); }, orientation};

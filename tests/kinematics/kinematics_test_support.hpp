@@ -1,5 +1,5 @@
 #pragma once
-// shared pieces of the kinematics accuracy tests: the named tolerances of the issue, small
+// shared pieces of the kinematics accuracy tests: the named acceptance tolerances, small
 // DesignSpec builders (mechanisms inline in code, like the smoke test), a rigid placement
 // of a textbook frame into the drawing, and a per-sweep compare against an oracle that
 // reports the worst point.
@@ -34,7 +34,7 @@ inline constexpr double kAccelerationRel = 1e-7;
 inline constexpr double kJerkRel = 1e-5;
 inline constexpr double kOrderRel[4] = {kDisplacementRel, kVelocityRel, kAccelerationRel, kJerkRel};
 
-// the sweep of the issue: a full revolution at 0.5 deg
+// the accuracy sweep: a full revolution at 0.5 deg
 inline constexpr double kSweepStepDeg = 0.5;
 inline constexpr int kSweepPoints = 721;  // 0 .. 360 deg, both ends
 
@@ -151,7 +151,7 @@ inline ProfileSpec eccentric_profile(const std::string& name, double R, double e
   return p;
 }
 
-// the polar table cam of the issue: r = 18 + 3 (1 - cos phi)^2 / 4 [mm] sampled at 1 deg
+// the polar table cam of the accuracy tests: r = 18 + 3 (1 - cos phi)^2 / 4 [mm] sampled at 1 deg
 inline double lobe_radius(double phi) {
   const double k = 1.0 - std::cos(phi);
   return 18.0 + 0.75 * k * k;

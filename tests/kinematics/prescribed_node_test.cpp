@@ -110,6 +110,28 @@ TEST_CASE("only a node solved on its own with its contacts' parameters can be gi
   CHECK_FALSE(kin::can_prescribe(m, m.node_index("cam")));              // the driver
   CHECK_FALSE(kin::can_prescribe(m, m.node_index("eccentric_shaft")));  // set by its control
   CHECK_FALSE(kin::can_prescribe(m, m.node_index("valve")));            // its step holds it at rest on lash
+  CHECK_FALSE(kin::can_prescribe(m, -1));
+  CHECK_FALSE(kin::can_prescribe(m, static_cast<int>(m.nodes.size())));
+}
+
+TEST_CASE("solve_prescribed: a node that cannot be given, or a bad call, is an InputError", "[kinematics][prescribed]") {
+  const kin::Mechanism m = valvetronic();
+  kin::Workspace ws(m);
+  const int lever = m.node_index("lever");
+  const std::vector<kin::Jet3> jets(static_cast<std::size_t>(m.nodes[static_cast<std::size_t>(lever)].dof), kin::Jet3(0.0));
+  // no solved point yet
+  CHECK_THROWS_AS((void)kin::solve_prescribed(m, ws, 0.0, {3, false}, lever, jets), InputError);
+  CHECK_THROWS_WITH((void)kin::solve_prescribed(m, ws, 0.0, {3, false}, lever, jets),
+                    Catch::Contains("the workspace has no solved point"));
+  REQUIRE(kin::solve(m, ws, 0.0, {3, false}).ok());
+  CHECK_THROWS_WITH((void)kin::solve_prescribed(m, ws, 0.0, {3, false}, m.node_index("valve"), jets),
+                    Catch::Contains("node 'valve' cannot be prescribed"));
+  CHECK_THROWS_WITH((void)kin::solve_prescribed(m, ws, 0.0, {3, false}, lever, std::span(jets).first(0)),
+                    Catch::Contains("node_vars has 0 jet(s)"));
+  CHECK_THROWS_WITH((void)kin::solve_prescribed(m, ws, 0.0, {3, true}, lever, jets),
+                    Catch::Contains("request.contacts = true: must be false"));
+  CHECK_THROWS_WITH((void)kin::solve_prescribed(m, ws, 0.0, {3, false}, 99, jets),
+                    Catch::Contains("node = 99 must be a node index"));
 }
 
 TEST_CASE("a given step beyond the predictor is refused and the workspace keeps its point", "[kinematics][prescribed]") {

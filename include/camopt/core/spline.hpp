@@ -90,8 +90,8 @@ class PeriodicSpline : public detail::PiecewiseQuintic, public detail::SplineCal
   // knots at x (strictly increasing, at least 6 points, x.back() - x.front() < period);
   // the point x.front() + period closes the curve with value y.front().
   // Solved in O(n) by a cyclic banded elimination with partial pivoting (the sparse LU below
-  // when that is not at round-off). Throws std::invalid_argument on misuse (callers validate
-  // user data first).
+  // when that is not at round-off). Throws InputError naming the point for data that
+  // breaks these rules, or whose x values nearly coincide (a singular collocation system).
   static PeriodicSpline interpolate(std::span<const double> x, std::span<const double> y,
                                     double period);
   // the same spline by a sparse LU of the whole collocation system: the reference solve
@@ -119,7 +119,8 @@ class Spline : public detail::PiecewiseQuintic, public detail::SplineCalls<Splin
  public:
   Spline() = default;
 
-  // x strictly increasing, at least 3 points; throws std::invalid_argument on misuse
+  // x strictly increasing, at least 3 points; throws InputError naming the point otherwise,
+  // or when x values nearly coincide (a singular collocation system)
   static Spline interpolate(std::span<const double> x, std::span<const double> y);
 
   // out[k] = f^(k)(x) for k = 0..max_order (max_order <= 5)

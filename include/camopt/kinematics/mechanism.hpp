@@ -82,6 +82,10 @@ enum class StepMethod {
   implicit
 };
 
+// the most unknowns one plan step solves simultaneously (compile() rejects a larger coupled
+// cluster; Workspace::max_block)
+inline constexpr int max_block_unknowns = 16;
+
 struct SolveStep {
   std::vector<int> connections;  // whose equations form this block
   std::vector<int> unknowns;     // variables solved here

@@ -26,6 +26,9 @@ using Jet3 = Jet<3>;
 struct Request {
   int derivative_order = 3;  // 0: positions only, up to 3: jerk
   bool contacts = false;     // per-contact quantities (needs order >= 1)
+
+  // InputError naming the field, its value and the rule it breaks
+  void validate() const;
 };
 
 // toggle margin (Workspace::toggle_margin) below which a point counts as near a singular
@@ -64,9 +67,9 @@ class Workspace {
  public:
   explicit Workspace(const Mechanism& mech);
 
-  // set control positions [deg or mm], in Mechanism::controls order; resets warm starts
-  // unless keep_warm_start (then the next solve continues from the last point, with the
-  // trust check below bounding the change)
+  // set control positions [deg or mm], in Mechanism::controls order (InputError unless one
+  // value per control); resets warm starts unless keep_warm_start (then the next solve
+  // continues from the last point, with the trust check below bounding the change)
   void set_controls(std::span<const double> values, bool keep_warm_start = false);
   const std::vector<double>& controls() const { return controls_; }
   void reset();  // forget warm starts (next solve scans for contact points)
@@ -88,7 +91,7 @@ class Workspace {
   SolveStats stats;
 
   // ---- internals used by the kernel ----
-  static constexpr int max_block = 16;  // unknowns solved simultaneously
+  static constexpr int max_block = max_block_unknowns;  // unknowns solved simultaneously
   using Matrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, max_block, max_block>;
   using Vector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, max_block, 1>;
   struct Block {
@@ -181,6 +184,7 @@ class Workspace {
 
 // solve every node at driver displacement [rad for a rotational driver, mm otherwise].
 // On failure the status names the connection, the driver position and the residual.
+// InputError for an invalid request (Request::validate).
 // A fresh workspace away from the drawing is assembled by continuation from the drawing;
 // `drawing` (a workspace after solve_drawing) saves solving the drawing again.
 Status solve(const Mechanism& mech, Workspace& ws, double driver, const Request& request,
@@ -194,7 +198,9 @@ Status solve(const Mechanism& mech, Workspace& ws, double driver, const Request&
 // last solved values (so no contact outputs: request.contacts must be false). One step from
 // the workspace's last point (which must be a solved point at these controls), under the
 // trust check but without halving: a rejected step returns a Status, the workspace keeps its
-// last point, and a solve() from there takes the step in full.
+// last point, and a solve() from there takes the step in full. InputError when the node
+// cannot be prescribed (can_prescribe), node_vars is not one jet per variable of the node,
+// the request asks for contacts, or the workspace has no solved point yet.
 Status solve_prescribed(const Mechanism& mech, Workspace& ws, double driver, const Request& request, int node,
                         std::span<const Jet3> node_vars);
 

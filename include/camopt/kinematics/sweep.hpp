@@ -17,8 +17,12 @@ struct SweepSpec {
   double start = 0.0, stop = 360.0, step = 1.0;       // driver [deg or mm], both ends included
   std::vector<std::vector<double>> control_positions;  // each: every control [deg or mm]
   Request request;
-  int threads = 1;
-  std::function<void()> on_position_done;  // progress hook; called from worker threads
+  int threads = 1;  // worker threads (at most one per position; < 1 runs on the caller's thread)
+  // progress hook; called from worker threads (an exception it throws reaches sweep()'s caller)
+  std::function<void()> on_position_done;
+
+  // InputError naming the field, its value and the rule it breaks (one rule per line)
+  void validate() const;
 };
 
 // one control position: values and derivatives per driver unit (deg or mm) of every
@@ -45,6 +49,11 @@ struct SweepResult {
   std::vector<PositionResult> positions;
 };
 
+// solve every driver point at every control position. InputError for an invalid spec
+// (SweepSpec::validate) or a control position without one value per Mechanism::controls;
+// an exception thrown in a worker thread (on_position_done, or out of memory) is rethrown
+// here once every worker has stopped. A failing solve is not an exception: it is the
+// position's status, and its later points are zeros.
 SweepResult sweep(const Mechanism& mech, const SweepSpec& spec);
 
 // a value and the driver position where it occurs
@@ -119,7 +128,8 @@ PositionSummary summarize(const Mechanism& mech, const SweepResult& result, std:
 
 // the displacement of one node over one revolution of a rotational driver, interpolated
 // periodically: [driver rad] -> [rad or mm] (the node's internal unit); lash as designed.
-// Sampled at step_deg; the status names the failing angle.
+// Sampled at step_deg (> 0); the status names the failing angle. InputError for a
+// translating driver, a node that is not a body of the mechanism or a bad step.
 Status periodic_motion(const Mechanism& mech, int node, const std::vector<double>& controls, double step_deg,
                        PeriodicSpline& motion);
 

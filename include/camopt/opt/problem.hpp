@@ -9,6 +9,7 @@
 // CamContactModel (cam_contact.hpp) at every grid angle with exact gradients, chained
 // through the lift rows: dg/du = dg/dL row_0 + dg/dL' row_1 + dg/dL'' row_2.
 #include <Eigen/Core>
+#include <array>
 #include <memory>
 #include <optional>
 #include <span>
@@ -106,8 +107,8 @@ class CamProblem {
   const std::vector<std::pair<int, int>>& jacobian_pattern() const noexcept { return pattern_; }
   const std::vector<double>& grid_deg() const noexcept { return grid_; }
 
-  // f, g and (gradients = true) their derivatives at u; a failing contact inversion or
-  // envelope returns its status (the caller rejects the step)
+  // f, g and (gradients = true) their derivatives at u (u.size() == variables()); a failing
+  // contact inversion or envelope returns its status (the caller rejects the step)
   Status evaluate(std::span<const double> u, Evaluation& out, bool gradients);
 
   // hessian of the objective at the last evaluate(): the target term's gauss-newton matrix
@@ -135,10 +136,33 @@ class CamProblem {
   std::string item_name(const ConstraintRow& row) const;
 
  private:
-  struct GridPoint;
+  struct GridPoint;  // problem_detail.hpp
+  struct PointRows;  // the rows of one grid point (problem_rows.cpp)
+  struct LiftProbe;  // the lift model between the grid points, for the scalar rows
+  using Motions = std::vector<std::array<double, 4>>;  // per grid point: lift [mm], d^k/dtheta^k [mm/deg^k]
+
+  // ---- construction steps (problem.cpp) ----
+  void make_lift_model(const DesignSpec& design);
+  void check_ramp_velocities() const;
+  void make_contact_model(const DesignSpec& design);
+  void make_swing_grid(const PeriodicSpline* target_lift);
+  void make_event_grid(const PeriodicSpline* target_lift);
+  void set_variables_and_closure();
   void build_rows();
+  void scale_objectives();
+
+  // ---- evaluation steps ----
   // valve lift and derivatives at every grid point [mm/deg^k] (swing: also the rows)
-  Status motions(std::span<const double> u, std::vector<std::array<double, 4>>& motion);
+  Status motions(std::span<const double> u, Motions& motion);
+  // objective and its gradient: target least squares, lift area, peak epigraph
+  void objective(std::span<const double> u, const Motions& motion, Evaluation& e, bool gradients) const;
+  // the rows of every grid point (problem_rows.cpp); r: the first row after them
+  Status grid_rows(std::span<const double> u, const Motions& motion, Evaluation& e, bool gradients, std::size_t& r);
+  // the scalar rows r.. (problem_rows.cpp)
+  Status scalar_rows(std::span<const double> u, const Motions& motion, Evaluation& e, bool gradients, std::size_t r);
+  void peak_lift_row(const Motions& motion, LiftProbe& lift_at, Evaluation& e, bool gradients, std::size_t r);
+  void duration_row(const Motions& motion, LiftProbe& lift_at, Evaluation& e, bool gradients, std::size_t r);
+
   // scalar constraints look at these points only (swing: the full-lift position 0)
   bool scalar_point(std::size_t i) const noexcept;
   // consecutive grid points i, i + 1 of one position one grid step apart

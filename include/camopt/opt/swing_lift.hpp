@@ -77,7 +77,12 @@ class SwingCamLift {
   // cuts the design at its swing cam; grid_step_deg: the cam-angle grid. points on the dwell
   // at every admissible design (the roller on the dwell arc short of s_a) are left out.
   // InputError when the design is not a swing cam driving a rotational follower that moves
-  // the output node through a circle on a line.
+  // the output node through a circle on a line. A kinematic solve that fails (tracing the
+  // design's own swing profile, or the drive at a grid point) is the returned Status, and
+  // `out` is left as it was.
+  static Status create(const DesignSpec& design, const SwingProfileSpec& spec, double grid_step_deg,
+                       std::unique_ptr<SwingCamLift>& out);
+  // the same, a failing solve thrown as NumericalError
   SwingCamLift(const DesignSpec& design, const SwingProfileSpec& spec, double grid_step_deg);
   ~SwingCamLift();
   SwingCamLift(SwingCamLift&&) noexcept;
@@ -119,6 +124,7 @@ class SwingCamLift {
   const std::string& connection() const noexcept;
 
  private:
+  SwingCamLift();  // an empty model for create()
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

@@ -70,3 +70,17 @@ TEST_CASE("the compare helpers fail on a value that is not finite", "[kinematics
   // so the worst error over a sweep with one NaN is infinite, above any allowance
   CHECK_FALSE(compare_error(std::nan(""), 0.0) <= 1e300);
 }
+
+TEST_CASE("solve: a bad request or control count is an InputError naming the field", "[kinematics][solver]") {
+  const auto mech = kin::compile(eccentric_flat(20, 5));
+  kin::Workspace ws(mech);
+  CHECK_THROWS_AS((void)kin::solve(mech, ws, 0.0, kin::Request{-1, false}), InputError);
+  CHECK_THROWS_WITH((void)kin::solve(mech, ws, 0.0, kin::Request{-1, false}),
+                    Catch::Contains("request.derivative_order = -1 must be in [0, 3]"));
+  CHECK_THROWS_WITH((void)kin::solve(mech, ws, 0.0, kin::Request{0, true}),
+                    Catch::Contains("request.contacts = true needs request.derivative_order >= 1"));
+  const std::vector<double> one_control = {1.0};
+  CHECK_THROWS_AS(ws.set_controls(one_control), InputError);
+  CHECK_THROWS_WITH(ws.set_controls(one_control),
+                    Catch::Contains("control position: 1 value(s) given, the mechanism has 0 control(s)"));
+}

@@ -1,0 +1,178 @@
+// the workspace of kin::solve: per-variable buffers, warm starts and trust radii, and one
+// block per plan step (kernel.hpp)
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "kernel.hpp"
+
+namespace camopt::kin {
+
+namespace detail {
+
+namespace {
+
+// the one-equation form of a block (see Workspace::Block::OffsetContact): one contact, no
+// lash opening, a profile curve on a known body, a circle on the one unknown body, which
+// rotates or translates; its two unknowns are that body's displacement and the curve parameter
+Workspace::Block::OffsetContact offset_contact(const Mechanism& m, const SolveStep& step) {
+  Workspace::Block::OffsetContact oc;
+  if (step.method != StepMethod::implicit || step.connections.size() != 1 || step.one_sided || step.output_node < 0 ||
+      step.unknowns.size() != 2)
+    return oc;
+  const Connection& c = m.connections[step.connections[0]];
+  if (c.kind != ConnectionKind::contact) return oc;
+  const int u = step.output_node;
+  const Node& node = m.nodes[u];
+  if (node.kind == NodeKind::floating || (c.node_a != u && c.node_b != u) || c.node_a == c.node_b) return oc;
+  const bool circle_on_a = c.node_a == u;
+  const Surface& circle = circle_on_a ? c.surface_a : c.surface_b;
+  const Surface& curve = circle_on_a ? c.surface_b : c.surface_a;
+  if (circle.kind != SurfaceKind::point || curve.kind != SurfaceKind::curve || curve.variable < 0) return oc;
+  oc.connection = step.connections[0];
+  oc.unknown_node = u;
+  oc.known_node = circle_on_a ? c.node_b : c.node_a;
+  oc.curve_variable = curve.variable;
+  oc.node_variable = node.first_variable;
+  oc.curve_on_a = !circle_on_a;
+  oc.centre_offset = circle.offset - c.lash;
+  oc.centre = circle.origin;
+  if (node.kind == NodeKind::rotational) {
+    const Eigen::Vector2d arm = circle.origin - node.pivot;
+    oc.arm = arm.norm();
+    oc.arm_angle = std::atan2(arm.y(), arm.x());
+    oc.cos_arm = std::cos(oc.arm_angle);
+    oc.sin_arm = std::sin(oc.arm_angle);
+    // a circle centred on the pivot does not move its body: leave the block to the general solver
+    if (!(oc.arm > 1e-9 * m.length_scale)) return oc;
+  }
+  oc.active = true;
+  return oc;
+}
+
+}  // namespace
+
+Workspace::Block make_block(const Mechanism& m, const SolveStep& step, bool tangency_only) {
+  Workspace::Block b;
+  b.connections = step.connections;
+  for (int ci : step.connections) {
+    const Connection& c = m.connections[ci];
+    const int count = tangency_only ? c.equation_count - 1 : c.equation_count;
+    for (int k = 0; k < count; ++k) b.equations.push_back({ci, k});
+  }
+  for (int v : step.unknowns)
+    if (!tangency_only || m.variables[v].node < 0) b.unknowns.push_back(v);
+  const int n = static_cast<int>(b.unknowns.size());
+  b.solving.assign(m.nodes.size(), 0);
+  for (int v : b.unknowns)
+    if (m.variables[v].node >= 0) b.solving[m.variables[v].node] = 1;
+  b.inverse.setZero(n, n);
+  b.jacobian.setZero(n, n);
+  b.last_jacobian.setZero(n, n);
+  b.prev_jacobian.setZero(n, n);
+  b.x.setZero(n);
+  b.f.setZero(n);
+  b.dx.setZero(n);
+  b.f_new.setZero(n);
+  b.u.setZero(n);
+  b.row.setZero(n);
+  b.r1.setZero(n);
+  if (!tangency_only) b.offset = offset_contact(m, step);
+  return b;
+}
+
+void drop_block_warm_starts(Workspace& ws) {
+  for (auto* blocks : {&ws.full_blocks, &ws.tangency_blocks})
+    for (auto& b : *blocks) {
+      b.have_inverse = b.jacobian_at_x = false;
+      b.contraction = 0.0;
+      b.jacobians = 0;
+    }
+}
+
+}  // namespace detail
+
+using detail::drop_block_warm_starts;
+using detail::make_block;
+using detail::trust_angle_rad;
+using detail::trust_length_fraction;
+
+Workspace::Workspace(const Mechanism& mech) {
+  const std::size_t nv = mech.variables.size();
+  vars.assign(nv, Jet3(0.0));
+  values.assign(nv, 0.0);
+  prev_values.assign(nv, 0.0);
+  prev2_values.assign(nv, 0.0);
+  prev_jets.assign(nv, Jet3(0.0));
+  prev2_jets.assign(nv, Jet3(0.0));
+  vars1.assign(nv, Jet<1>(0.0));
+  vars2.assign(nv, Jet<2>(0.0));
+  std::apply([nv](auto&... v) { (v.assign(nv, {}), ...); }, dual_vars);
+  contacts.assign(mech.connections.size(), ContactState{});
+  open.assign(mech.plan.size(), false);
+  prev_open.assign(mech.plan.size(), false);
+  residual_buffer.assign(4, 0.0);
+  residual_buffer2.assign(4, Jet<2>(0.0));
+  residual_buffer3.assign(4, Jet3(0.0));
+  for (const auto& step : mech.plan) {
+    CAMOPT_ASSERT(static_cast<int>(step.unknowns.size()) <= max_block);  // compile() checks it
+    full_blocks.push_back(make_block(mech, step, false));
+    tangency_blocks.push_back(make_block(mech, step, true));
+  }
+  controls_.resize(mech.controls.size());
+  for (std::size_t i = 0; i < mech.controls.size(); ++i) controls_[i] = mech.controls[i].default_value;
+  pivots.resize(mech.nodes.size());
+  poses0.resize(mech.nodes.size());
+  poses2.resize(mech.nodes.size());
+  poses3.resize(mech.nodes.size());
+  poses1.resize(mech.nodes.size());
+  no_node_solving.assign(mech.nodes.size(), 0);
+  predicted.assign(nv, 0.0);
+  predicted_error.assign(nv, 0.0);
+  trust_radius.assign(nv, INFINITY);
+  for (int s = 0; s < 2 * static_cast<int>(mech.connections.size()); ++s) {
+    // surface parameters: a curve's is an angle, a flat face's a length
+    const Connection& c = mech.connections[s / 2];
+    const Surface& f = s % 2 ? c.surface_b : c.surface_a;
+    if (c.kind == ConnectionKind::contact && f.variable >= 0)
+      trust_radius[f.variable] =
+          f.kind == SurfaceKind::curve ? trust_angle_rad : trust_length_fraction * mech.length_scale;
+  }
+  variable_scale.assign(nv, 1.0);
+  for (std::size_t v = 0; v < nv; ++v)
+    if (mech.variables[v].is_angle) variable_scale[v] = 1.0 / mech.length_scale;
+  for (int s = 0; s < 2 * static_cast<int>(mech.connections.size()); ++s) {
+    const Connection& c = mech.connections[s / 2];
+    const Surface& f = s % 2 ? c.surface_b : c.surface_a;
+    if (c.kind == ConnectionKind::contact && f.variable >= 0 && f.kind != SurfaceKind::curve)
+      variable_scale[f.variable] = 1.0;  // a flat face's parameter is a length
+  }
+  for (std::size_t v = 0; v < nv; ++v) {
+    const int node = mech.variables[v].node;
+    if (node < 0) continue;
+    const bool known = node == mech.driver_node || mech.nodes[node].control >= 0;
+    trust_radius[v] = known                       ? INFINITY
+                      : mech.variables[v].is_angle ? trust_angle_rad
+                                                   : trust_length_fraction * mech.length_scale;
+  }
+  set_controls(controls_);
+}
+
+void Workspace::reset() {
+  history = 0;
+  std::fill(values.begin(), values.end(), 0.0);
+  drop_block_warm_starts(*this);
+  for (auto& b : full_blocks) b.accepted_sign = 0;
+}
+
+void Workspace::set_controls(std::span<const double> values_in, bool keep_warm_start) {
+  CAMOPT_THROW_UNLESS(values_in.size() == controls_.size(),
+                      "control position: " + std::to_string(values_in.size()) + " value(s) given, the mechanism has " +
+                          std::to_string(controls_.size()) + " control(s) (one value per control, in its order)");
+  std::copy(values_in.begin(), values_in.end(), controls_.begin());
+  pivots_stale = true;
+  controls_moved = true;
+  if (!keep_warm_start) reset();
+}
+
+}  // namespace camopt::kin
