@@ -211,7 +211,7 @@ int main(int argc, char** argv) {
       for (std::size_t i = 0; i < r.driver.size(); ++i) {
         const auto ref = o.lift(r.driver[i] * deg);
         for (int k = 0; k < 4; ++k) {
-          const double ours = p.at(i, m.variables.size(), 1, k) / std::pow(deg, k);
+          const double ours = p.value(i, 1, k) / std::pow(deg, k);
           err[k] = std::max(err[k], std::abs(ours - ref[k]));
           peak[k] = std::max(peak[k], std::abs(ref[k]));
         }

@@ -186,22 +186,21 @@ void CsvColumns::add_control_and_driver() {
 // a node variable and its derivatives per driver unit, and per second at --rpm
 void CsvColumns::add_variable(int v, const std::string& prefix, bool relative_to_rest) {
   const kin::Mechanism& mech = run_.mech;
-  const std::size_t nv = mech.variables.size();
   const Units u{mech.variables[v].is_angle ? "deg" : "mm", run_.driver_unit};
   const int node = mech.variables[v].node;
   double rest = 0.0;
   if (relative_to_rest && node >= 0)
     rest = mech.variables[v].is_angle ? mech.nodes[node].rest * 180.0 / pi : mech.nodes[node].rest;
   add(prefix + u.derivative(0),
-      [nv, v, rest](const kin::PositionResult& r, std::size_t i) { return r.at(i, nv, v, 0) - rest; });
+      [v, rest](const kin::PositionResult& r, std::size_t i) { return r.value(i, v, 0) - rest; });
   for (int k = 1; k <= run_.sel.order; ++k)
     add(prefix + derivative_name(k) + "_" + u.derivative(k),
-        [nv, v, k](const kin::PositionResult& r, std::size_t i) { return r.at(i, nv, v, k); });
+        [v, k](const kin::PositionResult& r, std::size_t i) { return r.value(i, v, k); });
   if (run_.options.rpm > 0 && mech.driver_is_angle())
     for (int k = 1; k <= run_.sel.order; ++k) {
       const double scale = std::pow(run_.cam_deg_per_s, k) * (u.base == "mm" ? 1e-3 : rad_per_deg);
       add(prefix + derivative_name(k) + "_" + u.si(k),
-          [nv, v, k, scale](const kin::PositionResult& r, std::size_t i) { return r.at(i, nv, v, k) * scale; });
+          [v, k, scale](const kin::PositionResult& r, std::size_t i) { return r.value(i, v, k) * scale; });
     }
 }
 

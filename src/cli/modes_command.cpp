@@ -49,7 +49,7 @@ double lift_from_rest(const kin::Mechanism& mech, const kin::PositionResult& p, 
   const int out = mech.nodes[mech.output_node].first_variable;
   const double rest = mech.variables[out].is_angle ? mech.nodes[mech.output_node].rest / rad_per_deg
                                                    : mech.nodes[mech.output_node].rest;
-  return p.at(point, mech.variables.size(), out, 0) - rest;
+  return p.value(point, out, 0) - rest;
 }
 
 std::string number_text(double v) { return format_value(v, 12); }

@@ -185,7 +185,6 @@ synthesis::SynthesisResult swing_profile(const OptimizeOptions& o, const DesignS
 void verify_swing_kinematics(const kin::Mechanism& mech, const opt::CamProblem& problem, const opt::SwingCamLift& model,
                              const std::vector<double>& peak, const std::vector<double>& lift,
                              const opt::OptimizationSpec& set, nlohmann::json& report, Verdict& verdict) {
-  const std::size_t nv = mech.variables.size();
   const int out_var = mech.nodes[static_cast<std::size_t>(mech.output_node)].first_variable;
   const double rest = mech.nodes[static_cast<std::size_t>(mech.output_node)].rest;  // translational valve [mm]
   nlohmann::json v = nlohmann::json::array();
@@ -203,7 +202,7 @@ void verify_swing_kinematics(const kin::Mechanism& mech, const opt::CamProblem& 
     // the optimiser's peak is the largest of its grid points: compare with the same grid's
     double grid_peak = -1e300;
     for (std::size_t i = 0; i < sr.driver.size(); ++i)
-      grid_peak = std::max(grid_peak, sr.positions[0].at(i, nv, out_var, 0) - rest);
+      grid_peak = std::max(grid_peak, sr.positions[0].value(i, out_var, 0) - rest);
     worst = std::max(worst, std::abs(grid_peak - peak[k]));
     // the model's points of this position sit on the sweep's grid (cam angles unwrapped past 360)
     for (std::size_t i = 0; i < model.points().size(); ++i) {
@@ -211,7 +210,7 @@ void verify_swing_kinematics(const kin::Mechanism& mech, const opt::CamProblem& 
       const double deg = std::fmod(model.points()[i].cam_deg, 360.0);
       const auto at = static_cast<std::size_t>(std::lround(deg / sw.step));
       if (at >= sr.driver.size() || std::abs(sr.driver[at] - deg) > 1e-9) continue;
-      worst_curve = std::max(worst_curve, std::abs(sr.positions[0].at(at, nv, out_var, 0) - rest - lift[i]));
+      worst_curve = std::max(worst_curve, std::abs(sr.positions[0].value(at, out_var, 0) - rest - lift[i]));
     }
     v.push_back({{"control", model.positions()[k]},
                  {"max_lift_mm", sum.max_lift},

@@ -7,7 +7,7 @@
 #include <sstream>
 
 #include "camopt/core/units.hpp"
-#include "camopt/kinematics/detail/geometry.hpp"
+#include "camopt/kinematics/pose.hpp"
 
 namespace camopt::dynamics {
 
@@ -108,7 +108,7 @@ void add_gradient(const kin::Mechanism& mech, RigidWorkspace& ws, Eigen::MatrixX
 // inertia (case 0, per (rad/s)^2): m a_cg . dcg/dq + I alpha dphi/dq, a = d2/dtheta2, and
 // the generalized mass of the free variables, one block per node
 void add_inertia(const kin::Mechanism& mech, const Model& model, RigidWorkspace& ws) {
-  using kin::detail::node_pose;
+  using kin::node_pose;
   const auto& vars = ws.kin.vars;
   const int nn = static_cast<int>(mech.nodes.size());
   for (int n = 1; n < nn; ++n) {
@@ -142,7 +142,7 @@ void add_inertia(const kin::Mechanism& mech, const Model& model, RigidWorkspace&
 // generalized load x'(q) load, stiffness k x' x'^T (the load's geometric term, like the
 // contacts' in the flexible model, is left out: first order about the path)
 void add_point_spring(const kin::Mechanism& mech, const Model& model, RigidWorkspace& ws, std::size_t s) {
-  using kin::detail::node_pose;
+  using kin::node_pose;
   const auto& vars = ws.kin.vars;
   const Spring& sp = model.springs[s];
   const int v = mech.nodes[sp.node].first_variable;
@@ -200,7 +200,7 @@ void add_applied_loads(const kin::Mechanism& mech, const Model& model, RigidWork
 // connection gradients g_c and the force direction on body b: a link's length, a gear's
 // phi_b - ratio phi_a, a contact's gap with Coulomb friction along the tangent
 void add_connection_gradients(const kin::Mechanism& mech, const Model& model, RigidWorkspace& ws) {
-  using kin::detail::node_pose;
+  using kin::node_pose;
   const auto& vars = ws.kin.vars;
   const int nc = static_cast<int>(mech.connections.size());
   for (int c = 0; c < nc; ++c) {

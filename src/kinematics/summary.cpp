@@ -28,12 +28,12 @@ struct Series {
 };
 
 // a variable's series per driver unit, less `offset` from its value
-Series variable_series(const SweepResult& r, std::size_t position, std::size_t variables, int v, double offset) {
+Series variable_series(const SweepResult& r, std::size_t position, int v, double offset) {
   const PositionResult& p = r.positions[position];
   Series s{r.driver, {}, p.lash_open, std::min(r.derivative_order, 3)};
   s.f.resize(r.driver.size());
   for (std::size_t i = 0; i < r.driver.size(); ++i) {
-    for (int k = 0; k <= 3; ++k) s.f[i][k] = k <= s.order ? p.at(i, variables, v, k) : 0.0;
+    for (int k = 0; k <= 3; ++k) s.f[i][k] = k <= s.order ? p.value(i, v, k) : 0.0;
     s.f[i][0] -= offset;
   }
   return s;
@@ -145,7 +145,7 @@ Separation separation(const Mechanism& m, const SweepResult& r, std::size_t posi
   const Node& node = m.nodes[st.output_node];
   const int v = node.first_variable;
   const double rest = m.variables[v].is_angle ? node.rest / rad_per_deg : node.rest;
-  Series s = variable_series(r, position, m.variables.size(), v, rest);
+  Series s = variable_series(r, position, v, rest);
   const std::uint64_t bit = std::uint64_t{1} << std::min(step, 63);
   auto open = [&](std::size_t i) { return (s.lash[i] & bit) != 0; };
   Separation out;
@@ -254,11 +254,10 @@ PositionSummary summarize(const Mechanism& m, const SweepResult& r, std::size_t 
                           const SummaryOptions& options) {
   const PositionResult& p = r.positions[position];
   PositionSummary s;
-  const std::size_t nv = m.variables.size();
   // the output node's lift, measured from its rest position, with its derivatives
   const Node& out = m.nodes[m.output_node];
   const int v = out.first_variable;
-  const Series lift = variable_series(r, position, nv, v, m.variables[v].is_angle ? out.rest / rad_per_deg : out.rest);
+  const Series lift = variable_series(r, position, v, m.variables[v].is_angle ? out.rest / rad_per_deg : out.rest);
   s.refined = lift.order > 0;
   // extremes, durations and area of the lift
   lift_extremes(lift, s);

@@ -63,6 +63,7 @@ void run_position(const Mechanism& m, const SweepSpec& spec, const std::vector<d
     out.toggle_margin_at.push_back(ws.path_margin_at / unit);
     if (spec.request.contacts) out.contacts.insert(out.contacts.end(), ws.contacts.begin(), ws.contacts.end());
   }
+  out.variables = nv;
   out.data.resize(driver.size() * nv * 4, 0.0);
   out.condition.resize(driver.size(), 0.0);
   out.lash_open.resize(driver.size(), 0);
@@ -186,10 +187,20 @@ Status periodic_motion(const Mechanism& m, int node, const std::vector<double>& 
   std::vector<double> x(r.driver.size()), y(r.driver.size());
   for (std::size_t i = 0; i < r.driver.size(); ++i) {
     x[i] = r.driver[i] * rad_per_deg;
-    y[i] = r.positions[0].at(i, m.variables.size(), v, 0) * unit;
+    y[i] = r.positions[0].value(i, v, 0) * unit;
   }
   motion = PeriodicSpline::interpolate(x, y, 2 * pi);
   return Status::success();
+}
+
+double output_lift(const Mechanism& mech, const PositionResult& result, std::size_t point, int order) {
+  CAMOPT_THROW_UNLESS(point < result.data.size() / std::max<std::size_t>(result.variables * 4, 1),
+                      "output_lift: point " + std::to_string(point) + " is beyond the sweep");
+  CAMOPT_THROW_UNLESS(order >= 0 && order <= 3, "output_lift: order " + std::to_string(order) + " must be 0..3");
+  const Node& out = mech.nodes[static_cast<std::size_t>(mech.output_node)];
+  const bool angle = mech.variables[static_cast<std::size_t>(out.first_variable)].is_angle;
+  const double rest = order > 0 ? 0.0 : angle ? out.rest / rad_per_deg : out.rest;  // as the summary's lift
+  return result.value(point, out.first_variable, order) - rest;
 }
 
 }  // namespace camopt::kin

@@ -4,7 +4,7 @@
 #include <sstream>
 
 #include "camopt/core/units.hpp"
-#include "camopt/kinematics/detail/geometry.hpp"
+#include "camopt/kinematics/pose.hpp"
 #include "camopt/kinematics/mechanism.hpp"
 #include "camopt/kinematics/solver.hpp"
 #include "camopt/synthesis/mechanism_cut.hpp"
@@ -150,7 +150,7 @@ Status CamContactModel::evaluate(double cam_rad, const double lift[3], ContactWo
   const G qd2 = Q2 * L1 * L1 + Q1 * L2;  // d2q/dtheta2
 
   // follower trace point g(q) and its q-derivatives (global) [mm]
-  const auto pose = kin::detail::node_pose(m.down, m.follower, ws.down_ws.vars.data(), ws.down_ws.pivots.data());
+  const auto pose = kin::node_pose(m.down, m.follower, ws.down_ws.vars.data(), ws.down_ws.pivots.data());
   const auto gp = pose.apply(m.trace_origin.x(), m.trace_origin.y());
   const Eigen::Vector2d g0{gp.x.value(), gp.y.value()};
   const Eigen::Vector2d pivot = ws.down_ws.pivots[static_cast<std::size_t>(m.follower)];

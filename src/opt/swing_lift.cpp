@@ -9,7 +9,7 @@
 #include "camopt/core/units.hpp"
 #include "camopt/kinematics/mechanism.hpp"
 #include "camopt/kinematics/solver.hpp"
-#include "camopt/synthesis/detail/hermite.hpp"
+#include "camopt/synthesis/hermite.hpp"
 #include "camopt/synthesis/lift_law.hpp"
 #include "camopt/synthesis/mechanism_cut.hpp"
 
@@ -715,7 +715,7 @@ Status SwingCamLift::profile_table(std::span<const double> c, int points, double
   // rho and its derivatives per rad at `along` [rad] past s_e on a nose of `length`
   auto nose_at = [&](double length, double along, double r[3]) {
     double d[4];
-    synthesis::detail::nose_septic(hb[0], hb[1], hb[2], length).eval(along / length, d);
+    synthesis::nose_septic(hb[0], hb[1], hb[2], length).eval(along / length, d);
     r[0] = d[0], r[1] = d[1] / length, r[2] = d[2] / (length * length);
   };
   double nose = 0.0, tightest = 0.0;
@@ -725,7 +725,7 @@ Status SwingCamLift::profile_table(std::span<const double> c, int points, double
     for (int k = 0; k <= 200; ++k) {
       double r[3];
       nose_at(length, length * k / 200.0, r);
-      worst = std::max(worst, synthesis::detail::polar_curvature(r[0], r[1], r[2]));
+      worst = std::max(worst, synthesis::polar_curvature(r[0], r[1], r[2]));
     }
     if (worst <= kappa_max) {
       nose = length;

@@ -10,9 +10,9 @@
 #include <vector>
 
 #include "camopt/core/units.hpp"
-#include "camopt/kinematics/detail/geometry.hpp"
+#include "camopt/kinematics/pose.hpp"
 #include "camopt/synthesis/detail/floating_scan.hpp"
-#include "camopt/synthesis/detail/hermite.hpp"
+#include "camopt/synthesis/hermite.hpp"
 
 namespace camopt::synthesis {
 
@@ -55,7 +55,7 @@ int landing_samples(const Jet3& q_tau, double h, int max_m) {
     const double start[4] = {q_tau.derivative(0), q_tau.derivative(1) * span,
                              q_tau.derivative(2) * span * span, q_tau.derivative(3) * span * span * span};
     const double rest[4] = {0.0, 0.0, 0.0, 0.0};
-    const detail::Septic piece(start, rest);
+    const Septic piece(start, rest);
     bool monotone = true;
     for (int t = 0; t <= kChecks && monotone; ++t) {
       double d[4];
@@ -170,7 +170,7 @@ struct Walker {
     double q = span != 0.0 ? lo + std::clamp((target - lo_lift) / span, 0.0, 1.0) * (hi - lo) : 0.5 * (lo + hi);
     if (guess > lo && guess < hi) q = guess;
     Jet3 L;
-    kin::detail::V2<Jet3> c;
+    kin::V2<Jet3> c;
     for (int it = 0; it < 100; ++it) {
       const Status st = scan.at(q, L, c);
       if (!st.ok()) return {st.code, st.message, "cam " + deg_of(theta[i]) + " deg"};
@@ -302,7 +302,7 @@ struct Walker {
   // the samples at rest take the roller's rest centre; returns their count
   int place_rest() {
     int rest_samples = 0;
-    const kin::detail::V2<Jet3> rest_centre{Jet3(scan.jets[0][4]), Jet3(scan.jets[0][8])};
+    const kin::V2<Jet3> rest_centre{Jet3(scan.jets[0][4]), Jet3(scan.jets[0][8])};
     for (int i = 0; i < n; ++i)
       if (kind[i] == Kind::rest) {
         ++rest_samples;
@@ -329,7 +329,7 @@ struct Walker {
         p0[o] = q_of[before].derivative(o) * std::pow(span, o);
         p1[o] = q_of[after].derivative(o) * std::pow(span, o);
       }
-      const detail::Septic piece(p0, p1);
+      const Septic piece(p0, p1);
       for (int c = 0; c < count; ++c) {
         const int s = (i + c) % n;
         double d[4];
@@ -338,7 +338,7 @@ struct Walker {
         for (int o = 1; o < 4; ++o) d[o] /= std::pow(span, o);
         const Jet3 q = jet_from_derivatives<3>(d);
         Jet3 lift;
-        kin::detail::V2<Jet3> cc;
+        kin::V2<Jet3> cc;
         const Status st = scan.at(q.value(), lift, cc);
         if (!st.ok()) return {st.code, st.message, "cam " + deg_of(theta[s]) + " deg"};
         const double e = std::abs(lift.value() - motion[s].value());

@@ -77,7 +77,7 @@ Status rest_pose(const kin::Mechanism& m0, const MechanismCut& cut, const Floati
   for (int it = 0;; ++it) {
     const Status st = kin::solve(m0, ws0, q, {1, false});
     if (!st.ok()) return {st.code, "placing the lever '" + cut.follower_node + "' at rest: " + st.message, "cam base circle"};
-    const auto c = kin::detail::node_pose(m0, f0, ws0.vars.data(), ws0.pivots.data()).apply(c0x, c0y);
+    const auto c = kin::node_pose(m0, f0, ws0.vars.data(), ws0.pivots.data()).apply(c0x, c0y);
     const Jet3 rho = sqrt((c.x - px) * (c.x - px) + (c.y - py) * (c.y - py));
     rest_x = c.x.value(), rest_y = c.y.value();
     const double miss = rho.value() - base;
@@ -140,8 +140,8 @@ LeverScan::LeverScan(kin::Mechanism probe, const std::vector<double>& controls, 
   c0x_ = roller.surface->origin_mm[0], c0y_ = roller.surface->origin_mm[1];
 }
 
-kin::detail::V2<Jet3> LeverScan::centre_in(const kin::Workspace& w) const {
-  return kin::detail::node_pose(m_, follower_, w.vars.data(), w.pivots.data()).apply(c0x_, c0y_);
+kin::V2<Jet3> LeverScan::centre_in(const kin::Workspace& w) const {
+  return kin::node_pose(m_, follower_, w.vars.data(), w.pivots.data()).apply(c0x_, c0y_);
 }
 
 // the scan points of a LeverScan. The lever itself is smooth in q where its other contacts
@@ -248,7 +248,7 @@ Status LeverScan::run(double motion_hi) {
   return Status::success();
 }
 
-Status LeverScan::at(double q, Jet3& lift_jet, kin::detail::V2<Jet3>& centre) {
+Status LeverScan::at(double q, Jet3& lift_jet, kin::V2<Jet3>& centre) {
   if (q >= 0.0 && q <= top * kScanStep) {
     Jet3* out3[3] = {&lift_jet, &centre.x, &centre.y};
     for (int f = 0; f < 3; ++f) {

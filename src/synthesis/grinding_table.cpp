@@ -63,7 +63,7 @@ Status grinding_table(const ProfileSpec& profile, double master_radius, double s
   const int v = mech.nodes[mech.output_node].first_variable;
   double low = 1e300;
   for (std::size_t i = 0; i < r.driver.size(); ++i) {
-    lift_mm[i] = r.positions[0].at(i, mech.variables.size(), v, 0);
+    lift_mm[i] = r.positions[0].value(i, v, 0);
     low = std::min(low, lift_mm[i]);
   }
   for (auto& l : lift_mm) l -= low;  // measured from the base circle

@@ -6,8 +6,8 @@
 
 #include "camopt/core/trig_cache.hpp"
 #include "camopt/core/units.hpp"
-#include "camopt/kinematics/detail/geometry.hpp"
-#include "camopt/synthesis/detail/hermite.hpp"
+#include "camopt/kinematics/pose.hpp"
+#include "camopt/synthesis/hermite.hpp"
 #include "camopt/synthesis/detail/radial_probe.hpp"
 
 namespace camopt::synthesis {
@@ -131,7 +131,7 @@ Status build_lever_path(const DesignSpec& upstream, const kin::Mechanism& up, in
   auto scan_point = [&](double q, std::array<double, 20>& g, double& reach) -> Status {
     const Status st = kin::solve(m, ws, q, {3, false});
     if (!st.ok()) return st;
-    const auto pose = kin::detail::node_pose(m, lv, ws.vars.data(), ws.pivots.data());
+    const auto pose = kin::node_pose(m, lv, ws.vars.data(), ws.pivots.data());
     const Jet3 x = pose.tx + pose.c * ex - pose.s * ey - up_lever.reference.x();
     const Jet3 y = pose.ty + pose.s * ex + pose.c * ey - up_lever.reference.y();
     const Jet3& phi = ws.vars[static_cast<std::size_t>(probe_lever.first_variable + 2)];
@@ -178,7 +178,7 @@ void lever_path_state(const LeverPath& path, const kin::Mechanism& up, const kin
   const kin::Connection& c = up.connections[static_cast<std::size_t>(path.contact)];
   const kin::Surface& cam = c.node_a == up.driver_node ? c.surface_a : c.surface_b;
   const auto centre =
-      kin::detail::node_pose(up, path.lever_node, ws.values.data(), ws.pivots.data()).apply(path.roller[0], path.roller[1]);
+      kin::node_pose(up, path.lever_node, ws.values.data(), ws.pivots.data()).apply(path.roller[0], path.roller[1]);
   state.theta = theta;
   state.q = Jet3(path.direction[0] * (centre.x - path.probe_at[0]) + path.direction[1] * (centre.y - path.probe_at[1]));
   state.u = Jet3(ws.values[static_cast<std::size_t>(cam.variable)]);
@@ -215,7 +215,7 @@ Status lever_at(const LeverPath& path, const kin::Mechanism& up, const kin::Work
               "the lever's roller left its scanned path (" + fmt(q) + " mm of probe travel, scanned " +
                   fmt(path.q_first) + " .. " + fmt(q_last) + " mm)",
               driver_deg(theta)};
-    const auto g = kin::detail::offset_local<1>(up, cam, path.centre_offset, u);
+    const auto g = kin::offset_local<1>(up, cam, path.centre_offset, u);
     const double dx = g.x.c[0] - rx, dy = g.y.c[0] - ry;
     const double gx = pivot.x() + cs * dx - sn * dy, gy = pivot.y() + sn * dx + cs * dy;
     gux = cs * g.x.c[1] - sn * g.y.c[1], guy = sn * g.x.c[1] + cs * g.y.c[1];
@@ -240,7 +240,7 @@ Status lever_at(const LeverPath& path, const kin::Mechanism& up, const kin::Work
   det = cq[0][1] * -guy + gux * cq[1][1];
   // taylor coefficients in theta, order by order: (C(q(t)) - G(u(t), t))_k = 0 is linear in
   // (q_k, u_k) with the newton jacobian, the lower orders known
-  const auto g3 = kin::detail::offset_local<3>(up, cam, path.centre_offset, u);
+  const auto g3 = kin::offset_local<3>(up, cam, path.centre_offset, u);
   double gdx[4], gdy[4];
   for (int d = 0; d < 4; ++d) gdx[d] = g3.x.derivative(d), gdy[d] = g3.y.derivative(d);
   Jet3 s3, c3;

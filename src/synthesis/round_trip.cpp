@@ -36,7 +36,7 @@ Status round_trip(const DesignSpec& spec, const PeriodicSpline& lift, const std:
   double sum = 0.0;
   for (std::size_t i = 0; i < r.driver.size(); ++i) {
     const double target = lift(r.driver[i] * pi / 180);
-    const double got = p.at(i, mech.variables.size(), out_var, 0) * to_internal - rest;
+    const double got = p.value(i, out_var, 0) * to_internal - rest;
     const double e = std::abs(got - target);
     sum += e * e;
     if (e > out.max_error_mm) out.max_error_mm = e, out.max_error_at_deg = r.driver[i];

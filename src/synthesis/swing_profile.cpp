@@ -15,7 +15,7 @@
 #include "camopt/core/units.hpp"
 #include "camopt/synthesis/detail/envelope_steps.hpp"
 #include "camopt/synthesis/detail/fold_status.hpp"
-#include "camopt/synthesis/detail/hermite.hpp"
+#include "camopt/synthesis/hermite.hpp"
 #include "camopt/synthesis/undercut_windows.hpp"
 
 namespace camopt::synthesis::detail {

@@ -15,11 +15,11 @@
 
 #include "camopt/dynamics/ehl.hpp"
 #include "camopt/dynamics/model.hpp"
-#include "camopt/kinematics/detail/dual.hpp"
+#include "camopt/core/dual.hpp"
 #include "oracles/finite_difference.hpp"
 
 using namespace camopt;
-using camopt::kin::detail::Dual;
+using camopt::Dual;
 
 namespace {
 

@@ -14,7 +14,7 @@
 
 #include "camopt/dynamics/hertz.hpp"
 #include "camopt/dynamics/rigid.hpp"
-#include "camopt/kinematics/detail/geometry.hpp"
+#include "camopt/kinematics/pose.hpp"
 #include "camopt/io/design_file.hpp"
 #include "kinematics/kinematics_test_support.hpp"
 
@@ -516,7 +516,7 @@ TEST_CASE("rigid (a): power balance, drive power = d(kinetic + spring energy)/dt
       double de = 0.0;
       for (std::size_t n = 1; n < m.mech.nodes.size(); ++n) {
         const auto& b = m.model.bodies[n];
-        const auto pose = kin::detail::node_pose(m.mech, static_cast<int>(n), ws.kin.vars.data(), ws.kin.pivots.data());
+        const auto pose = kin::node_pose(m.mech, static_cast<int>(n), ws.kin.vars.data(), ws.kin.pivots.data());
         const auto cg = pose.apply(b.cg.x(), b.cg.y());
         const double vx = cg.x.c[1], vy = cg.y.c[1], ax = 2 * cg.x.c[2], ay = 2 * cg.y.c[2];
         de += 1e-3 * b.mass * w * w * (vx * ax + vy * ay);
@@ -530,7 +530,7 @@ TEST_CASE("rigid (a): power balance, drive power = d(kinetic + spring energy)/dt
         const dynamics::Spring& sp = m.model.springs[k];
         double rate = ws.kin.vars[m.mech.nodes[sp.node].first_variable].c[1];
         if (sp.on_point) {  // a point of a floating body: its travel rate along the spring's line
-          const auto p = kin::detail::node_pose(m.mech, sp.node, ws.kin.vars.data(), ws.kin.pivots.data())
+          const auto p = kin::node_pose(m.mech, sp.node, ws.kin.vars.data(), ws.kin.pivots.data())
                              .apply(sp.point.x(), sp.point.y());
           rate = sp.direction.x() * p.x.c[1] + sp.direction.y() * p.y.c[1];
         }

@@ -85,7 +85,6 @@ TEST_CASE("branch: a near-change-point four-bar with a floating coupler follows 
   const auto m = kin::compile(floating_coupler(f));
   REQUIRE(m.plan.size() == 1);
   REQUIRE(m.plan[0].unknowns.size() == 4);
-  const std::size_t nv = m.variables.size();
   const int rocker = m.nodes[static_cast<std::size_t>(m.node_index("rocker"))].first_variable;
   const double rest = f.rocker_angle(0.0);
   for (double step : kStepsDeg) {
@@ -98,7 +97,7 @@ TEST_CASE("branch: a near-change-point four-bar with a floating coupler follows 
       double worst = 0.0, worst_at = 0.0, peak = 0.0;
       for (std::size_t i = 0; i < r.driver.size(); ++i) {
         const double reference = oracles::wrap_angle(f.rocker_angle(r.driver[i] * deg) - rest);
-        const double error = std::abs(oracles::wrap_angle(p.at(i, nv, rocker, 0) * deg - reference));
+        const double error = std::abs(oracles::wrap_angle(p.value(i, rocker, 0) * deg - reference));
         peak = std::max(peak, std::abs(reference));
         if (!(error <= worst)) worst = error, worst_at = r.driver[i];
       }
@@ -125,7 +124,7 @@ TEST_CASE("branch: the step control and the results do not depend on the request
       CHECK(pl.stats.points == pa.stats.points);
       CHECK(pl.stats.rejected_steps == pa.stats.rejected_steps);
       for (std::size_t i = 0; i < lift.driver.size(); ++i) {
-        for (std::size_t v = 0; v < nv; ++v) CHECK(pl.at(i, nv, static_cast<int>(v), 0) == pa.at(i, nv, static_cast<int>(v), 0));
+        for (std::size_t v = 0; v < nv; ++v) CHECK(pl.value(i, static_cast<int>(v), 0) == pa.value(i, static_cast<int>(v), 0));
         CHECK(pl.toggle_margin[i] == pa.toggle_margin[i]);
       }
       const auto sl = kin::summarize(m, lift, 0), sa = kin::summarize(m, all, 0);

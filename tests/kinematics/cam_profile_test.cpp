@@ -50,10 +50,9 @@ std::vector<double> lift_of(const std::string& text) {
   spec.step = 1.0;
   const kin::SweepResult r = kin::sweep(m, spec);
   REQUIRE(r.positions[0].status.ok());
-  const std::size_t nv = m.variables.size();
   const int out = m.nodes[static_cast<std::size_t>(m.output_node)].first_variable;
   std::vector<double> lift;
-  for (std::size_t i = 0; i < r.driver.size(); ++i) lift.push_back(r.positions[0].at(i, nv, out, 0));
+  for (std::size_t i = 0; i < r.driver.size(); ++i) lift.push_back(r.positions[0].value(i, out, 0));
   return lift;
 }
 

@@ -333,12 +333,11 @@ TEST_CASE("closed form (d): grashof four-bar, both assembly branches, driven by 
       INFO(r.positions[0].status.str());
       REQUIRE(r.positions[0].status.ok());
       REQUIRE(r.driver.size() == static_cast<std::size_t>(kSweepPoints));
-      const std::size_t nv = m.variables.size();
       const int v = m.nodes[static_cast<std::size_t>(m.node_index("rocker"))].first_variable;
       SweepCompare rocker("four-bar a " + std::to_string(c.a) + " branch " + std::to_string(branch), true);
       for (std::size_t i = 0; i < r.driver.size(); ++i) {
         Motion k;
-        for (int o = 0; o <= 3; ++o) k[static_cast<std::size_t>(o)] = r.positions[0].at(i, nv, v, o) * std::pow(deg, 1 - o);
+        for (int o = 0; o <= 3; ++o) k[static_cast<std::size_t>(o)] = r.positions[0].value(i, v, o) * std::pow(deg, 1 - o);
         auto ref = f.solve(c.crank_drawing + r.driver[i] * deg).rocker_angle;
         ref[0] = wrap_angle(ref[0] - th4_0);
         rocker.add(r.driver[i], k, ref);

@@ -101,10 +101,9 @@ TEST_CASE("lash: the lift lost is exactly the lash", "[kinematics][lash]") {
   CHECK(sw.separations.size() == 1);
   CHECK(sn.separations.empty());
   // point by point: with lash = max(0, without - lash)
-  const std::size_t nv = with.variables.size();
   const int v = with.nodes[static_cast<std::size_t>(with.node_index("tappet"))].first_variable;
   for (std::size_t i = 0; i < rw.driver.size(); ++i)
-    CHECK(std::abs(rw.positions[0].at(i, nv, v, 0) - std::max(0.0, rn.positions[0].at(i, nv, v, 0) - kLash)) <=
+    CHECK(std::abs(rw.positions[0].value(i, v, 0) - std::max(0.0, rn.positions[0].value(i, v, 0) - kLash)) <=
           kDisplacementRel * 2.0 * kE);
 }
 

@@ -148,7 +148,7 @@ TEST_CASE("control sweep: every position equals its own solve from a fresh works
         const double to_output = m.variables[v].is_angle ? 1.0 / (std::numbers::pi / 180.0) : 1.0;
         double scale = to_output;
         for (int k = 0; k <= 3; ++k, scale *= std::numbers::pi / 180.0)
-          CHECK(r.positions[p].at(i, nv, static_cast<int>(v), k) == ws.vars[v].derivative(k) * scale);
+          CHECK(r.positions[p].value(i, static_cast<int>(v), k) == ws.vars[v].derivative(k) * scale);
       }
     }
   }
@@ -175,8 +175,8 @@ TEST_CASE("lift-only sweeps solve the same positions as sweeps with every output
       double worst = 0.0;
       for (std::size_t i = 0; i < all.driver.size(); ++i)
         for (std::size_t v = 0; v < nv; ++v)
-          worst = std::max(worst, std::abs(lift_only.positions[p].at(i, nv, static_cast<int>(v), 0) -
-                                            all.positions[p].at(i, nv, static_cast<int>(v), 0)));
+          worst = std::max(worst, std::abs(lift_only.positions[p].value(i, static_cast<int>(v), 0) -
+                                            all.positions[p].value(i, static_cast<int>(v), 0)));
       // [mm or deg]: the solve tolerance 1e-13 x ~100 mm, with the conditioning of the chain
       CHECK(worst <= 1e-9);
     }

@@ -52,7 +52,7 @@ TEST_CASE("sweeps compute only the requested outputs, on every bundled design", 
       CHECK(p.contacts.empty());
       for (std::size_t i = 0; i < lift.driver.size(); ++i)
         for (std::size_t v = 0; v < nv; ++v)
-          for (int k = 1; k <= 3; ++k) CHECK(p.at(i, nv, static_cast<int>(v), k) == 0.0);
+          for (int k = 1; k <= 3; ++k) CHECK(p.value(i, static_cast<int>(v), k) == 0.0);
     }
 
     spec.request = {3, false};
@@ -70,7 +70,7 @@ TEST_CASE("sweeps compute only the requested outputs, on every bundled design", 
       CHECK(p.stats.taylor_orders == l.stats.taylor_orders);
       CHECK(p.stats.jet_closed_forms == l.stats.jet_closed_forms);
       for (std::size_t i = 0; i < deriv.driver.size(); ++i)
-        for (std::size_t v = 0; v < nv; ++v) CHECK(p.at(i, nv, static_cast<int>(v), 0) == l.at(i, nv, static_cast<int>(v), 0));
+        for (std::size_t v = 0; v < nv; ++v) CHECK(p.value(i, static_cast<int>(v), 0) == l.value(i, static_cast<int>(v), 0));
     }
 
     spec.request = {3, true};
@@ -133,6 +133,8 @@ TEST_CASE("sweep: an exception in a worker thread reaches the caller", "[kinemat
     for (int i = 0; i < 10000 && !worker_ran; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(1));
   };
   CHECK_THROWS_AS(kin::sweep(m, spec), InputError);
+  CHECK(worker_ran);
+  worker_ran = false;  // the second run waits for its worker thread again
   CHECK_THROWS_WITH(kin::sweep(m, spec), "a bad argument found inside the worker");
   CHECK(worker_ran);
 }

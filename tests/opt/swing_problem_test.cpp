@@ -173,7 +173,6 @@ TEST_CASE("swing problem: the VVLD working curve optimised at 4 control position
   prof.source_file.clear();
   REQUIRE(model.profile_table(c, 7200, 3.0, prof.angle_deg, prof.radius_mm).ok());
   const kin::Mechanism mech = kin::compile(synthesis::with_profile(d, prof));
-  const std::size_t nv = mech.variables.size();
   const int valve = mech.nodes[static_cast<std::size_t>(mech.output_node)].first_variable;
   Eigen::Matrix<double, 4, Eigen::Dynamic> rows(4, model.variables());
   double worst = 0.0;
@@ -194,7 +193,7 @@ TEST_CASE("swing problem: the VVLD working curve optimised at 4 control position
       double mo[4];
       REQUIRE(model.evaluate(static_cast<int>(i), c, mo, rows).ok());
       const auto at = static_cast<std::size_t>(std::lround(std::fmod(model.points()[i].cam_deg, 360.0)));
-      worst = std::max(worst, std::abs(sr.positions[0].at(at % 360, nv, valve, 0) - mo[0]));
+      worst = std::max(worst, std::abs(sr.positions[0].value(at % 360, valve, 0) - mo[0]));
       peak[static_cast<std::size_t>(k)] = std::max(peak[static_cast<std::size_t>(k)], mo[0]);
       ++compared;
     }

@@ -101,11 +101,10 @@ inline std::string pin_connection(const std::string& name, const std::string& ty
 // sweep data of a node's variable as a Motion per rad of driver, in rad or mm
 inline oracles::Motion node_motion(const kin::Mechanism& m, const kin::PositionResult& p, std::size_t point_index, const std::string& node,
                    bool angle) {
-  const std::size_t nv = m.variables.size();
   const int v = m.nodes[static_cast<std::size_t>(m.node_index(node))].first_variable;
   oracles::Motion out;
   for (int k = 0; k <= 3; ++k)
-    out[static_cast<std::size_t>(k)] = p.at(point_index, nv, v, k) * std::pow(kin_test::deg, (angle ? 1 : 0) - k);
+    out[static_cast<std::size_t>(k)] = p.value(point_index, v, k) * std::pow(kin_test::deg, (angle ? 1 : 0) - k);
   return out;
 }
 

@@ -34,7 +34,7 @@ std::vector<double> valve_acceleration(const DesignSpec& design) {
   REQUIRE(r.positions.front().status.ok());
   const int out = m.nodes[m.output_node].first_variable;
   std::vector<double> acc;
-  for (std::size_t i = 0; i < r.driver.size(); ++i) acc.push_back(r.positions.front().at(i, m.variables.size(), out, 2));
+  for (std::size_t i = 0; i < r.driver.size(); ++i) acc.push_back(r.positions.front().value(i, out, 2));
   return acc;
 }
 

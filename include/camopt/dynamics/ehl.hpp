@@ -18,7 +18,7 @@
 // In dimensional form h_min = 2.65 alpha^0.54 (eta0 u_e)^0.70 R^0.43 / (E'^0.03 w^0.13).
 //
 // units: SI inside the formula (m, m/s, N/m, Pa, Pa s, 1/Pa); the names say so.
-// The formula is written on a template scalar so it also runs on kin::detail::Dual<M>
+// The formula is written on a template scalar so it also runs on Dual<M>
 // (gradients for the optimiser; the optimiser can also build h^(1/0.70), which is
 // proportional to |u_e|, from the constants below).
 #include <cmath>

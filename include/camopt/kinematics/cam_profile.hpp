@@ -11,7 +11,7 @@
 #include "camopt/core/jet.hpp"
 #include "camopt/core/spline.hpp"
 #include "camopt/core/trig_cache.hpp"
-#include "camopt/kinematics/detail/dual.hpp"
+#include "camopt/core/dual.hpp"
 
 namespace camopt::kin {
 
@@ -168,7 +168,7 @@ inline void CamProfile::spline_jets(int which, double u, double& f, double& f1, 
 template <class T>
 void CamProfile::spline_jets(int which, const T& u, T& f, T& f1, T& f2, bool second, bool /*memo: always*/) const {
   // f, f', f'' of order N need derivatives up to N + 2 (quintic: f^(5) piecewise constant)
-  constexpr int N = detail::taylor_order<T>;
+  constexpr int N = taylor_order<T>;
   double d[N + 3 > 6 ? N + 3 : 6] = {};
   const int need = N + (second ? 2 : 1);
   spline_derivatives(which, u.value(), need < 5 ? need : 5, d);

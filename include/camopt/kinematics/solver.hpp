@@ -139,11 +139,11 @@ class Workspace {
   // the jacobian sweep: Dual<n + 1> for a block of n <= max_dual - 1 unknowns, larger
   // blocks in chunks of max_dual - 1 columns
   static constexpr int max_dual = 5;
-  std::tuple<std::vector<detail::Dual<2>>, std::vector<detail::Dual<3>>, std::vector<detail::Dual<4>>,
-             std::vector<detail::Dual<5>>>
+  std::tuple<std::vector<Dual<2>>, std::vector<Dual<3>>, std::vector<Dual<4>>,
+             std::vector<Dual<5>>>
       dual_vars;
   template <int M>
-  std::vector<detail::Dual<M>>& vars_dual() {
+  std::vector<Dual<M>>& vars_dual() {
     return std::get<M - 2>(dual_vars);
   }
   std::vector<Eigen::Vector2d> pivots;

@@ -26,9 +26,11 @@ struct SweepSpec {
 };
 
 // one control position: values and derivatives per driver unit (deg or mm) of every
-// variable at every driver point: data[(point * variables + v) * 4 + k], k = 0..3
+// variable at every driver point; value(point, v, k) is the k-th derivative (k = 0..3) of
+// variable v [deg or mm per driver deg^k or mm^k], output_lift() the output node's lift
 struct PositionResult {
   std::vector<double> controls;
+  std::size_t variables = 0;  // mechanism variables per point
   Status status;
   std::vector<double> data;
   std::vector<ContactState> contacts;  // [point * connections + c] (request.contacts)
@@ -40,8 +42,14 @@ struct PositionResult {
   std::vector<double> toggle_margin, toggle_margin_at;
   SolveStats stats;
 
-  double at(std::size_t point, std::size_t variables, int v, int k) const { return data[(point * variables + v) * 4 + k]; }
+  double value(std::size_t point, int variable, int order = 0) const {
+    return data[(point * variables + static_cast<std::size_t>(variable)) * 4 + static_cast<std::size_t>(order)];
+  }
 };
+
+// the output node's displacement from its rest position at a point (order 0) or its
+// order-th derivative per driver unit: [mm or deg] per driver deg^order (or mm^order)
+double output_lift(const Mechanism& mech, const PositionResult& result, std::size_t point, int order = 0);
 
 struct SweepResult {
   std::vector<double> driver;  // [deg or mm]

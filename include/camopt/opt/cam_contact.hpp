@@ -31,12 +31,12 @@
 
 #include "camopt/core/design_spec.hpp"
 #include "camopt/core/error.hpp"
-#include "camopt/kinematics/detail/dual.hpp"
+#include "camopt/core/dual.hpp"
 
 namespace camopt::opt {
 
 // a value and its gradient with respect to (L, L', L'') [per mm, per mm/rad, per mm/rad^2]
-using Grad3 = kin::detail::Dual<3>;
+using Grad3 = Dual<3>;
 
 enum class FollowerShape { roller, pad, flat };
 

@@ -18,7 +18,7 @@
 #include "camopt/core/jet.hpp"
 #include "camopt/kinematics/mechanism.hpp"
 #include "camopt/kinematics/solver.hpp"
-#include "camopt/synthesis/detail/hermite.hpp"
+#include "camopt/synthesis/hermite.hpp"
 
 namespace camopt::synthesis {
 
@@ -34,7 +34,7 @@ struct LeverPath {
   // septic hermite pieces in q between the scan points, from each point's value and three
   // derivatives in q of five fields: the lever's three variables in the upstream mechanism
   // (x, y [mm], phi [rad]), then its roller's centre (global x, y [mm])
-  detail::SepticPieces pieces{5};
+  SepticPieces pieces{5};
 };
 
 // the lever path of `lever` (a floating node of the upstream mechanism `up`, compiled from

@@ -16,11 +16,11 @@
 #include "camopt/core/error.hpp"
 #include "camopt/core/jet.hpp"
 #include "camopt/core/spline.hpp"
-#include "camopt/kinematics/detail/geometry.hpp"
+#include "camopt/kinematics/pose.hpp"
 #include "camopt/kinematics/mechanism.hpp"
 #include "camopt/kinematics/solver.hpp"
 #include "camopt/synthesis/detail/fold_status.hpp"
-#include "camopt/synthesis/detail/hermite.hpp"
+#include "camopt/synthesis/hermite.hpp"
 #include "camopt/synthesis/envelope.hpp"
 #include "camopt/synthesis/floating_inversion.hpp"
 #include "camopt/synthesis/mechanism_cut.hpp"
@@ -50,14 +50,14 @@ struct ProfileFrame {
 
   // a global point into the profile frame, for the cam at pose `cam`: global -> cam
   // drawing -> profile frame
-  P2<Jet3> point(const kin::detail::Pose<Jet3>& cam, const kin::detail::V2<Jet3>& g) const {
+  P2<Jet3> point(const kin::Pose<Jet3>& cam, const kin::V2<Jet3>& g) const {
     const Jet3 dx = g.x - cam.tx, dy = g.y - cam.ty;
     const Jet3 lx = cam.rx + cam.c * dx + cam.s * dy - ox;
     const Jet3 ly = cam.ry - cam.s * dx + cam.c * dy - oy;
     return P2<Jet3>{co * lx + so * ly, -so * lx + co * ly};
   }
   // a global direction into the profile frame
-  P2<Jet3> direction(const kin::detail::Pose<Jet3>& cam, const kin::detail::V2<Jet3>& v) const {
+  P2<Jet3> direction(const kin::Pose<Jet3>& cam, const kin::V2<Jet3>& v) const {
     const Jet3 lx = cam.c * v.x + cam.s * v.y, ly = -cam.s * v.x + cam.c * v.y;
     return P2<Jet3>{co * lx + so * ly, -so * lx + co * ly};
   }

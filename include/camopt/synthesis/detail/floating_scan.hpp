@@ -11,10 +11,10 @@
 #include "camopt/core/design_spec.hpp"
 #include "camopt/core/error.hpp"
 #include "camopt/core/jet.hpp"
-#include "camopt/kinematics/detail/geometry.hpp"
+#include "camopt/kinematics/pose.hpp"
 #include "camopt/kinematics/mechanism.hpp"
 #include "camopt/kinematics/solver.hpp"
-#include "camopt/synthesis/detail/hermite.hpp"
+#include "camopt/synthesis/hermite.hpp"
 #include "camopt/synthesis/mechanism_cut.hpp"
 
 namespace camopt::synthesis::detail {
@@ -53,7 +53,7 @@ class LeverScan {
   Status run(double motion_hi);
 
   // the lift and the roller centre at travel q [mm] as jets in q
-  Status at(double q, Jet<3>& lift, kin::detail::V2<Jet<3>>& centre);
+  Status at(double q, Jet<3>& lift, kin::V2<Jet<3>>& centre);
 
   std::vector<double> lift;                      // [mm] L at each scan point
   std::vector<std::array<double, 12>> jets;      // [L, centre x, centre y][derivative 0..3] at each
@@ -62,7 +62,7 @@ class LeverScan {
   const std::string& follower_name() const { return cut_.follower_node; }
 
  private:
-  kin::detail::V2<Jet<3>> centre_in(const kin::Workspace& w) const;
+  kin::V2<Jet<3>> centre_in(const kin::Workspace& w) const;
 
   const kin::Mechanism m_;
   kin::Workspace ws_;  // solves of the whole mechanism (the scan's, and those beyond it)

@@ -7,7 +7,7 @@
 #include <cstddef>
 #include <vector>
 
-namespace camopt::synthesis::detail {
+namespace camopt::synthesis {
 
 // quintic hermite on [0, 1] from value, first and second derivative (per unit t) at both ends
 struct Quintic {
@@ -148,4 +148,4 @@ class SepticPieces {
   std::vector<Piece> pieces_;
 };
 
-}  // namespace camopt::synthesis::detail
+}  // namespace camopt::synthesis

@@ -1,13 +1,13 @@
-// kin::detail::Dual's exp, log and pow: values bit-identical to std, derivatives in closed
+// Dual's exp, log and pow: values bit-identical to std, derivatives in closed
 // form along every direction and against central differences.
 #include <catch2/catch.hpp>
 
 #include <cmath>
 
-#include "camopt/kinematics/detail/dual.hpp"
+#include "camopt/core/dual.hpp"
 #include "oracles/finite_difference.hpp"
 
-using camopt::kin::detail::Dual;
+using camopt::Dual;
 
 namespace {
 

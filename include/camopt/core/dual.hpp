@@ -13,7 +13,7 @@
 #include "camopt/core/jet.hpp"
 #include "camopt/core/trig_cache.hpp"
 
-namespace camopt::kin::detail {
+namespace camopt {
 
 template <int M>
 struct Dual {
@@ -144,4 +144,4 @@ inline constexpr int taylor_order<Jet<N>> = N;
 template <int M>
 inline constexpr int taylor_order<Dual<M>> = 1;
 
-}  // namespace camopt::kin::detail
+}  // namespace camopt
