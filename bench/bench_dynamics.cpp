@@ -197,141 +197,156 @@ bool flexible_row(const std::string& row) {
          mode == "rigid vs flexible";
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  camopt::keep_freed_memory();  // as the camopt program does
+struct Options {
   int repeat = 5;
   std::string csv_path;
   bool flexible_only = false, single = false;
   double single_rtol = 0, single_atol = 0;
   int single_masses = -1;  // --masses N: the direct-acting valve instead of the CVVL
+};
+
+// the CVVL at control 0, compiled once, and the repeat count
+struct Context {
+  kin::Mechanism mech;
+  dynamics::Model model;
+  std::vector<double> controls;
+  int repeat = 5;
+};
+
+constexpr int kRevolutions = 3;
+
+dynamics::FlexibleOptions flex_options(double rtol, double atol, bool restart) {
+  dynamics::FlexibleOptions opt;
+  opt.revolutions = kRevolutions;
+  opt.relative_tolerance = rtol;
+  opt.absolute_tolerance = atol;
+  opt.restart_at_events = restart;
+  opt.periodic_tolerance = 0;  // always the same 3 revolutions (the reference too)
+  return opt;
+}
+
+void run_flex(const Context& c, double rtol, double atol, bool restart, dynamics::FlexibleResult& r) {
+  check(dynamics::run_flexible(c.mech, c.model, c.controls, kRpm, 0, 360, 1, flex_options(rtol, atol, restart), r));
+}
+
+// the direct-acting valve with n surge masses, compiled once per n
+struct Valve {
+  kin::Mechanism mech;
+  dynamics::Model model;
+  explicit Valve(int n) : mech(kin::compile(direct_valve_with_spring_mass(n))), model(dynamics::compile_dynamics(mech)) {}
+  void run(const dynamics::FlexibleOptions& opt, dynamics::FlexibleResult& r) const {
+    check(dynamics::run_flexible(mech, model, {}, kRpm, 0, 360, 1, opt, r));
+  }
+};
+
+// false on an unknown option (usage printed)
+bool parse_options(int argc, char** argv, Options& o) {
   for (int i = 1; i < argc; ++i) {
-    if (!std::strcmp(argv[i], "--repeat") && i + 1 < argc) repeat = std::atoi(argv[++i]);
-    else if (!std::strcmp(argv[i], "--csv") && i + 1 < argc) csv_path = argv[++i];
-    else if (!std::strcmp(argv[i], "--flexible-only")) flexible_only = true;
+    if (!std::strcmp(argv[i], "--repeat") && i + 1 < argc) o.repeat = std::atoi(argv[++i]);
+    else if (!std::strcmp(argv[i], "--csv") && i + 1 < argc) o.csv_path = argv[++i];
+    else if (!std::strcmp(argv[i], "--flexible-only")) o.flexible_only = true;
     else if (!std::strcmp(argv[i], "--single") && i + 2 < argc) {
       single = true;
-      single_rtol = std::atof(argv[++i]);
-      single_atol = std::atof(argv[++i]);
+      o.single_rtol = std::atof(argv[++i]);
+      o.single_atol = std::atof(argv[++i]);
     } else if (!std::strcmp(argv[i], "--masses") && i + 1 < argc) {
-      single_masses = std::atoi(argv[++i]);
+      o.single_masses = std::atoi(argv[++i]);
     } else {
       std::fprintf(stderr,
                    "usage: bench_dynamics [--repeat N] [--csv FILE] [--flexible-only] "
                    "[--single RTOL ATOL [--masses N]]\n");
-      return 2;
+      return false;
     }
   }
-  const DesignSpec spec = io::load_design(std::string(CAMOPT_SOURCE_DIR) + "/designs/cvvl_swing_cam.toml");
-  const kin::Mechanism mech = kin::compile(spec);
-  const dynamics::Model model = dynamics::compile_dynamics(mech);
-  const std::vector<double> controls{0.0};
-  std::vector<std::string> rows{"mode,setting,ms_per_cycle,error_metric,error,steps,rhs_evaluations"};
+  return true;
+}
 
-  if (!flexible_only && !single) {  // modes (a) and (b)
-    // ---- mode (a) ----
-    dynamics::RigidSweep fine;
-    check(dynamics::rigid_sweep(mech, model, controls, 0, 360, 0.05, fine));
-    const Peaks ref = peaks_of(fine, model);
-    std::printf("mode (a) rigid inverse dynamics, CVVL control 0, %g rpm, one cycle (360 cam deg)\n", kRpm);
-    std::printf("%-10s %-12s %-22s %-16s %-22s\n", "step_deg", "ms/cycle", "peak force rel err", "torque rel err",
-                "separation rpm err");
-    for (const double step : {1.0, 0.5, 0.25}) {
-      dynamics::RigidSweep s;
-      const double t = seconds_of([&] { check(dynamics::rigid_sweep(mech, model, controls, 0, 360, step, s)); }, repeat);
-      const Peaks p = peaks_of(s, model);
-      double force_err = 0, sep_err = 0;
-      for (std::size_t c = 0; c < p.force.size(); ++c) {
-        force_err = std::max(force_err, std::abs(p.force[c] - ref.force[c]) / ref.force[c]);
-        if (std::isfinite(ref.separation[c])) sep_err = std::max(sep_err, std::abs(p.separation[c] - ref.separation[c]));
-      }
-      const double torque_err = std::abs(p.torque - ref.torque) / ref.torque;
-      std::printf("%-10g %-12.3f %-22.3g %-16.3g %-22.3g\n", step, t * 1e3, force_err, torque_err, sep_err);
-      rows.push_back("a,step " + num(step) + " deg," + num(t * 1e3) + ",peak contact force rel," + num(force_err) + ",,");
-      rows.push_back("a,step " + num(step) + " deg," + num(t * 1e3) + ",peak cam torque rel," + num(torque_err) + ",,");
-      rows.push_back("a,step " + num(step) + " deg," + num(t * 1e3) + ",separation rpm abs," + num(sep_err) + ",,");
+// mode (a): rigid inverse dynamics at three steps against a 0.05 deg reference
+void rigid_rows(const Context& c, std::vector<std::string>& rows) {
+  dynamics::RigidSweep fine;
+  check(dynamics::rigid_sweep(c.mech, c.model, c.controls, 0, 360, 0.05, fine));
+  const Peaks ref = peaks_of(fine, model);
+  std::printf("mode (a) rigid inverse dynamics, CVVL control 0, %g rpm, one cycle (360 cam deg)\n", kRpm);
+  std::printf("%-10s %-12s %-22s %-16s %-22s\n", "step_deg", "ms/cycle", "peak force rel err", "torque rel err",
+              "separation rpm err");
+  for (const double step : {1.0, 0.5, 0.25}) {
+    dynamics::RigidSweep s;
+    const double t = seconds_of([&] { check(dynamics::rigid_sweep(c.mech, c.model, c.controls, 0, 360, step, s)); }, c.repeat);
+    const Peaks p = peaks_of(s, model);
+    double force_err = 0, sep_err = 0;
+    for (std::size_t c = 0; c < p.force.size(); ++c) {
+      force_err = std::max(force_err, std::abs(p.force[c] - ref.force[c]) / ref.force[c]);
+      if (std::isfinite(ref.separation[c])) sep_err = std::max(sep_err, std::abs(p.separation[c] - ref.separation[c]));
     }
-
-    // ---- mode (b) ----
-    auto run_b = [&](double rtol, double atol, dynamics::CompliantResult& r, double table_step = 0.25) {
-      dynamics::CompliantOptions opt;
-      opt.relative_tolerance = rtol;
-      opt.absolute_tolerance = atol;
-      opt.table_step_deg = table_step;
-      check(dynamics::run_compliant(mech, model, controls, kRpm, 0, 360, 1, opt, r));
-    };
-    dynamics::CompliantResult tight;
-    run_b(1e-10, 1e-12, tight, 0.05);
-    double peak = 0;
-    for (double f : tight.force) peak = std::max(peak, std::abs(f));
-    std::printf("\nmode (b) stiff contacts (CVODE BDF), same cycle, output every 1 cam deg; %zu events in the tight run\n",
-                tight.events.size());
-    std::printf("%-28s %-12s %-24s %-22s %-8s %-8s %-8s\n", "rtol / atol_mm / table_deg", "ms/cycle", "max force err / peak",
-                "peak force err / peak", "steps", "rhs", "events");
-    struct Setting {
-      double rtol, atol, table;
-    };
-    for (const auto& [rtol, atol, table] :
-         std::vector<Setting>{{1e-6, 1e-8, 0.25}, {1e-7, 1e-9, 0.25}, {1e-8, 1e-10, 0.25}, {1e-8, 1e-10, 0.1}, {1e-8, 1e-10, 0.05}}) {
-      dynamics::CompliantResult r;
-      const double t = seconds_of([&] { run_b(rtol, atol, r, table); }, repeat);
-      double err = 0, peak_err = 0;
-      for (std::size_t i = 0; i < r.force.size(); ++i) err = std::max(err, std::abs(r.force[i] - tight.force[i]));
-      for (int c = 0; c < r.connections; ++c) {
-        double pr = 0, pt = 0;
-        for (std::size_t i = 0; i < r.cam_deg.size(); ++i) {
-          pr = std::max(pr, r.force[i * r.connections + c]);
-          pt = std::max(pt, tight.force[i * r.connections + c]);
-        }
-        peak_err = std::max(peak_err, std::abs(pr - pt) / peak);
-      }
-      std::printf("%-28s %-12.3f %-24.3g %-22.3g %-8ld %-8ld %-8zu\n",
-                  (num(rtol) + " / " + num(atol) + " / " + num(table)).c_str(), t * 1e3,
-                  err / peak, peak_err, r.steps, r.rhs_evaluations, r.events.size());
-      rows.push_back("b,rtol " + num(rtol) + " atol " + num(atol) + " table " + num(table) + " deg," + num(t * 1e3) + ",max contact force err / peak," +
-                     num(err / peak) + "," + std::to_string(r.steps) + "," + std::to_string(r.rhs_evaluations));
-      rows.push_back("b,rtol " + num(rtol) + " atol " + num(atol) + " table " + num(table) + " deg," + num(t * 1e3) + ",peak contact force err / peak," +
-                     num(peak_err) + "," + std::to_string(r.steps) + "," + std::to_string(r.rhs_evaluations));
-    }
+    const double torque_err = std::abs(p.torque - ref.torque) / ref.torque;
+    std::printf("%-10g %-12.3f %-22.3g %-16.3g %-22.3g\n", step, t * 1e3, force_err, torque_err, sep_err);
+    rows.push_back("a,step " + num(step) + " deg," + num(t * 1e3) + ",peak contact force rel," + num(force_err) + ",,");
+    rows.push_back("a,step " + num(step) + " deg," + num(t * 1e3) + ",peak cam torque rel," + num(torque_err) + ",,");
+    rows.push_back("a,step " + num(step) + " deg," + num(t * 1e3) + ",separation rpm abs," + num(sep_err) + ",,");
   }
-  // ---- flexible ----
-  constexpr int kRevolutions = 3;
-  auto flex_options = [&](double rtol, double atol, bool restart) {
-    dynamics::FlexibleOptions opt;
-    opt.revolutions = kRevolutions;
+}
+
+// mode (b): stiff contacts integrated by CVODE at several tolerances against a tight run
+void compliant_rows(const Context& c, std::vector<std::string>& rows) {
+  auto run_b = [&](double rtol, double atol, dynamics::CompliantResult& r, double table_step = 0.25) {
+    dynamics::CompliantOptions opt;
     opt.relative_tolerance = rtol;
     opt.absolute_tolerance = atol;
-    opt.restart_at_events = restart;
-    opt.periodic_tolerance = 0;  // always the same 3 revolutions (the reference too)
-    return opt;
+    opt.table_step_deg = table_step;
+    check(dynamics::run_compliant(c.mech, c.model, c.controls, kRpm, 0, 360, 1, opt, r));
   };
-  auto run_flex = [&](double rtol, double atol, bool restart, dynamics::FlexibleResult& r) {
-    check(dynamics::run_flexible(mech, model, controls, kRpm, 0, 360, 1, flex_options(rtol, atol, restart), r));
+  dynamics::CompliantResult tight;
+  run_b(1e-10, 1e-12, tight, 0.05);
+  double peak = 0;
+  for (double f : tight.force) peak = std::max(peak, std::abs(f));
+  std::printf("\nmode (b) stiff contacts (CVODE BDF), same cycle, output every 1 cam deg; %zu events in the tight run\n",
+              tight.events.size());
+  std::printf("%-28s %-12s %-24s %-22s %-8s %-8s %-8s\n", "rtol / atol_mm / table_deg", "ms/cycle", "max force err / peak",
+              "peak force err / peak", "steps", "rhs", "events");
+  struct Setting {
+    double rtol, atol, table;
   };
-  // the direct-acting valve with n surge masses, compiled once per n
-  struct Valve {
-    kin::Mechanism mech;
-    dynamics::Model model;
-    explicit Valve(int n) : mech(kin::compile(direct_valve_with_spring_mass(n))), model(dynamics::compile_dynamics(mech)) {}
-    void run(const dynamics::FlexibleOptions& opt, dynamics::FlexibleResult& r) const {
-      check(dynamics::run_flexible(mech, model, {}, kRpm, 0, 360, 1, opt, r));
+  for (const auto& [rtol, atol, table] :
+       std::vector<Setting>{{1e-6, 1e-8, 0.25}, {1e-7, 1e-9, 0.25}, {1e-8, 1e-10, 0.25}, {1e-8, 1e-10, 0.1}, {1e-8, 1e-10, 0.05}}) {
+    dynamics::CompliantResult r;
+    const double t = seconds_of([&] { run_b(rtol, atol, r, table); }, c.repeat);
+    double err = 0, peak_err = 0;
+    for (std::size_t i = 0; i < r.force.size(); ++i) err = std::max(err, std::abs(r.force[i] - tight.force[i]));
+    for (int c = 0; c < r.connections; ++c) {
+      double pr = 0, pt = 0;
+      for (std::size_t i = 0; i < r.cam_deg.size(); ++i) {
+        pr = std::max(pr, r.force[i * r.connections + c]);
+        pt = std::max(pt, tight.force[i * r.connections + c]);
+      }
+      peak_err = std::max(peak_err, std::abs(pr - pt) / peak);
     }
-  };
-  if (single) {
-    dynamics::FlexibleResult r;
-    const double c0 = cpu_seconds();
-    if (single_masses >= 0) Valve(single_masses).run(flex_options(single_rtol, single_atol, true), r);
-    else run_flex(single_rtol, single_atol, true, r);
-    const double cpu = (cpu_seconds() - c0) / kRevolutions;
-    std::printf("flexible %s rtol %g atol %g: %.2f CPU ms/cycle, steps %ld, rhs %ld, jac %ld, events %zu\n",
-                single_masses >= 0 ? ("direct-acting valve, " + std::to_string(single_masses) + " surge masses,").c_str()
-                                   : "CVVL",
-                single_rtol, single_atol, cpu * 1e3, r.steps, r.rhs_evaluations, r.jacobian_evaluations, r.events.size());
-    return 0;
+    std::printf("%-28s %-12.3f %-24.3g %-22.3g %-8ld %-8ld %-8zu\n",
+                (num(rtol) + " / " + num(atol) + " / " + num(table)).c_str(), t * 1e3,
+                err / peak, peak_err, r.steps, r.rhs_evaluations, r.events.size());
+    rows.push_back("b,rtol " + num(rtol) + " atol " + num(atol) + " table " + num(table) + " deg," + num(t * 1e3) + ",max contact force err / peak," +
+                   num(err / peak) + "," + std::to_string(r.steps) + "," + std::to_string(r.rhs_evaluations));
+    rows.push_back("b,rtol " + num(rtol) + " atol " + num(atol) + " table " + num(table) + " deg," + num(t * 1e3) + ",peak contact force err / peak," +
+                   num(peak_err) + "," + std::to_string(r.steps) + "," + std::to_string(r.rhs_evaluations));
   }
+}
+
+// --single RTOL ATOL [--masses N]: one flexible run, its CPU time and counters
+void single_run(const Context& c, const Options& o) {
+  dynamics::FlexibleResult r;
+  const double c0 = cpu_seconds();
+  if (o.single_masses >= 0) Valve(o.single_masses).run(flex_options(o.single_rtol, o.single_atol, true), r);
+  else run_flex(c, o.single_rtol, o.single_atol, true, r);
+  const double cpu = (cpu_seconds() - c0) / kRevolutions;
+  std::printf("flexible %s rtol %g atol %g: %.2f CPU ms/cycle, steps %ld, rhs %ld, jac %ld, events %zu\n",
+              o.single_masses >= 0 ? ("direct-acting valve, " + std::to_string(o.single_masses) + " surge masses,").c_str()
+                                 : "CVVL",
+              o.single_rtol, o.single_atol, cpu * 1e3, r.steps, r.rhs_evaluations, r.jacobian_evaluations, r.events.size());
+}
+
+// the flexible model at several tolerances against a tight reference: errors and cost
+void flexible_tolerance_rows(const Context& c, std::vector<std::string>& rows) {
   dynamics::FlexibleResult ref_flex;
-  run_flex(1e-10, 1e-12, true, ref_flex);
+  run_flex(c, 1e-10, 1e-12, true, ref_flex);
   const auto peak_force = [](const dynamics::FlexibleResult& r) {
     return *std::max_element(r.force.begin(), r.force.end());
   };
@@ -341,7 +356,7 @@ int main(int argc, char** argv) {
               " reference rtol 1e-10 / atol 1e-12 (peak contact force %.1f N, %zu events, first seating %.4f m/s"
               " at %.2f deg, train mode %.0f Hz); times: process CPU, best of %d\n",
               kRpm, kRevolutions, ref_peak, ref_flex.events.size(), ref_seat ? ref_seat->speed_m_per_s : -1.0,
-              ref_seat ? ref_seat->cam_deg : -1.0, ref_flex.train_frequency_hz, repeat);
+              ref_seat ? ref_seat->cam_deg : -1.0, ref_flex.train_frequency_hz, c.repeat);
   std::printf("%-30s %-9s %-9s %-12s %-12s %-12s %-12s %-9s %-12s %-7s %-7s %-5s %-6s\n", "rtol / atol_mm / restart",
               "cpu ms", "wall ms", "lift err mm", "force err/pk", "peak err/pk", "event deg", "events-ref",
               "seat v err", "steps", "rhs", "jac", "events");
@@ -353,7 +368,7 @@ int main(int argc, char** argv) {
        std::vector<FlexSetting>{{1e-3, 1e-5, true}, {1e-4, 1e-6, true}, {1e-5, 1e-7, true}, {1e-6, 1e-7, true},
                                 {1e-6, 1e-8, true}, {1e-7, 1e-9, true}, {1e-8, 1e-10, true}, {1e-6, 1e-7, false}}) {
     dynamics::FlexibleResult r;
-    Timing t = best_of([&] { run_flex(rtol, atol, restart, r); }, repeat);
+    Timing t = best_of([&] { run_flex(c, rtol, atol, restart, r); }, c.repeat);
     t.cpu /= kRevolutions;
     t.wall /= kRevolutions;
     double lift_err = 0, force_err = 0;
@@ -381,65 +396,91 @@ int main(int argc, char** argv) {
     rows.push_back(head + "jacobian evaluations," + std::to_string(r.jacobian_evaluations) + counters);
     rows.push_back(head + "events," + std::to_string(r.events.size()) + counters);
   }
-  {  // rigid vs flexible cost of one cycle (CPU)
-    dynamics::RigidSweep s;
-    const Timing t_rigid = best_of([&] { check(dynamics::rigid_sweep(mech, model, controls, 0, 360, 1, s)); }, repeat);
+}
+
+// rigid against flexible: the CPU cost of one cycle
+void rigid_vs_flexible_rows(const Context& c, std::vector<std::string>& rows) {
+  dynamics::RigidSweep s;
+  const Timing t_rigid = best_of([&] { check(dynamics::rigid_sweep(c.mech, c.model, c.controls, 0, 360, 1, s)); }, c.repeat);
+  dynamics::FlexibleResult r;
+  const double t_flex = best_of([&] { run_flex(c, 1e-6, 1e-7, true, r); }, c.repeat).cpu / kRevolutions;
+  std::printf("\nrigid (a) 1 deg: %.3f CPU ms/cycle; flexible rtol 1e-6: %.3f CPU ms/cycle (x %.0f)\n",
+              t_rigid.cpu * 1e3, t_flex * 1e3, t_flex / t_rigid.cpu);
+  rows.push_back("rigid vs flexible,rigid step 1 deg," + num(t_rigid.cpu * 1e3) + ",,,,");
+  rows.push_back("rigid vs flexible,flexible rtol 1e-6," + num(t_flex * 1e3) + ",,," + std::to_string(r.steps) + "," +
+                 std::to_string(r.rhs_evaluations));
+}
+
+// the flexible model's time per cycle against the valve spring's surge mass count
+void mass_rows(const Context& c, std::vector<std::string>& rows) {
+  std::printf("\nflexible model, direct-acting valve (tests' valve_with_spring_mass), %g rpm, %d revolutions, "
+              "rtol 1e-6 / atol 1e-7; process CPU, best of %d\n",
+              kRpm, kRevolutions, c.repeat);
+  std::printf("%-14s %-8s %-12s %-10s %-8s %-8s %-6s %-7s %-14s\n", "surge_masses", "states", "cpu ms/cyc",
+              "wall ms", "steps", "rhs", "jac", "events", "ratio to N=10");
+  const dynamics::FlexibleOptions opt = flex_options(1e-6, 1e-7, true);
+  struct MassRow {
+    int n;
+    Timing t;
     dynamics::FlexibleResult r;
-    const double t_flex = best_of([&] { run_flex(1e-6, 1e-7, true, r); }, repeat).cpu / kRevolutions;
-    std::printf("\nrigid (a) 1 deg: %.3f CPU ms/cycle; flexible rtol 1e-6: %.3f CPU ms/cycle (x %.0f)\n",
-                t_rigid.cpu * 1e3, t_flex * 1e3, t_flex / t_rigid.cpu);
-    rows.push_back("rigid vs flexible,rigid step 1 deg," + num(t_rigid.cpu * 1e3) + ",,,,");
-    rows.push_back("rigid vs flexible,flexible rtol 1e-6," + num(t_flex * 1e3) + ",,," + std::to_string(r.steps) + "," +
-                   std::to_string(r.rhs_evaluations));
+  };
+  std::vector<MassRow> measured;
+  for (const int n : {0, 10, 50, 100, 200, 500}) {
+    const Valve valve(n);
+    MassRow row{n, {}, {}};
+    row.t = best_of([&] { valve.run(opt, row.r); }, c.repeat);
+    row.t.cpu /= kRevolutions;
+    row.t.wall /= kRevolutions;
+    measured.push_back(std::move(row));
   }
-  {  // time per cycle against the spring's mass count (default tolerances)
-    std::printf("\nflexible model, direct-acting valve (tests' valve_with_spring_mass), %g rpm, %d revolutions, "
-                "rtol 1e-6 / atol 1e-7; process CPU, best of %d\n",
-                kRpm, kRevolutions, repeat);
-    std::printf("%-14s %-8s %-12s %-10s %-8s %-8s %-6s %-7s %-14s\n", "surge_masses", "states", "cpu ms/cyc",
-                "wall ms", "steps", "rhs", "jac", "events", "ratio to N=10");
-    const dynamics::FlexibleOptions opt = flex_options(1e-6, 1e-7, true);
-    struct MassRow {
-      int n;
-      Timing t;
-      dynamics::FlexibleResult r;
-    };
-    std::vector<MassRow> mass_rows;
-    for (const int n : {0, 10, 50, 100, 200, 500}) {
-      const Valve valve(n);
-      MassRow row{n, {}, {}};
-      row.t = best_of([&] { valve.run(opt, row.r); }, repeat);
-      row.t.cpu /= kRevolutions;
-      row.t.wall /= kRevolutions;
-      mass_rows.push_back(std::move(row));
-    }
-    double cpu10 = 0;
-    for (const auto& m : mass_rows)
-      if (m.n == 10) cpu10 = m.t.cpu;
-    for (const auto& m : mass_rows) {
-      const double ratio = m.t.cpu / cpu10;
-      std::printf("%-14d %-8d %-12.3f %-10.3f %-8ld %-8ld %-6ld %-7zu %-14.2f\n", m.n, 2 * m.r.layout.size(),
-                  m.t.cpu * 1e3, m.t.wall * 1e3, m.r.steps, m.r.rhs_evaluations, m.r.jacobian_evaluations,
-                  m.r.events.size(), ratio);
-      const std::string setting = "direct valve surge_masses " + std::to_string(m.n);
-      rows.push_back("flexible masses," + setting + "," + num(m.t.cpu * 1e3) + ",cpu ratio to 10 masses," + num(ratio) +
-                     "," + std::to_string(m.r.steps) + "," + std::to_string(m.r.rhs_evaluations));
-      rows.push_back("flexible masses," + setting + "," + num(m.t.cpu * 1e3) + ",jacobian evaluations," +
-                     std::to_string(m.r.jacobian_evaluations) + "," + std::to_string(m.r.steps) + "," +
-                     std::to_string(m.r.rhs_evaluations));
-    }
+  double cpu10 = 0;
+  for (const auto& m : measured)
+    if (m.n == 10) cpu10 = m.t.cpu;
+  for (const auto& m : measured) {
+    const double ratio = m.t.cpu / cpu10;
+    std::printf("%-14d %-8d %-12.3f %-10.3f %-8ld %-8ld %-6ld %-7zu %-14.2f\n", m.n, 2 * m.r.layout.size(),
+                m.t.cpu * 1e3, m.t.wall * 1e3, m.r.steps, m.r.rhs_evaluations, m.r.jacobian_evaluations,
+                m.r.events.size(), ratio);
+    const std::string setting = "direct valve surge_masses " + std::to_string(m.n);
+    rows.push_back("flexible masses," + setting + "," + num(m.t.cpu * 1e3) + ",cpu ratio to 10 masses," + num(ratio) +
+                   "," + std::to_string(m.r.steps) + "," + std::to_string(m.r.rhs_evaluations));
+    rows.push_back("flexible masses," + setting + "," + num(m.t.cpu * 1e3) + ",jacobian evaluations," +
+                   std::to_string(m.r.jacobian_evaluations) + "," + std::to_string(m.r.steps) + "," +
+                   std::to_string(m.r.rhs_evaluations));
   }
-  if (!csv_path.empty()) {
-    if (flexible_only) {  // keep the file's other sections, in their order, before the new flexible rows
-      std::ifstream in(csv_path);
-      std::vector<std::string> kept;
-      std::string line;
-      for (bool header = true; std::getline(in, line); header = false)
-        if (!header && !line.empty() && !flexible_row(line)) kept.push_back(line);
-      rows.insert(rows.begin() + 1, kept.begin(), kept.end());
-    }
-    std::ofstream f(csv_path);
-    for (const auto& row : rows) f << row << "\n";
+}
+
+// the rows to --csv; --flexible-only keeps the file's other sections before the new flexible rows
+void write_rows(const Options& o, std::vector<std::string> rows) {
+  if (o.flexible_only) {  // keep the file's other sections, in their order, before the new flexible rows
+    std::ifstream in(o.csv_path);
+    std::vector<std::string> kept;
+    std::string line;
+    for (bool header = true; std::getline(in, line); header = false)
+      if (!header && !line.empty() && !flexible_row(line)) kept.push_back(line);
+    rows.insert(rows.begin() + 1, kept.begin(), kept.end());
   }
+  std::ofstream f(o.csv_path);
+  for (const auto& row : rows) f << row << "\n";
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  camopt::keep_freed_memory();  // as the camopt program does
+  Options o;
+  if (!parse_options(argc, argv, o)) return 2;
+  const kin::Mechanism mech = kin::compile(io::load_design(std::string(CAMOPT_SOURCE_DIR) + "/designs/cvvl_swing_cam.toml"));
+  const Context c{mech, dynamics::compile_dynamics(mech), {0.0}, o.repeat};
+  if (o.single) return single_run(c, o), 0;
+  std::vector<std::string> rows{"mode,setting,ms_per_cycle,error_metric,error,steps,rhs_evaluations"};
+  if (!o.flexible_only) {
+    rigid_rows(c, rows);
+    compliant_rows(c, rows);
+  }
+  flexible_tolerance_rows(c, rows);
+  rigid_vs_flexible_rows(c, rows);
+  mass_rows(c, rows);
+  if (!o.csv_path.empty()) write_rows(o, std::move(rows));
   return 0;
 }

@@ -16,6 +16,8 @@
 #include <system_error>
 #include <vector>
 
+#include <catch2/catch.hpp>
+
 namespace camopt::test {
 
 namespace fs = std::filesystem;
@@ -63,6 +65,38 @@ inline void write_text(const fs::path& path, const std::string& text) {
 
 using camopt::test::TempDir;
 
+// the warnings a test expects camopt to print: while an ExpectWarnings is alive, a
+// "warning:" line on camopt's stderr must contain one of its texts; any other warning fails
+// the test that ran camopt (a warning nobody looked at is a defect or a missing check)
+inline std::vector<std::string>& expected_warnings() {
+  static std::vector<std::string> texts;
+  return texts;
+}
+struct ExpectWarnings {
+  explicit ExpectWarnings(std::initializer_list<std::string> texts) : size_(expected_warnings().size()) {
+    expected_warnings().insert(expected_warnings().end(), texts.begin(), texts.end());
+  }
+  ~ExpectWarnings() { expected_warnings().resize(size_); }
+  ExpectWarnings(const ExpectWarnings&) = delete;
+  ExpectWarnings& operator=(const ExpectWarnings&) = delete;
+
+ private:
+  std::size_t size_;
+};
+
+// every "warning:" line of stderr is one the running test expects
+inline void check_no_unexpected_warning(const std::string& command, const std::string& err) {
+  std::istringstream lines(err);
+  for (std::string line; std::getline(lines, line);) {
+    if (line.find("warning:") == std::string::npos) continue;
+    const auto& ok = expected_warnings();
+    const bool expected = std::any_of(ok.begin(), ok.end(), [&](const std::string& t) { return line.find(t) != std::string::npos; });
+    INFO("command: " << command);
+    INFO("unexpected warning: " << line);
+    CHECK(expected);
+  }
+}
+
 struct RunResult {
   int exit_code = -1;  // WEXITSTATUS, or 128 + signal when killed
   std::string out;     // stdout
@@ -72,8 +106,9 @@ struct RunResult {
   std::string all() const { return out + err; }
 };
 
-// run camopt with `args`, capturing stdout and stderr separately
-inline RunResult run_camopt(const std::vector<std::string>& args) {
+// run camopt with `args`, capturing stdout and stderr separately; no Catch2 assertion, so it
+// may run on any thread (run_camopt checks the warnings as well)
+inline RunResult run_camopt_unchecked(const std::vector<std::string>& args) {
   TempDir scratch;
   const fs::path err_file = scratch / "stderr.txt";
   RunResult r;
@@ -94,6 +129,13 @@ inline RunResult run_camopt(const std::vector<std::string>& args) {
   else if (WIFSIGNALED(status))
     r.exit_code = 128 + WTERMSIG(status);
   r.err = read_file(err_file);
+  return r;
+}
+
+// run camopt with `args` on the test's thread: a warning the test does not expect fails it
+inline RunResult run_camopt(const std::vector<std::string>& args) {
+  RunResult r = run_camopt_unchecked(args);
+  check_no_unexpected_warning(r.command, r.err);
   return r;
 }
 
