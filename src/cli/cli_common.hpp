@@ -62,7 +62,7 @@ void check_finite_arguments(int argc, const char* const* argv);
 
 // the largest sweep a command runs: points per position, and points over every position
 // (and rpm); beyond them an InputError names the option, the count and the limit, before
-// anything is allocated (README "Limits")
+// anything is allocated (docs/cli.md, "Limits")
 inline constexpr double kMaxSweepPoints = 1e6;
 inline constexpr double kMaxTotalPoints = 2e7;
 // the point count of start..stop by step (both ends); InputError naming `option` above the limits

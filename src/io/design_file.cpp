@@ -249,7 +249,7 @@ class Parser {
     d.node = t.string("node");
     refer(Reference::To::node, t, "node");
     references_.back().free_node = true;
-    // the sweep's range and step, bounded so a sweep has at most 1e6 points (README "Limits")
+    // the sweep's range and step, bounded so a sweep has at most 1e6 points (docs/cli.md, "Limits")
     d.start_deg = t.number_or("start_deg", 0.0, ge(-1e6) & le(1e6));
     d.stop_deg = t.number_or("stop_deg", d.start_deg + 360.0, gt(d.start_deg, "start_deg") & le(d.start_deg + 1e6, "start_deg + 1e6"));
     d.step_deg = t.number_or("step_deg", 1.0, ge((d.stop_deg - d.start_deg) * 1e-6, "(stop_deg - start_deg) / 1e6") &

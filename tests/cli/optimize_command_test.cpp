@@ -189,7 +189,7 @@ namespace {
 nlohmann::json optimize_swing_cli(const TempDir& tmp, const std::string& design, const std::string& set_name,
                                   const std::vector<std::string>& extra) {
   const std::string set = (tmp / set_name).string();
-  // the kinematic and rigid checks (flexible: optimize_verify_cli_test.cpp and the README)
+  // the kinematic and rigid checks (flexible: optimize_verify_test.cpp and docs/optimisation.md)
   write_text(tmp / set_name, with_line(read_file(source_dir() / "constraints" / set_name), "grid_step_deg",
                                        "grid_step_deg = 2.0") +
                                  "\n[verify]\nflexible = false\n");
