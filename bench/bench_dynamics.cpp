@@ -225,8 +225,8 @@ dynamics::FlexibleOptions flex_options(double rtol, double atol, bool restart) {
   return opt;
 }
 
-void run_flex(const Context& c, double rtol, double atol, bool restart, dynamics::FlexibleResult& r) {
-  check(dynamics::run_flexible(c.mech, c.model, c.controls, kRpm, 0, 360, 1, flex_options(rtol, atol, restart), r));
+void run_flex(const Context& ctx, double rtol, double atol, bool restart, dynamics::FlexibleResult& r) {
+  check(dynamics::run_flexible(ctx.mech, ctx.model, ctx.controls, kRpm, 0, 360, 1, flex_options(rtol, atol, restart), r));
 }
 
 // the direct-acting valve with n surge masses, compiled once per n
@@ -246,7 +246,7 @@ bool parse_options(int argc, char** argv, Options& o) {
     else if (!std::strcmp(argv[i], "--csv") && i + 1 < argc) o.csv_path = argv[++i];
     else if (!std::strcmp(argv[i], "--flexible-only")) o.flexible_only = true;
     else if (!std::strcmp(argv[i], "--single") && i + 2 < argc) {
-      single = true;
+      o.single = true;
       o.single_rtol = std::atof(argv[++i]);
       o.single_atol = std::atof(argv[++i]);
     } else if (!std::strcmp(argv[i], "--masses") && i + 1 < argc) {
@@ -262,17 +262,17 @@ bool parse_options(int argc, char** argv, Options& o) {
 }
 
 // mode (a): rigid inverse dynamics at three steps against a 0.05 deg reference
-void rigid_rows(const Context& c, std::vector<std::string>& rows) {
+void rigid_rows(const Context& ctx, std::vector<std::string>& rows) {
   dynamics::RigidSweep fine;
-  check(dynamics::rigid_sweep(c.mech, c.model, c.controls, 0, 360, 0.05, fine));
-  const Peaks ref = peaks_of(fine, model);
+  check(dynamics::rigid_sweep(ctx.mech, ctx.model, ctx.controls, 0, 360, 0.05, fine));
+  const Peaks ref = peaks_of(fine, ctx.model);
   std::printf("mode (a) rigid inverse dynamics, CVVL control 0, %g rpm, one cycle (360 cam deg)\n", kRpm);
   std::printf("%-10s %-12s %-22s %-16s %-22s\n", "step_deg", "ms/cycle", "peak force rel err", "torque rel err",
               "separation rpm err");
   for (const double step : {1.0, 0.5, 0.25}) {
     dynamics::RigidSweep s;
-    const double t = seconds_of([&] { check(dynamics::rigid_sweep(c.mech, c.model, c.controls, 0, 360, step, s)); }, c.repeat);
-    const Peaks p = peaks_of(s, model);
+    const double t = seconds_of([&] { check(dynamics::rigid_sweep(ctx.mech, ctx.model, ctx.controls, 0, 360, step, s)); }, ctx.repeat);
+    const Peaks p = peaks_of(s, ctx.model);
     double force_err = 0, sep_err = 0;
     for (std::size_t c = 0; c < p.force.size(); ++c) {
       force_err = std::max(force_err, std::abs(p.force[c] - ref.force[c]) / ref.force[c]);
@@ -287,13 +287,13 @@ void rigid_rows(const Context& c, std::vector<std::string>& rows) {
 }
 
 // mode (b): stiff contacts integrated by CVODE at several tolerances against a tight run
-void compliant_rows(const Context& c, std::vector<std::string>& rows) {
+void compliant_rows(const Context& ctx, std::vector<std::string>& rows) {
   auto run_b = [&](double rtol, double atol, dynamics::CompliantResult& r, double table_step = 0.25) {
     dynamics::CompliantOptions opt;
     opt.relative_tolerance = rtol;
     opt.absolute_tolerance = atol;
     opt.table_step_deg = table_step;
-    check(dynamics::run_compliant(c.mech, c.model, c.controls, kRpm, 0, 360, 1, opt, r));
+    check(dynamics::run_compliant(ctx.mech, ctx.model, ctx.controls, kRpm, 0, 360, 1, opt, r));
   };
   dynamics::CompliantResult tight;
   run_b(1e-10, 1e-12, tight, 0.05);
@@ -309,7 +309,7 @@ void compliant_rows(const Context& c, std::vector<std::string>& rows) {
   for (const auto& [rtol, atol, table] :
        std::vector<Setting>{{1e-6, 1e-8, 0.25}, {1e-7, 1e-9, 0.25}, {1e-8, 1e-10, 0.25}, {1e-8, 1e-10, 0.1}, {1e-8, 1e-10, 0.05}}) {
     dynamics::CompliantResult r;
-    const double t = seconds_of([&] { run_b(rtol, atol, r, table); }, c.repeat);
+    const double t = seconds_of([&] { run_b(rtol, atol, r, table); }, ctx.repeat);
     double err = 0, peak_err = 0;
     for (std::size_t i = 0; i < r.force.size(); ++i) err = std::max(err, std::abs(r.force[i] - tight.force[i]));
     for (int c = 0; c < r.connections; ++c) {
@@ -331,11 +331,11 @@ void compliant_rows(const Context& c, std::vector<std::string>& rows) {
 }
 
 // --single RTOL ATOL [--masses N]: one flexible run, its CPU time and counters
-void single_run(const Context& c, const Options& o) {
+void single_run(const Context& ctx, const Options& o) {
   dynamics::FlexibleResult r;
   const double c0 = cpu_seconds();
   if (o.single_masses >= 0) Valve(o.single_masses).run(flex_options(o.single_rtol, o.single_atol, true), r);
-  else run_flex(c, o.single_rtol, o.single_atol, true, r);
+  else run_flex(ctx, o.single_rtol, o.single_atol, true, r);
   const double cpu = (cpu_seconds() - c0) / kRevolutions;
   std::printf("flexible %s rtol %g atol %g: %.2f CPU ms/cycle, steps %ld, rhs %ld, jac %ld, events %zu\n",
               o.single_masses >= 0 ? ("direct-acting valve, " + std::to_string(o.single_masses) + " surge masses,").c_str()
@@ -344,9 +344,9 @@ void single_run(const Context& c, const Options& o) {
 }
 
 // the flexible model at several tolerances against a tight reference: errors and cost
-void flexible_tolerance_rows(const Context& c, std::vector<std::string>& rows) {
+void flexible_tolerance_rows(const Context& ctx, std::vector<std::string>& rows) {
   dynamics::FlexibleResult ref_flex;
-  run_flex(c, 1e-10, 1e-12, true, ref_flex);
+  run_flex(ctx, 1e-10, 1e-12, true, ref_flex);
   const auto peak_force = [](const dynamics::FlexibleResult& r) {
     return *std::max_element(r.force.begin(), r.force.end());
   };
@@ -356,7 +356,7 @@ void flexible_tolerance_rows(const Context& c, std::vector<std::string>& rows) {
               " reference rtol 1e-10 / atol 1e-12 (peak contact force %.1f N, %zu events, first seating %.4f m/s"
               " at %.2f deg, train mode %.0f Hz); times: process CPU, best of %d\n",
               kRpm, kRevolutions, ref_peak, ref_flex.events.size(), ref_seat ? ref_seat->speed_m_per_s : -1.0,
-              ref_seat ? ref_seat->cam_deg : -1.0, ref_flex.train_frequency_hz, c.repeat);
+              ref_seat ? ref_seat->cam_deg : -1.0, ref_flex.train_frequency_hz, ctx.repeat);
   std::printf("%-30s %-9s %-9s %-12s %-12s %-12s %-12s %-9s %-12s %-7s %-7s %-5s %-6s\n", "rtol / atol_mm / restart",
               "cpu ms", "wall ms", "lift err mm", "force err/pk", "peak err/pk", "event deg", "events-ref",
               "seat v err", "steps", "rhs", "jac", "events");
@@ -368,7 +368,7 @@ void flexible_tolerance_rows(const Context& c, std::vector<std::string>& rows) {
        std::vector<FlexSetting>{{1e-3, 1e-5, true}, {1e-4, 1e-6, true}, {1e-5, 1e-7, true}, {1e-6, 1e-7, true},
                                 {1e-6, 1e-8, true}, {1e-7, 1e-9, true}, {1e-8, 1e-10, true}, {1e-6, 1e-7, false}}) {
     dynamics::FlexibleResult r;
-    Timing t = best_of([&] { run_flex(c, rtol, atol, restart, r); }, c.repeat);
+    Timing t = best_of([&] { run_flex(ctx, rtol, atol, restart, r); }, ctx.repeat);
     t.cpu /= kRevolutions;
     t.wall /= kRevolutions;
     double lift_err = 0, force_err = 0;
@@ -399,11 +399,11 @@ void flexible_tolerance_rows(const Context& c, std::vector<std::string>& rows) {
 }
 
 // rigid against flexible: the CPU cost of one cycle
-void rigid_vs_flexible_rows(const Context& c, std::vector<std::string>& rows) {
+void rigid_vs_flexible_rows(const Context& ctx, std::vector<std::string>& rows) {
   dynamics::RigidSweep s;
-  const Timing t_rigid = best_of([&] { check(dynamics::rigid_sweep(c.mech, c.model, c.controls, 0, 360, 1, s)); }, c.repeat);
+  const Timing t_rigid = best_of([&] { check(dynamics::rigid_sweep(ctx.mech, ctx.model, ctx.controls, 0, 360, 1, s)); }, ctx.repeat);
   dynamics::FlexibleResult r;
-  const double t_flex = best_of([&] { run_flex(c, 1e-6, 1e-7, true, r); }, c.repeat).cpu / kRevolutions;
+  const double t_flex = best_of([&] { run_flex(ctx, 1e-6, 1e-7, true, r); }, ctx.repeat).cpu / kRevolutions;
   std::printf("\nrigid (a) 1 deg: %.3f CPU ms/cycle; flexible rtol 1e-6: %.3f CPU ms/cycle (x %.0f)\n",
               t_rigid.cpu * 1e3, t_flex * 1e3, t_flex / t_rigid.cpu);
   rows.push_back("rigid vs flexible,rigid step 1 deg," + num(t_rigid.cpu * 1e3) + ",,,,");
@@ -412,10 +412,10 @@ void rigid_vs_flexible_rows(const Context& c, std::vector<std::string>& rows) {
 }
 
 // the flexible model's time per cycle against the valve spring's surge mass count
-void mass_rows(const Context& c, std::vector<std::string>& rows) {
+void mass_rows(const Context& ctx, std::vector<std::string>& rows) {
   std::printf("\nflexible model, direct-acting valve (tests' valve_with_spring_mass), %g rpm, %d revolutions, "
               "rtol 1e-6 / atol 1e-7; process CPU, best of %d\n",
-              kRpm, kRevolutions, c.repeat);
+              kRpm, kRevolutions, ctx.repeat);
   std::printf("%-14s %-8s %-12s %-10s %-8s %-8s %-6s %-7s %-14s\n", "surge_masses", "states", "cpu ms/cyc",
               "wall ms", "steps", "rhs", "jac", "events", "ratio to N=10");
   const dynamics::FlexibleOptions opt = flex_options(1e-6, 1e-7, true);
@@ -428,7 +428,7 @@ void mass_rows(const Context& c, std::vector<std::string>& rows) {
   for (const int n : {0, 10, 50, 100, 200, 500}) {
     const Valve valve(n);
     MassRow row{n, {}, {}};
-    row.t = best_of([&] { valve.run(opt, row.r); }, c.repeat);
+    row.t = best_of([&] { valve.run(opt, row.r); }, ctx.repeat);
     row.t.cpu /= kRevolutions;
     row.t.wall /= kRevolutions;
     measured.push_back(std::move(row));

@@ -168,7 +168,7 @@ void one_sweep(const Options& o) {
 }
 
 // accuracy against a closed form: an eccentric disc on an offset translating roller
-void closed_form_rows(const Options& o, std::vector<std::string>& rows) {
+void closed_form_rows(const Options& options, std::vector<std::string>& rows) {
   oracles::EccentricOffsetRoller o;
   o.disc_radius = 20;
   o.eccentricity = 4;
@@ -209,7 +209,7 @@ void closed_form_rows(const Options& o, std::vector<std::string>& rows) {
   const auto m = kin::compile(d);
   for (double step : {1.0, 0.5, 0.1}) {
     kin::SweepResult r;
-    const double t = seconds_of([&] { r = run(m, 3, false, step, {0.0}, 1); }, o.repeat);
+    const double t = seconds_of([&] { r = run(m, 3, false, step, {0.0}, 1); }, options.repeat);
     double err[4] = {0, 0, 0, 0}, peak[4] = {0, 0, 0, 0};
     const auto& p = r.positions[0];
     for (std::size_t i = 0; i < r.driver.size(); ++i) {
