@@ -7,9 +7,11 @@
 // contact quantity, and that a lift-only sweep returns no derivative.
 #include <atomic>
 #include <catch2/catch.hpp>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <numbers>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -147,4 +149,39 @@ TEST_CASE("sweep: periodic_motion rejects a bad step and a node that is not a bo
                     Catch::Contains("periodic_motion: step_deg = 0 must be in (0, 360)"));
   CHECK_THROWS_WITH((void)kin::periodic_motion(m, 0, {}, 1.0, motion),
                     Catch::Contains("periodic_motion: node = 0 must be a body index"));
+}
+
+TEST_CASE("sweep: output_lift is the output node's travel from rest and value() its raw series", "[kinematics][sweep]") {
+  // the rocker arm's valve (translational, mm) and the four-bar's rocker (rotational, deg)
+  for (const char* name : {"rocker_arm", "four_bar"}) {
+    INFO(name);
+    const kin::Mechanism m = bundled(name);
+    kin::SweepSpec spec;
+    spec.step = 2.0;
+    const kin::SweepResult r = kin::sweep(m, spec);
+    const kin::PositionResult& p = r.positions.front();
+    REQUIRE(p.status.ok());
+    REQUIRE(p.variables == m.variables.size());
+    const kin::Node& out = m.nodes[static_cast<std::size_t>(m.output_node)];
+    const bool angle = m.variables[static_cast<std::size_t>(out.first_variable)].is_angle;
+    const double rest = angle ? out.rest * 180.0 / std::numbers::pi : out.rest;  // [deg or mm]
+    double peak = 0.0;
+    for (std::size_t i = 0; i < r.driver.size(); ++i) {
+      const double raw = p.data[(i * p.variables + static_cast<std::size_t>(out.first_variable)) * 4];
+      CHECK(p.value(i, out.first_variable) == raw);
+      CHECK(std::abs(kin::output_lift(m, p, i) - (raw - rest)) <= 1e-12 * std::max(1.0, std::abs(raw)));
+      for (int k = 1; k <= 3; ++k) CHECK(kin::output_lift(m, p, i, k) == p.value(i, out.first_variable, k));
+      peak = std::max(peak, kin::output_lift(m, p, i));
+    }
+    // the summary's peak is refined between grid points: never below the grid's, and close to it
+    const kin::PositionSummary s = kin::summarize(m, r, 0);
+    CHECK(s.max_lift >= peak - 1e-12);
+    CHECK(s.max_lift - peak <= 0.01 * std::abs(peak) + 1e-9);
+  }
+  const kin::Mechanism m = bundled("rocker_arm");
+  kin::SweepSpec spec;
+  spec.step = 90.0;
+  const kin::SweepResult r = kin::sweep(m, spec);
+  CHECK_THROWS_AS(kin::output_lift(m, r.positions[0], r.driver.size()), InputError);
+  CHECK_THROWS_WITH(kin::output_lift(m, r.positions[0], 0, 4), Catch::Contains("order 4 must be 0..3"));
 }
