@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "bench_support.hpp"
+#include "camopt/core/units.hpp"
 #include "camopt/io/design_file.hpp"
 #include "camopt/kinematics/sweep.hpp"
 #include "oracles/oracles.hpp"
@@ -29,7 +30,7 @@ using camopt::bench::seconds_of;
 
 namespace {
 
-constexpr double deg = M_PI / 180.0;
+constexpr double deg = camopt::rad_per_deg;
 
 kin::SweepResult run(const kin::Mechanism& m, int order, bool contacts, double step, const std::vector<double>& controls,
                      int threads) {

@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "camopt/core/units.hpp"
 #include "camopt/core/process_memory.hpp"
 #include "camopt/io/design_file.hpp"
 #include "camopt/kinematics/sweep.hpp"
@@ -27,7 +28,7 @@
 using namespace camopt;
 
 namespace {
-constexpr double deg = M_PI / 180.0;
+constexpr double deg = camopt::rad_per_deg;
 
 PeriodicSpline forward_lift(const DesignSpec& d) {
   const auto m = kin::compile(d);

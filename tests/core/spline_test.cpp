@@ -1,5 +1,6 @@
 // quintic interpolating splines: interpolation, convergence order, c4 continuity,
 // periodic wrap, jet overloads, natural end conditions, extrapolation and exact integrals.
+#include "camopt/core/units.hpp"
 #include "camopt/core/spline.hpp"
 
 #include <algorithm>
@@ -20,7 +21,7 @@ using camopt::Jet;
 using camopt::PeriodicSpline;
 using camopt::Spline;
 
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
+constexpr double kTwoPi = 2.0 * camopt::pi;
 constexpr double kNodeTol = 1e-12;         // interpolation at the data sites [abs, |f| ~ 1]
 constexpr double kContinuityTol = 1e-9;    // left/right limits, relative to max |f^(k)|
 constexpr double kWrapTol = 1e-12;         // f^(k)(x + 3 period) vs f^(k)(x), relative

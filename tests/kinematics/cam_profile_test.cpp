@@ -8,6 +8,7 @@
 #include <sstream>
 #include <string>
 
+#include "camopt/core/units.hpp"
 #include "camopt/io/design_file.hpp"
 #include "camopt/kinematics/mechanism.hpp"
 #include "camopt/kinematics/sweep.hpp"
@@ -34,7 +35,7 @@ std::string with_xy_disc(const std::string& text, int n) {
   y.precision(17);
   for (int i = 0; i < n; ++i) {
     // the ray at polar angle phi meets the circle |p - (4, 0)| = 20 at r = 4 cos + sqrt(400 - 16 sin^2)
-    const double phi = 2 * M_PI * i / n;
+    const double phi = 2 * camopt::pi * i / n;
     const double r = 4 * std::cos(phi) + std::sqrt(400 - 16 * std::sin(phi) * std::sin(phi));
     x << (i ? ", " : "") << r * std::cos(phi);
     y << (i ? ", " : "") << r * std::sin(phi);

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "camopt/core/units.hpp"
 #include "camopt/core/design_spec.hpp"
 #include "camopt/core/spline.hpp"
 #include "camopt/kinematics/mechanism.hpp"
@@ -23,8 +24,8 @@ namespace camopt::kin_test {
 using Eigen::Vector2d;
 using oracles::Motion;
 
-inline constexpr double pi = std::numbers::pi;
-inline constexpr double deg = pi / 180.0;
+using camopt::pi;
+inline constexpr double deg = camopt::rad_per_deg;
 
 // acceptance of the kinematics engine against closed forms, each relative to the peak
 // magnitude of the same quantity over the sweep

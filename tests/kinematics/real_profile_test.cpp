@@ -6,6 +6,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 
+#include "camopt/core/units.hpp"
 #include "camopt/io/design_file.hpp"
 #include "camopt/kinematics/mechanism.hpp"
 #include "camopt/kinematics/solver.hpp"
@@ -28,11 +29,11 @@ double touching_height(const kin::CamProfile& prof, double theta, double roller,
   int best = 0;
   double best_h = -1e300;
   for (int i = 0; i < samples; ++i) {
-    const double h = height(2 * M_PI * i / samples);
+    const double h = height(2 * camopt::pi * i / samples);
     if (h > best_h) best_h = h, best = i;
   }
   // golden-section refinement of the maximum
-  double a = 2 * M_PI * (best - 1) / samples, b = 2 * M_PI * (best + 1) / samples;
+  double a = 2 * camopt::pi * (best - 1) / samples, b = 2 * camopt::pi * (best + 1) / samples;
   const double g = (std::sqrt(5.0) - 1) / 2;
   double c = b - g * (b - a), d = a + g * (b - a);
   for (int it = 0; it < 100; ++it) {
@@ -56,7 +57,7 @@ TEST_CASE("roller lift on the MBSim polar contour matches a brute-force envelope
   const int follower = mech.nodes[mech.output_node].first_variable;
   double worst = 0.0;
   for (int i = 0; i <= 720; ++i) {
-    const double theta = i * M_PI / 360.0;
+    const double theta = i * camopt::pi / 360.0;
     const auto st = kin::solve(mech, ws, theta, {3, true});
     REQUIRE(st.ok());
     const double centre = 45.0 + ws.vars[follower].value();

@@ -1,6 +1,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 
+#include "camopt/core/units.hpp"
 #include "camopt/kinematics/mechanism.hpp"
 #include "camopt/kinematics/solver.hpp"
 #include "kinematics_test_support.hpp"
@@ -50,7 +51,7 @@ TEST_CASE("eccentric disc with flat follower matches s = e sin(theta)", "[kinema
   kin::Request rq;
   rq.contacts = true;
   for (int i = 0; i <= 720; ++i) {
-    const double th = i * M_PI / 360.0;
+    const double th = i * camopt::pi / 360.0;
     auto st = kin::solve(mech, ws, th, rq);
     REQUIRE(st.ok());
     const auto& q = ws.vars[mech.nodes[mech.output_node].first_variable];

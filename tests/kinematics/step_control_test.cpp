@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "camopt/core/units.hpp"
 #include "camopt/io/design_file.hpp"
 #include "camopt/kinematics/mechanism.hpp"
 #include "camopt/kinematics/solver.hpp"
@@ -19,7 +20,7 @@ using namespace camopt;
 
 namespace {
 
-constexpr double deg = std::numbers::pi / 180.0;
+constexpr double deg = camopt::rad_per_deg;
 constexpr double kFineStepDeg = 0.25;     // the reference continuation [driver deg]
 constexpr double kFineControlStep = 0.25;  // [control deg or mm]
 constexpr double kGridDeg = 7.5;          // every coarse step below lands on this grid

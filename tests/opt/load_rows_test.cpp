@@ -9,6 +9,7 @@
 #include <numbers>
 #include <set>
 
+#include "camopt/core/units.hpp"
 #include "camopt/dynamics/model.hpp"
 #include "camopt/dynamics/rigid.hpp"
 #include "camopt/io/constraint_file.hpp"
@@ -22,7 +23,7 @@ using namespace camopt;
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
+constexpr double kPi = camopt::pi;
 
 DesignSpec design(const std::string& name) {
   return io::load_design(std::string(CAMOPT_SOURCE_DIR) + "/designs/" + name);

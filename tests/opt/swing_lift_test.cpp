@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 
+#include "camopt/core/units.hpp"
 #include "camopt/io/design_file.hpp"
 #include "camopt/kinematics/mechanism.hpp"
 #include "camopt/kinematics/solver.hpp"
@@ -63,7 +64,7 @@ SolverComparison compare_with_kinematic_solver(const DesignSpec& d, opt::SwingCa
     std::size_t i = first;
     for (int step = 0; step <= 360; ++step) {
       const double deg = start + step;
-      const Status st = kin::solve(mech, ws, deg * M_PI / 180.0, {3, false});
+      const Status st = kin::solve(mech, ws, deg * camopt::pi / 180.0, {3, false});
       INFO(st.str() << " at cam " << deg << " position " << k);
       REQUIRE(st.ok());
       if (i >= model.points().size() || model.points()[i].position != k ||
@@ -77,7 +78,7 @@ SolverComparison compare_with_kinematic_solver(const DesignSpec& d, opt::SwingCa
       if (lift < 1e-3) continue;  // the valve on its seat
       out.worst_lift = std::max(out.worst_lift, std::abs(v.value() - lift));
       // [mm/rad^2] -> [mm/deg^2]
-      out.worst_acc = std::max(out.worst_acc, std::abs(v.derivative(2) * std::pow(M_PI / 180.0, 2) - mo[2]));
+      out.worst_acc = std::max(out.worst_acc, std::abs(v.derivative(2) * std::pow(camopt::pi / 180.0, 2) - mo[2]));
       out.peak = std::max(out.peak, lift);
       ++out.compared;
     }
@@ -173,9 +174,9 @@ TEST_CASE("swing lift: contact quantities agree with the envelope model away fro
       opt::SwingContact sc;
       REQUIRE(model.evaluate(static_cast<int>(i), c, mo, rows, &sc).ok());
       if (mo[0] < 0.05 || sc.s_rad <= model.start_rad()) continue;
-      const double r1 = 180.0 / M_PI, lift[3] = {mo[0], mo[1] * r1, mo[2] * r1 * r1};
+      const double r1 = 180.0 / camopt::pi, lift[3] = {mo[0], mo[1] * r1, mo[2] * r1 * r1};
       opt::ContactQuantities cq;
-      REQUIRE(env.evaluate(sp.cam_deg * M_PI / 180.0, lift, ws, cq).ok());
+      REQUIRE(env.evaluate(sp.cam_deg * camopt::pi / 180.0, lift, ws, cq).ok());
       if (std::abs(mo[1]) < 0.02) continue;  // near the reversal at peak lift
       INFO("position " << k << " cam " << sp.cam_deg << " lift " << mo[0]);
       CHECK(sc.curvature == Approx(cq.pitch_curvature.v).epsilon(1e-6));
