@@ -65,13 +65,14 @@ nlohmann::json separations_json(const std::vector<kin::Separation>& separations,
   return list;
 }
 
-// the contact keys: pressure angle, radii of curvature, roller speed and sliding (grid values)
+// the contact keys: pressure angle, radii of curvature, roller speed and sliding (refined
+// between the grid points unless a trial solve failed)
 void contact_keys(nlohmann::json& j, const kin::PositionSummary& s, const SummaryUnits& u,
                   std::vector<std::string>& grid) {
   const std::string& d = u.driver;
   auto put = [&](const std::string& key, auto value) {
     j[key] = value;
-    grid.push_back(key);
+    if (!s.contacts_refined) grid.push_back(key);
   };
   put("max_pressure_angle_deg", s.max_pressure_angle_deg);
   put("max_pressure_angle_at_" + d, s.max_pressure_angle_at);
@@ -83,8 +84,10 @@ void contact_keys(nlohmann::json& j, const kin::PositionSummary& s, const Summar
   }
   j["cam_surfaces"] = surfaces_json(s.cam_surfaces, d);
   j["follower_surfaces"] = surfaces_json(s.follower_surfaces, d);
-  grid.push_back("cam_surfaces");
-  grid.push_back("follower_surfaces");
+  if (!s.contacts_refined) {
+    grid.push_back("cam_surfaces");
+    grid.push_back("follower_surfaces");
+  }
   put("max_roller_speed_rad_per_" + d, s.max_roller_speed);
   put("max_sliding_mm_per_" + d, s.max_sliding);
   if (u.cam_deg_per_s > 0) {

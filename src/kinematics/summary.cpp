@@ -1,5 +1,6 @@
 // the per-position summary of a sweep: extremes, durations and area of the lift refined
-// between the grid points, lash openings, and the contacts' extremes at the grid points.
+// between the grid points, lash openings, and the contacts' extremes refined by solves
+// between the grid points (contact_extremes.cpp).
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -8,11 +9,15 @@
 #include "camopt/core/units.hpp"
 #include "camopt/kinematics/grid_refine.hpp"
 #include "camopt/kinematics/sweep.hpp"
+#include "contact_extremes.hpp"
 
 namespace camopt::kin {
 
 namespace {
 constexpr double inf = std::numeric_limits<double>::infinity();
+using detail::ContactProbe;
+using detail::ContactQuantity;
+using detail::refined_max;
 
 // one quantity over the grid with its derivatives, and where lash gaps open or close
 struct Series {
@@ -182,10 +187,11 @@ const std::string& source_profile(const Mechanism& m, std::size_t connection, in
   return sf.shape == SurfaceShape::profile ? sf.profile : none;
 }
 
-// the radii of curvature each curved contact surface meets while its contact is closed
-// (grid values); the cam surfaces are those made from a [[profile]]
-void contact_radii(const Mechanism& m, const SweepResult& r, std::size_t position, PositionSummary& s) {
-  const PositionResult& p = r.positions[position];
+// the radii of curvature each curved contact surface meets while its contact is closed,
+// refined: the largest curvature (smallest convex radius) and the most negative one
+// (sharpest concave radius); the cam surfaces are those made from a [[profile]]
+void contact_radii(ContactProbe& probe, PositionSummary& s) {
+  const Mechanism& m = probe.mech;
   const std::size_t nc = m.connections.size();
   for (std::size_t c = 0; c < nc; ++c) {
     const Connection& conn = m.connections[c];
@@ -199,19 +205,17 @@ void contact_radii(const Mechanism& m, const SweepResult& r, std::size_t positio
       const std::string& profile = source_profile(m, c, side);
       const bool cam = !profile.empty();
       out.surface = cam ? profile : sf.roller ? "roller" : "circle";
-      out.min_convex.value = inf;
-      out.sharpest_concave.value = -inf;
-      for (std::size_t i = 0; i < r.driver.size(); ++i) {
-        const ContactState& cs = p.contacts[i * nc + c];
-        const double k = side == 0 ? cs.curvature_a : cs.curvature_b;
-        if (cs.open || k == 0.0) continue;  // flat points have no radius
-        const double radius = 1.0 / k;
-        if (radius > 0 && radius < out.min_convex.value) out.min_convex = {radius, r.driver[i]}, out.convex = true;
-        if (radius < 0 && radius > out.sharpest_concave.value)
-          out.sharpest_concave = {radius, r.driver[i]}, out.concave = true;
-      }
-      if (!out.convex) out.min_convex = {};
-      if (!out.concave) out.sharpest_concave = {};
+      // the curvature [1/mm] signed to be largest where sharpest: flat points have no radius
+      auto curvature = [side](double sign) -> ContactQuantity {
+        return [side, sign](const ContactState& cs) {
+          const double k = side == 0 ? cs.curvature_a : cs.curvature_b;
+          return cs.open ? -inf : sign * k;
+        };
+      };
+      if (const auto convex = refined_max(probe, {c}, curvature(1.0), 0.0); convex && convex->extreme.value > 0)
+        out.min_convex = {1.0 / convex->extreme.value, convex->extreme.at}, out.convex = true;
+      if (const auto concave = refined_max(probe, {c}, curvature(-1.0), 0.0); concave && concave->extreme.value > 0)
+        out.sharpest_concave = {-1.0 / concave->extreme.value, concave->extreme.at}, out.concave = true;
       if (cam && out.convex && (!s.have_convex_cam || out.min_convex.value < s.min_convex_cam_radius_mm)) {
         s.have_convex_cam = true;
         s.min_convex_cam_radius_mm = out.min_convex.value;
@@ -223,23 +227,26 @@ void contact_radii(const Mechanism& m, const SweepResult& r, std::size_t positio
   }
 }
 
-// pressure angle (closed contacts), roller speed and sliding: grid values
-void contact_extremes(const Mechanism& m, const SweepResult& r, std::size_t position, PositionSummary& s) {
-  const PositionResult& p = r.positions[position];
-  const std::size_t nc = m.connections.size();
+// the largest pressure angle (closed contacts), roller speed and sliding over every contact,
+// refined
+void contact_extremes(ContactProbe& probe, PositionSummary& s) {
+  const Mechanism& m = probe.mech;
+  std::vector<std::size_t> contacts;
+  for (std::size_t c = 0; c < m.connections.size(); ++c)
+    if (m.connections[c].kind == ConnectionKind::contact) contacts.push_back(c);
   const double unit = m.driver_is_angle() ? rad_per_deg : 1.0;
-  for (std::size_t c = 0; c < nc; ++c) {
-    const Connection& conn = m.connections[c];
-    if (conn.kind != ConnectionKind::contact) continue;
-    for (std::size_t i = 0; i < r.driver.size(); ++i) {
-      const ContactState& cs = p.contacts[i * nc + c];
-      const double pa = cs.pressure_angle / rad_per_deg;
-      if (!cs.open && pa > s.max_pressure_angle_deg)
-        s.max_pressure_angle_deg = pa, s.max_pressure_angle_at = r.driver[i], s.max_pressure_angle_contact = conn.name;
-      s.max_roller_speed = std::max(s.max_roller_speed, std::abs(cs.roller_speed) * unit);
-      s.max_sliding = std::max(s.max_sliding, std::abs(cs.sliding) * unit);
-    }
+  const auto pressure = refined_max(probe, contacts, [](const ContactState& cs) {
+    return cs.open ? -inf : cs.pressure_angle;
+  });
+  if (pressure && pressure->extreme.value > 0) {
+    s.max_pressure_angle_deg = pressure->extreme.value / rad_per_deg;
+    s.max_pressure_angle_at = pressure->extreme.at;
+    s.max_pressure_angle_contact = m.connections[pressure->contact].name;
   }
+  const auto roller = refined_max(probe, contacts, [](const ContactState& cs) { return std::abs(cs.roller_speed); });
+  if (roller) s.max_roller_speed = roller->extreme.value * unit, s.max_roller_speed_at = roller->extreme.at;
+  const auto sliding = refined_max(probe, contacts, [](const ContactState& cs) { return std::abs(cs.sliding); });
+  if (sliding) s.max_sliding = sliding->extreme.value * unit, s.max_sliding_at = sliding->extreme.at;
 }
 }  // namespace
 
@@ -280,8 +287,13 @@ PositionSummary summarize(const Mechanism& m, const SweepResult& r, std::size_t 
   // contact quantities
   if (!p.contacts.empty()) {
     s.have_contacts = true;
-    contact_extremes(m, r, position, s);
-    contact_radii(m, r, position, s);
+    ContactProbe probe(m, r, position);
+    const bool solved = p.status.ok();  // a failed position's later points are zeros
+    if (solved) {
+      contact_extremes(probe, s);
+      contact_radii(probe, s);
+    }
+    s.contacts_refined = solved && !probe.failed();
   }
   return s;
 }

@@ -126,10 +126,10 @@ TEST_CASE("kinematics summary: the RFF's cam radius is the lobe's, the finger pa
   CHECK(j["min_convex_cam_radius_contact"] == "cam_roller");
   CHECK(surface(j["follower_surfaces"], "pad_valve", "circle")["min_convex_radius_mm"].get<double>() == 12.0);
   CHECK(surface(j["follower_surfaces"], "cam_roller", "roller")["min_convex_radius_mm"].get<double>() == 8.5);
-  // the contact extremes are labelled as grid values
+  // the contact extremes are refined between the grid points: only the condition number and
+  // the toggle margin are grid values
   const auto& grid = j["grid_values"];
-  CHECK(std::find(grid.begin(), grid.end(), "min_convex_cam_radius_mm") != grid.end());
-  CHECK(std::find(grid.begin(), grid.end(), "max_pressure_angle_deg") != grid.end());
+  CHECK(grid == nlohmann::json({"max_condition_number", "min_toggle_margin"}));
   CHECK(contains(err, "min convex cam radius"));
   CHECK(contains(err, "(cam_roller: lobe)"));
 }
@@ -137,14 +137,16 @@ TEST_CASE("kinematics summary: the RFF's cam radius is the lobe's, the finger pa
 TEST_CASE("kinematics summary: the CVVL swing cam's concave foot and the lash opening are reported",
           "[cli][kinematics][summary]") {
   std::string err;
-  // at 0.5 deg (a grid value: at 1 deg the grid meets -14.83 mm)
-  const auto j = run_summary({"kinematics", bundled("cvvl_swing_cam.toml"), "--step", "0.5", "--outputs",
+  // at 1 deg the grid meets -14.83 mm; the refined foot is the 0.01 deg grid's -14.701 mm
+  const auto j = run_summary({"kinematics", bundled("cvvl_swing_cam.toml"), "--step", "1", "--outputs",
                               "lift,contacts"},
                              &err);
   INFO(j.dump(1));
   const auto& swing = surface(j["cam_surfaces"], "swing_roller", "swing_cam");
   CHECK(swing["body"] == "swing");
-  CHECK(swing["sharpest_concave_radius_mm"].get<double>() == Approx(-14.7).margin(0.05));
+  CHECK(swing["sharpest_concave_radius_mm"].get<double>() == Approx(-14.701).margin(0.001));
+  const auto& grid = j["grid_values"];
+  CHECK(std::find(grid.begin(), grid.end(), "cam_surfaces") == grid.end());
   CHECK(contains(err, "sharpest concave cam radius"));
   CHECK(contains(err, "(swing_roller: swing_cam)"));
   // the pad/valve lash opens while the roller is on the dwell; the spans add up

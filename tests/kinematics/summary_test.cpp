@@ -227,8 +227,11 @@ kin::SweepResult contact_sweep(const kin::Mechanism& m) {
   return r;
 }
 
-// a grid sampled at 0.5 deg meets the extreme radius within this (relative)
-constexpr double kRadiusGridRel = 2e-3;
+// the summary's refined radius against the profile's sampled one (relative): 200000 samples
+// over the touched arc (spacing below 3e-5 rad) miss the smooth extreme by about
+// rho'' (spacing / 2)^2 / 2, below 1e-9 rho here; the refined one is the true extreme
+// itself, so it is at or beyond the sampled one
+constexpr double kRadiusSampledRel = 1e-8;
 
 }  // namespace
 
@@ -244,8 +247,8 @@ TEST_CASE("summary: the RFF's smallest cam radius is the lobe's, not the finger 
   REQUIRE(lobe.convex);
   const ProfileRadii exact = profile_radii(m, r, "cam_roller");
   INFO("lobe: summary " << lobe.min_convex.value << " mm, profile " << exact.min_convex << " mm");
-  CHECK(rel(lobe.min_convex.value, exact.min_convex, exact.min_convex) <= kRadiusGridRel);
-  CHECK(lobe.min_convex.value >= exact.min_convex);
+  CHECK(rel(lobe.min_convex.value, exact.min_convex, exact.min_convex) <= kRadiusSampledRel);
+  CHECK(lobe.min_convex.value <= exact.min_convex);
   CHECK(lobe.concave == (exact.sharpest_concave > -INFINITY));
   // the old key's value, over cam surfaces only
   REQUIRE(s.have_convex_cam);
@@ -269,8 +272,8 @@ TEST_CASE("summary: the CVVL swing cam's concave foot is reported with its surfa
   const ProfileRadii exact = profile_radii(m, r, "swing_roller");
   INFO("swing cam: summary concave " << swing.sharpest_concave.value << " mm, profile " << exact.sharpest_concave
                                      << " mm; convex " << swing.min_convex.value << " / " << exact.min_convex);
-  CHECK(rel(swing.sharpest_concave.value, exact.sharpest_concave, -exact.sharpest_concave) <= kRadiusGridRel);
-  CHECK(swing.sharpest_concave.value <= exact.sharpest_concave);
+  CHECK(rel(swing.sharpest_concave.value, exact.sharpest_concave, -exact.sharpest_concave) <= kRadiusSampledRel);
+  CHECK(swing.sharpest_concave.value >= exact.sharpest_concave);
   // the design's own figure: the foot keeps a concave radius >= 14.7 mm
   CHECK(swing.sharpest_concave.value == Approx(-14.7).margin(0.05));
   const auto& input = find_surface(s.cam_surfaces, "cam_roller", "input_lobe");

@@ -204,6 +204,18 @@ Status solve(const Mechanism& mech, Workspace& ws, double driver, const Request&
 Status solve_prescribed(const Mechanism& mech, Workspace& ws, double driver, const Request& request, int node,
                         std::span<const Jet3> node_vars);
 
+// one point near a solved one, to probe between the points of a sweep: the workspace (at
+// the solved point's controls) is set to the solved point - every variable's jet `near` at
+// driver `near_driver` [rad or mm], as Workspace::vars after that solve - and `driver` is
+// solved in one step from its taylor prediction: no continuation, no step halving, no
+// branch guard beyond the trust radius (the caller keeps the step a fraction of a sweep
+// step, so a single newton correction stays on the branch). A solved variable farther than
+// its trust radius from the prediction returns a Status naming it (another branch, or the
+// contact left its surface). InputError when `near` is not one jet per variable or the
+// request is invalid.
+Status solve_near(const Mechanism& mech, Workspace& ws, double near_driver, std::span<const Jet3> near,
+                  double driver, const Request& request);
+
 // whether solve_prescribed can take `node` (the plan step that solves it solves nothing else
 // but its contacts' parameters)
 bool can_prescribe(const Mechanism& mech, int node);

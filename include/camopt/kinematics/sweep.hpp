@@ -100,7 +100,13 @@ struct SummaryOptions {
 // derivatives (extremes, crossings, area) are refined between the grid points on the
 // hermite interpolant of the sweep's derivatives (grid_refine.hpp) when the sweep computed
 // any (SweepResult::derivative_order > 0), except across an interval where a lash gap opens
-// or closes; the contact quantities and the condition number are grid values.
+// or closes. The contact extremes (pressure angle, radii of curvature, roller speed and
+// sliding) are refined by solving the mechanism between the grid points: every grid-local
+// extreme that could beat the best grid value is maximised by Brent's method over the span
+// to its neighbouring grid points, each trial solved in one step from the nearest grid point
+// (solve_near), to about 1e-9 driver deg or mm; a value reported is one the mechanism takes
+// and never falls short of the best grid value. The condition number and the toggle margin
+// are grid values.
 struct PositionSummary {
   bool refined = false;                          // lift values refined between grid points
   double max_lift = 0, max_lift_at = 0;          // output node [mm or deg], driver [deg]
@@ -110,6 +116,9 @@ struct PositionSummary {
   double max_acceleration = 0, max_acceleration_at = 0, min_acceleration = 0, min_acceleration_at = 0;
   double max_jerk_abs = 0, max_jerk_abs_at = 0;
   bool have_contacts = false;
+  // every contact extreme refined between the grid points (false: a trial solve failed,
+  // and some may be grid values)
+  bool contacts_refined = false;
   double max_pressure_angle_deg = 0, max_pressure_angle_at = 0;
   std::string max_pressure_angle_contact;
   std::vector<SurfaceRadii> cam_surfaces;       // every contact surface from a [[profile]]
@@ -118,8 +127,8 @@ struct PositionSummary {
   bool have_convex_cam = false;
   double min_convex_cam_radius_mm = 0, min_convex_cam_radius_at = 0;
   std::string min_convex_cam_radius_contact;
-  double max_roller_speed = 0;   // |roller spin| [rad per driver deg]
-  double max_sliding = 0;        // |scrub| [mm per driver deg]
+  double max_roller_speed = 0, max_roller_speed_at = 0;  // |roller spin| [rad per driver deg or mm], driver [deg or mm]
+  double max_sliding = 0, max_sliding_at = 0;            // |scrub| [mm per driver deg or mm], driver [deg or mm]
   double max_condition = 0, max_condition_at = 0;
   // the closest approach to a singular configuration: the smallest toggle margin
   // (Workspace::toggle_margin) and where [driver deg or mm]; near_toggle when it is below
