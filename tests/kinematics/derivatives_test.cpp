@@ -191,8 +191,8 @@ TEST_CASE("derivatives: oscillating roller on a table cam, jets against central 
       j8.add(t, centre.derivative(3), oracles::central_difference(order(2), 1, kStep));
       j6.add(t, centre.derivative(3), oracles::central_difference(inner(order(2)), 1, kStep));
     }
-    for (const ScalarCompare* w : {&v8, &v6, &a8, &a6, &j8, &j6}) w->check(kFdRel);
-    if (arm) a2.check(kFdRel);
+    for (const ScalarCompare* w : {&v8, &v6, &a8, &a6, &j8, &j6}) CHECK_SERIES(w->compare(kFdRel));
+    if (arm) CHECK_SERIES(a2.compare(kFdRel));
   }
 }
 
@@ -248,13 +248,13 @@ TEST_CASE("derivatives: contact point velocity and cam curvature on the table ca
     roller.add(t, cs.roller_speed, 1.0 + (alpha1 - 1.0) * (rho + kRoller) / kRoller - c.follower.derivative(1));
     sliding.add(t, cs.sliding, 0.0);
   }
-  vx.check(kFdRel);
-  vy.check(kFdRel);
-  vt.check(kFdRel);
-  polar.check(0.0, kAngleAbs);
-  curvature.check(kGeometryRel);
-  roller.check(kFdRel);
-  sliding.check(0.0, kRateRel * 20.0);
+  CHECK_SERIES(vx.compare(kFdRel));
+  CHECK_SERIES(vy.compare(kFdRel));
+  CHECK_SERIES(vt.compare(kFdRel));
+  CHECK_SERIES(polar.compare(0.0, kAngleAbs));
+  CHECK_SERIES(curvature.compare(kGeometryRel));
+  CHECK_SERIES(roller.compare(kFdRel));
+  CHECK_SERIES(sliding.compare(0.0, kRateRel * 20.0));
 }
 
 TEST_CASE("derivatives: offset translating roller on the table cam, pressure angle and rolling",
@@ -288,11 +288,11 @@ TEST_CASE("derivatives: offset translating roller on the table cam, pressure ang
     a8.add(t, s2, oracles::central_difference(order(1), 1, kStep));
     j8.add(t, c.follower.derivative(3), oracles::central_difference(order(2), 1, kStep));
   }
-  pressure.check(0.0, kAngleAbs);
-  roller.check(kRateRel);
-  v8.check(kFdRel);
-  a8.check(kFdRel);
-  j8.check(kFdRel);
+  CHECK_SERIES(pressure.compare(0.0, kAngleAbs));
+  CHECK_SERIES(roller.compare(kRateRel));
+  CHECK_SERIES(v8.compare(kFdRel));
+  CHECK_SERIES(a8.compare(kFdRel));
+  CHECK_SERIES(j8.compare(kFdRel));
 }
 
 TEST_CASE("derivatives: flat-faced translating tappet on the table cam, sliding and contact travel",
@@ -330,10 +330,10 @@ TEST_CASE("derivatives: flat-faced translating tappet on the table cam, sliding 
     curvature.add(t, cs.curvature_a, 1.0 / (y + s2));
     CHECK(1.0 / (y + s2) == Approx(1.0 / oracles::polar_radius_of_curvature(d[0], d[1], d[2])).epsilon(1e-9));
   }
-  sliding.check(kRateRel);
-  along_face.check(kRateRel);
-  along_cam.check(kRateRel);
-  offset.check(0.0, kGeometryRel * m.length_scale);
-  travel_fd.check(kFdRel);
-  curvature.check(kGeometryRel);
+  CHECK_SERIES(sliding.compare(kRateRel));
+  CHECK_SERIES(along_face.compare(kRateRel));
+  CHECK_SERIES(along_cam.compare(kRateRel));
+  CHECK_SERIES(offset.compare(0.0, kGeometryRel * m.length_scale));
+  CHECK_SERIES(travel_fd.compare(kFdRel));
+  CHECK_SERIES(curvature.compare(kGeometryRel));
 }
