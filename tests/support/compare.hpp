@@ -32,6 +32,33 @@ inline constexpr double kVelocityRel = 1e-7;
 inline constexpr double kAccelerationRel = 1e-7;
 inline constexpr double kJerkRel = 1e-5;
 inline constexpr double kOrderRel[4] = {kDisplacementRel, kVelocityRel, kAccelerationRel, kJerkRel};
+
+// round-off
+inline constexpr double kUlpRel = 1e-15;           // one closed form evaluated along two paths: a few ulps
+inline constexpr double kUlpAbs = 1e-15;           // the same, for a quantity of size ~1 that may be 0
+inline constexpr double kOctantTrigAbs = 2.3e-16;    // sin/cos from the first octant: libm's error there, below an ulp of 1
+inline constexpr double kReorderedSumRel = 1e-14;  // the same sum accumulated in another order
+
+// finite differences (tests/oracles/finite_difference.hpp): truncation + round-off at the step used
+inline constexpr double kCentral8Step1e3Rel = 1e-11;  // 8th order at h = 1e-3: truncation ~1e-24 f^(9), round-off ~1e-13
+inline constexpr double kCentral2Step1e5Rel = 1e-8;   // 2-point at h = 1e-5: truncation h^2 f'''/6 ~1e-10, round-off ~1e-11
+
+// jets and splines (core)
+inline constexpr double kJetRecurrenceRel = 1e-13;     // Taylor recurrences against a symbolic closed form
+inline constexpr double kJetRecurrenceAbs = 1e-14;     // the same, for references that are ~0
+inline constexpr double kJetTwoFormsRel = 1e-12;       // two jet formulations of one function (atan2 vs atan(y/x), compose vs direct)
+inline constexpr double kSplineJetRel = 1e-14;         // a spline's jet overload against its scalar derivatives
+inline constexpr double kSplineNodeAbs = 1e-12;        // interpolation at the data sites, |f| ~ 1: solve round-off
+inline constexpr double kSplineContinuityRel = 1e-9;   // left/right limits at a knot, of max |f^(k)| (f'''' amplifies round-off)
+inline constexpr double kSplineWrapRel = 1e-12;        // f^(k)(x + 3 period) vs f^(k)(x): x + 3 period rounds by ~1e-15 rad
+inline constexpr double kSplineSolverRel = 1e-12;      // two solvers of one spline system (sparse LU, banded), of the peak
+inline constexpr double kCyclicFilterRel = 4e-15;      // residual of the recursive cyclic filter, of the right-hand side
+inline constexpr double kSplineIntegralRel = 1e-12;    // exact piecewise integral against Gauss-Legendre
+inline constexpr double kSplinePolyAbs = 1e-10;        // reproduction of a quadratic (f'' amplifies round-off by 1/h^2)
+inline constexpr double kNaturalEndThirdAbs = 1e-9;    // f''' = 0 at a natural end: solve round-off / h^3
+inline constexpr double kNaturalEndFourthAbs = 1e-8;   // f'''' = 0 at a natural end: solve round-off / h^4
+inline constexpr double kSplineExtrapolationAbs = 1e-14;  // linear extrapolation a + a' d against the same line, |f| ~ 1
+inline constexpr double kSplineExtremeAbs = 1e-6;      // a spline's extreme against the function's: interpolation error at 40 knots
 }  // namespace tol
 
 // the outcome of one comparison
