@@ -23,10 +23,6 @@ namespace {
 
 // contact outputs are positions (contact point, angles) or rates: same acceptance as the
 // displacement and the velocity
-constexpr double kContactPointRel = kDisplacementRel;  // of the mechanism size
-constexpr double kAngleAbs = 1e-9;                     // pressure angle [rad]
-constexpr double kRateRel = kVelocityRel;              // roller speed, sliding, entrainment
-constexpr double kCurvatureRel = 1e-9;
 
 // solve at each driver value in turn (warm starts chain along the sweep)
 void run(const kin::Mechanism& m, const std::vector<double>& driver, bool contacts,
@@ -170,7 +166,7 @@ TEST_CASE("closed form (a): eccentric disc + centred flat-faced follower", "[kin
       // along the face at s'' and along the disc at R (derivation in derivatives_test.cpp)
       sl.add(t, cs.sliding, y[0]);
       en.add(t, cs.entrainment, 0.5 * y[0] + y[2]);
-      CHECK(cs.curvature_a == Approx(1.0 / c.R).epsilon(kCurvatureRel));
+      CHECK_REL(cs.curvature_a, 1.0 / c.R, kCurvatureRel);
       CHECK(cs.curvature_b == 0.0);
       CHECK_FALSE(cs.open);
     });
@@ -178,9 +174,9 @@ TEST_CASE("closed form (a): eccentric disc + centred flat-faced follower", "[kin
     CHECK_COMPARISONS(lift.compare());
     CHECK_SERIES(cx.compare(0.0, kContactPointRel * m.length_scale));
     CHECK_SERIES(cy.compare(0.0, kContactPointRel * m.length_scale));
-    CHECK_SERIES(pa.compare(0.0, kAngleAbs));
-    CHECK_SERIES(sl.compare(kRateRel));
-    CHECK_SERIES(en.compare(kRateRel));
+    CHECK_SERIES(pa.compare(0.0, kPressureAngleAbs));
+    CHECK_SERIES(sl.compare(kContactRateRel));
+    CHECK_SERIES(en.compare(kContactRateRel));
   }
 }
 
@@ -215,23 +211,23 @@ TEST_CASE("closed form (b): eccentric disc + offset translating roller follower,
         pa.add(t, cs.pressure_angle, o.pressure_angle(t));
         rs.add(t, cs.roller_speed, o.roller_speed(t));
         sl.add(t, cs.sliding, 0.0);
-        CHECK(cs.curvature_a == Approx(1.0 / c.R).epsilon(kCurvatureRel));
-        CHECK(cs.curvature_b == Approx(1.0 / c.r).epsilon(kCurvatureRel));
+        CHECK_REL(cs.curvature_a, 1.0 / c.R, kCurvatureRel);
+        CHECK_REL(cs.curvature_b, 1.0 / c.r, kCurvatureRel);
         if (!circle) return;
         REQUIRE(kin::solve(m_profile, ws_profile, t, kin::Request{3, true}).ok());
         const auto& ref = ws_profile.contacts[0];
         en.add(t, cs.entrainment, ref.entrainment);
         cx.add(t, cs.x, ref.x);
         cy.add(t, cs.y, ref.y);
-        CHECK(cs.normal_x == Approx(ref.normal_x).margin(kContactPointRel));
-        CHECK(cs.normal_y == Approx(ref.normal_y).margin(kContactPointRel));
+        CHECK_ABS(cs.normal_x, ref.normal_x, kContactPointRel);
+        CHECK_ABS(cs.normal_y, ref.normal_y, kContactPointRel);
       });
       CHECK_COMPARISONS(lift.compare());
-      CHECK_SERIES(pa.compare(0.0, kAngleAbs));
-      CHECK_SERIES(rs.compare(kRateRel));
-      CHECK_SERIES(sl.compare(0.0, kRateRel * c.R));
+      CHECK_SERIES(pa.compare(0.0, kPressureAngleAbs));
+      CHECK_SERIES(rs.compare(kContactRateRel));
+      CHECK_SERIES(sl.compare(0.0, kContactRateRel * c.R));
       if (!circle) continue;
-      CHECK_SERIES(en.compare(kRateRel));
+      CHECK_SERIES(en.compare(kContactRateRel));
       CHECK_SERIES(cx.compare(0.0, kContactPointRel * m->length_scale));
       CHECK_SERIES(cy.compare(0.0, kContactPointRel * m->length_scale));
     }
@@ -254,11 +250,11 @@ TEST_CASE("closed form (a) and (b): the follower may be side a of the contact", 
     const auto y = fo.face_height(t);
     sl.add(t, ws.contacts[0].sliding, y[0]);
     en.add(t, ws.contacts[0].entrainment, -(0.5 * y[0] + y[2]));
-    CHECK(ws.contacts[0].curvature_b == Approx(1.0 / fc.R).epsilon(kCurvatureRel));
+    CHECK_REL(ws.contacts[0].curvature_b, 1.0 / fc.R, kCurvatureRel);
   });
   CHECK_COMPARISONS(flat_lift.compare());
-  CHECK_SERIES(sl.compare(kRateRel));
-  CHECK_SERIES(en.compare(kRateRel));
+  CHECK_SERIES(sl.compare(kContactRateRel));
+  CHECK_SERIES(en.compare(kContactRateRel));
 
   const RollerCase rc{18.0, 3.0, 0.3, 9.0, 3.0, {-50 * deg, {-6, 2}}};
   const oracles::EccentricOffsetRoller ro{rc.R, rc.e, rc.phase, rc.r, rc.offset};
@@ -273,8 +269,8 @@ TEST_CASE("closed form (a) and (b): the follower may be side a of the contact", 
     rs.add(t, ws.contacts[0].roller_speed, ro.roller_speed(t));
   });
   CHECK_COMPARISONS(roller_lift.compare());
-  CHECK_SERIES(pa.compare(0.0, kAngleAbs));
-  CHECK_SERIES(rs.compare(kRateRel));
+  CHECK_SERIES(pa.compare(0.0, kPressureAngleAbs));
+  CHECK_SERIES(rs.compare(kContactRateRel));
 }
 
 TEST_CASE("closed form (c): eccentric disc + oscillating roller follower", "[kinematics][closed_form]") {
@@ -302,8 +298,8 @@ TEST_CASE("closed form (c): eccentric disc + oscillating roller follower", "[kin
       pa.add(t, ws.contacts[0].pressure_angle, o.pressure_angle(t));
     });
     CHECK_COMPARISONS(lift.compare());
-    CHECK_SERIES(rs.compare(kRateRel));
-    CHECK_SERIES(pa.compare(0.0, kAngleAbs));
+    CHECK_SERIES(rs.compare(kContactRateRel));
+    CHECK_SERIES(pa.compare(0.0, kPressureAngleAbs));
   }
 }
 
@@ -505,6 +501,6 @@ TEST_CASE("closed form (g): pressure angle of a flat tappet normal to its travel
     ScalarCompare pa("polar flat pressure angle, orientation " + std::to_string(orientation / deg));
     run(m, revolution(), true,
         [&](std::size_t, double t, const kin::Workspace& ws) { pa.add(t, ws.contacts[0].pressure_angle, 0.0); });
-    CHECK_SERIES(pa.compare(0.0, kAngleAbs));
+    CHECK_SERIES(pa.compare(0.0, kPressureAngleAbs));
   }
 }

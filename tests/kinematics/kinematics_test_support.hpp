@@ -37,16 +37,6 @@ using camopt::test::SweepCompare;
 inline constexpr double kSweepStepDeg = 0.5;
 inline constexpr int kSweepPoints = 721;  // 0 .. 360 deg, both ends
 
-// the largest difference between two formulations of a quantity, and the quantity's peak
-struct Peaks {
-  double err = 0.0, peak = 0.0;
-  void add(double a, double b) {
-    err = std::max(err, std::abs(a - b));
-    peak = std::max(peak, std::abs(b));
-  }
-  double rel() const { return err / std::max(peak, 1e-300); }
-};
-
 // a rigid placement of an oracle's textbook frame into the drawing [rad, mm]
 struct Placement {
   double angle = 0.0;
