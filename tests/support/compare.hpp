@@ -99,6 +99,12 @@ inline constexpr double kFastGeneralContactRel = 1e-8;  // their contact quantit
 inline constexpr double kPrescribedRel[4] = {1e-12, 1e-11, 1e-10, 1e-9};  // a prescribed pose vs the whole solve from the same bits: round-off, of each order's peak
 inline constexpr double kRefinedPeakRel = 0.01;    // the refined peak above the peak of a 2-deg grid: the lift's curvature over a step
 inline constexpr double kRefinedPeakAbs = 1e-9;     // [mm] the same, for a peak of ~0
+
+// stress (tests/stress)
+inline constexpr double kConditionRel = 1e-6;        // a link's condition number against its closed form, near toggle
+inline constexpr double kSummaryOfSameRel = 1e-12;   // a summary's extreme against the extreme of the same per-point values
+inline constexpr double kRefinedExtremeRel = 1e-6;   // a refined extreme against the largest of a 0.5-deg grid's closed forms
+inline constexpr double kQuasiStaticForceRel = 1e-2; // compliant contact forces against rigid ones at <= 10 rpm: the deflection's share of the peak
 }  // namespace tol
 
 // the outcome of one comparison
