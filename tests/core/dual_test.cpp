@@ -6,15 +6,13 @@
 
 #include "camopt/core/dual.hpp"
 #include "oracles/finite_difference.hpp"
+#include "support/compare.hpp"
 
 using camopt::Dual;
 
 namespace {
 
-constexpr double kRoundOff = 1e-15;
-// 8th-order central differences (half-width 4) at step 1e-3: truncation ~1e-24 x the 9th
-// derivative, round-off ~1e-13
-constexpr double kDifference = 1e-11;
+using namespace camopt::test::tol;
 
 // x carrying the directions (1, 0) and (0, 2): x = x0 + s + 2 t
 Dual<2> seeded(double x0) {
@@ -39,21 +37,20 @@ TEST_CASE("Dual: exp, log and pow by the chain rule along every direction", "[ki
     CHECK(value(q) == std::pow(x0, -0.13));
     for (int k = 0; k < 2; ++k) {
       const double dx = x.d[k];
-      CHECK(e.d[k] == Approx(std::exp(x0) * dx).epsilon(kRoundOff));
-      CHECK(l.d[k] == Approx(dx / x0).epsilon(kRoundOff));
-      CHECK(p.d[k] == Approx(0.7 * std::pow(x0, -0.3) * dx).epsilon(kRoundOff));
-      CHECK(q.d[k] == Approx(-0.13 * std::pow(x0, -1.13) * dx).epsilon(kRoundOff));
+      CHECK_REL(e.d[k], std::exp(x0) * dx, kUlpRel);
+      CHECK_REL(l.d[k], dx / x0, kUlpRel);
+      CHECK_REL(p.d[k], 0.7 * std::pow(x0, -0.3) * dx, kUlpRel);
+      CHECK_REL(q.d[k], -0.13 * std::pow(x0, -1.13) * dx, kUlpRel);
     }
     using camopt::oracles::central_difference;
     const double h = 1e-3;
-    CHECK(e.d[0] == Approx(central_difference([](double t) { return std::exp(t); }, x0, 1, 4, h)).epsilon(kDifference));
-    CHECK(l.d[0] == Approx(central_difference([](double t) { return std::log(t); }, x0, 1, 4, h)).epsilon(kDifference));
-    CHECK(p.d[0] ==
-          Approx(central_difference([](double t) { return std::pow(t, 0.7); }, x0, 1, 4, h)).epsilon(kDifference));
+    CHECK_REL(e.d[0], central_difference([](double t) { return std::exp(t); }, x0, 1, 4, h), kCentral8Step1e3Rel);
+    CHECK_REL(l.d[0], central_difference([](double t) { return std::log(t); }, x0, 1, 4, h), kCentral8Step1e3Rel);
+    CHECK_REL(p.d[0], central_difference([](double t) { return std::pow(t, 0.7); }, x0, 1, 4, h), kCentral8Step1e3Rel);
     // composed: exp(0.7 log x) is x^0.7 with the same derivatives
     const Dual<2> c = exp(0.7 * log(x));
-    CHECK(c.v == Approx(p.v).epsilon(kRoundOff));
-    CHECK(c.d[1] == Approx(p.d[1]).epsilon(kRoundOff));
+    CHECK_REL(c.v, p.v, kUlpRel);
+    CHECK_REL(c.d[1], p.d[1], kUlpRel);
   }
   // pow at 0: value 0, derivative 0 for an exponent above 1
   const Dual<2> z = pow(seeded(0.0), 2.5);

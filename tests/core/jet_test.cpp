@@ -8,34 +8,30 @@
 #include <functional>
 #include <numbers>
 #include <string>
+#include "support/compare.hpp"
 
 namespace {
 
 using camopt::Jet;
 using J3 = Jet<3>;
 
-constexpr double kRelTol = 1e-13;    // recurrences vs closed form, relative
-constexpr double kAbsFloor = 1e-14;  // for reference values that are ~0
+using namespace camopt::test::tol;
 
 // sample points t where the test functions are smooth
 constexpr std::array<double, 5> kPoints = {-1.3, -0.4, 0.25, 0.7, 1.6};
 
 using Reference = std::array<std::function<double(double)>, 4>;
 
-bool rel_close(double actual, double expected, double rel = kRelTol) {
-  return std::abs(actual - expected) <= rel * std::abs(expected) + kAbsFloor;
-}
-
 // checks f(jet of t) against the 4 reference derivatives at every sample point
 void check(const std::string& name, const std::function<J3(const J3&)>& f, const Reference& ref,
-           double rel = kRelTol) {
+           double rel = kJetRecurrenceRel) {
   for (const double t0 : kPoints) {
     const J3 v = f(J3::variable(t0));
     for (int k = 0; k <= 3; ++k) {
       const double expected = ref[static_cast<std::size_t>(k)](t0);
       INFO(name << ": t = " << t0 << ", d^" << k << "/dt^" << k << " = " << v.derivative(k)
                 << ", expected " << expected);
-      CHECK(rel_close(v.derivative(k), expected, rel));
+      CHECK_NEAR(v.derivative(k), expected, kJetRecurrenceAbs, rel);
     }
   }
 }
@@ -95,10 +91,10 @@ TEST_CASE("jet: arithmetic with doubles on either side and compound assignment")
 
   // 1 / t: derivatives -1/t^2, 2/t^3, -6/t^4 at t = 0.5
   const J3 r = 1.0 / t;
-  CHECK(rel_close(r.derivative(0), 2.0));
-  CHECK(rel_close(r.derivative(1), -4.0));
-  CHECK(rel_close(r.derivative(2), 16.0));
-  CHECK(rel_close(r.derivative(3), -96.0));
+  CHECK_NEAR(r.derivative(0), 2.0, kJetRecurrenceAbs, kJetRecurrenceRel);
+  CHECK_NEAR(r.derivative(1), -4.0, kJetRecurrenceAbs, kJetRecurrenceRel);
+  CHECK_NEAR(r.derivative(2), 16.0, kJetRecurrenceAbs, kJetRecurrenceRel);
+  CHECK_NEAR(r.derivative(3), -96.0, kJetRecurrenceAbs, kJetRecurrenceRel);
 
   const J3 h = t / 4.0;
   CHECK(h.derivative(1) == 0.25);
@@ -114,18 +110,18 @@ TEST_CASE("jet: arithmetic with doubles on either side and compound assignment")
   c *= 3.0;
   c /= 2.0;
   const J3 ref = ((((t + t * t) - 0.5) * t) / (t + 2.0) + 1.0 - t) * 3.0 / 2.0;
-  for (int k = 0; k <= 3; ++k) CHECK(rel_close(c.derivative(k), ref.derivative(k)));
+  for (int k = 0; k <= 3; ++k) CHECK_NEAR(c.derivative(k), ref.derivative(k), kJetRecurrenceAbs, kJetRecurrenceRel);
 
   // self-aliasing compound assignment
   J3 s = t + 1.0;
   const J3& alias = s;
   s *= alias;  // (t + 1)^2
-  CHECK(rel_close(s.derivative(1), 3.0));
-  CHECK(rel_close(s.derivative(2), 2.0));
+  CHECK_NEAR(s.derivative(1), 3.0, kJetRecurrenceAbs, kJetRecurrenceRel);
+  CHECK_NEAR(s.derivative(2), 2.0, kJetRecurrenceAbs, kJetRecurrenceRel);
   CHECK(s.derivative(3) == 0.0);
   s /= alias;
-  CHECK(rel_close(s.value(), 1.0));
-  CHECK(std::abs(s.derivative(1)) < kAbsFloor);
+  CHECK_NEAR(s.value(), 1.0, kJetRecurrenceAbs, kJetRecurrenceRel);
+  CHECK_ABS(s.derivative(1), 0.0, kJetRecurrenceAbs);
 }
 
 TEST_CASE("jet: sin, cos, sincos of t^2 + 1") {
@@ -235,7 +231,7 @@ TEST_CASE("jet: sqrt, hypot and a sqrt chain") {
        }});
   // hypot agrees with sqrt(x^2 + y^2) and does not overflow in the value
   const J3 big = hypot(J3::variable(3e200), J3(4e200));
-  CHECK(rel_close(big.value(), 5e200));
+  CHECK_NEAR(big.value(), 5e200, kJetRecurrenceAbs, kJetRecurrenceRel);
 }
 
 TEST_CASE("jet: division chains") {
@@ -352,7 +348,7 @@ TEST_CASE("jet: atan2 in all four quadrants") {
       const J3 theta = atan2(Y + 2.0 * t + t * t, X + t - 0.5 * t * t * t);
       INFO("quadrant X = " << X << ", Y = " << Y << ", t = " << tt);
       for (int k = 0; k <= 3; ++k)
-        CHECK(rel_close(theta.derivative(k), expected[static_cast<std::size_t>(k)]));
+        CHECK_NEAR(theta.derivative(k), expected[static_cast<std::size_t>(k)], kJetRecurrenceAbs, kJetRecurrenceRel);
       // the value keeps the quadrant
       CHECK(std::signbit(theta.value()) == std::signbit(Y));
       CHECK((std::abs(theta.value()) > std::numbers::pi / 2) == (X < 0));
@@ -361,8 +357,8 @@ TEST_CASE("jet: atan2 in all four quadrants") {
   // on the negative x axis the derivatives stay finite (no atan(y/x) branch issue)
   const J3 t = J3::variable(0.0);
   const J3 th = atan2(t, -1.0 + 0.0 * t);
-  CHECK(th.value() == Approx(std::numbers::pi));
-  CHECK(th.derivative(1) == Approx(-1.0));
+  CHECK_NEAR(th.value(), std::numbers::pi, kJetRecurrenceAbs, kJetRecurrenceRel);
+  CHECK_NEAR(th.derivative(1), -1.0, kJetRecurrenceAbs, kJetRecurrenceRel);
 }
 
 TEST_CASE("jet: atan2 matches atan(y / x) for x > 0") {
@@ -372,7 +368,7 @@ TEST_CASE("jet: atan2 matches atan(y / x) for x > 0") {
     const J3 x = 2.0 + cos(3.0 * t);
     const J3 a = atan2(y, x);
     const J3 b = atan(y / x);
-    for (int k = 0; k <= 3; ++k) CHECK(rel_close(a.derivative(k), b.derivative(k), 1e-12));
+    for (int k = 0; k <= 3; ++k) CHECK_NEAR(a.derivative(k), b.derivative(k), kJetRecurrenceAbs, kJetTwoFormsRel);
   }
 }
 
@@ -385,7 +381,7 @@ TEST_CASE("jet: compose matches direct jet evaluation") {
     const double fs[4] = {std::sin(x0), std::cos(x0), -std::sin(x0), -std::cos(x0)};
     const J3 a = camopt::compose(fs, x);
     const J3 b = sin(x);
-    for (int k = 0; k <= 3; ++k) CHECK(rel_close(a.derivative(k), b.derivative(k)));
+    for (int k = 0; k <= 3; ++k) CHECK_NEAR(a.derivative(k), b.derivative(k), kJetRecurrenceAbs, kJetRecurrenceRel);
 
     // exp(x) / x through f = e^x / x: f' = e^x (x - 1) / x^2, f'' = e^x (x^2 - 2x + 2) / x^3,
     // f''' = e^x (x^3 - 3x^2 + 6x - 6) / x^4
@@ -395,7 +391,7 @@ TEST_CASE("jet: compose matches direct jet evaluation") {
                           e * (std::pow(x0, 3) - 3 * x0 * x0 + 6 * x0 - 6) / std::pow(x0, 4)};
     const J3 c = camopt::compose(fe, x);
     const J3 d = exp(x) / x;
-    for (int k = 0; k <= 3; ++k) CHECK(rel_close(c.derivative(k), d.derivative(k)));
+    for (int k = 0; k <= 3; ++k) CHECK_NEAR(c.derivative(k), d.derivative(k), kJetRecurrenceAbs, kJetRecurrenceRel);
   }
   // higher order: Jet<5> of sin(2t + t^2) composed vs direct
   const Jet<5> x = 2.0 * Jet<5>::variable(0.3) + square(Jet<5>::variable(0.3));
@@ -404,7 +400,7 @@ TEST_CASE("jet: compose matches direct jet evaluation") {
                        -std::cos(x0), std::sin(x0), std::cos(x0)};
   const Jet<5> a = camopt::compose(f, x);
   const Jet<5> b = sin(x);
-  for (int k = 0; k <= 5; ++k) CHECK(rel_close(a.derivative(k), b.derivative(k), 1e-12));
+  for (int k = 0; k <= 5; ++k) CHECK_NEAR(a.derivative(k), b.derivative(k), kJetRecurrenceAbs, kJetTwoFormsRel);
 }
 
 TEST_CASE("jet: generic code runs on double and on jets") {
@@ -418,8 +414,8 @@ TEST_CASE("jet: generic code runs on double and on jets") {
   };
   const double t0 = 0.8;
   const J3 j = f(J3::variable(t0));
-  CHECK(camopt::value(j) == Approx(f(t0)).epsilon(1e-15));
+  CHECK_REL(camopt::value(j), f(t0), kUlpRel);
   // derivative against a central finite difference (test-only check)
   const double h = 1e-5;
-  CHECK(j.derivative(1) == Approx((f(t0 + h) - f(t0 - h)) / (2 * h)).epsilon(1e-8));
+  CHECK_REL(j.derivative(1), (f(t0 + h) - f(t0 - h)) / (2 * h), kCentral2Step1e5Rel);
 }

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "camopt/core/error.hpp"
+#include "support/compare.hpp"
 
 namespace {
 
@@ -22,12 +23,7 @@ using camopt::PeriodicSpline;
 using camopt::Spline;
 
 constexpr double kTwoPi = 2.0 * camopt::pi;
-constexpr double kNodeTol = 1e-12;         // interpolation at the data sites [abs, |f| ~ 1]
-constexpr double kContinuityTol = 1e-9;    // left/right limits, relative to max |f^(k)|
-constexpr double kWrapTol = 1e-12;         // f^(k)(x + 3 period) vs f^(k)(x), relative
-constexpr double kJetTol = 1e-14;          // jet overload vs scalar derivatives, relative
-constexpr double kIntegralTol = 1e-12;     // integral vs gauss-legendre, relative
-constexpr double kPolyTol = 1e-10;         // quadratic reproduction [abs]
+using namespace camopt::test::tol;
 constexpr std::uint32_t kSeed = 20240611;  // jittered grids
 
 // test function sin x + 0.3 cos 3x and its derivatives
@@ -83,23 +79,18 @@ std::array<double, 4> max_errors(const PeriodicSpline& s) {
 // left and right limits of f..f'''' at every knot agree (left limit one ulp below)
 template <class S>
 void check_c4(const S& s, std::span<const double> knots, double left_of_first) {
-  std::array<double, 5> scale{};
-  std::vector<std::array<double, 5>> right(knots.size()), left(knots.size());
+  std::array<std::vector<double>, 5> right, left;
   for (std::size_t i = 0; i < knots.size(); ++i) {
     const double xl = i == 0 ? left_of_first : std::nextafter(knots[i], -INFINITY);
-    s.evaluate(knots[i], 4, right[i].data());
-    s.evaluate(xl, 4, left[i].data());
-    for (int k = 0; k <= 4; ++k) {
-      scale[static_cast<std::size_t>(k)] = std::max(
-          scale[static_cast<std::size_t>(k)], std::abs(right[i][static_cast<std::size_t>(k)]));
-    }
+    double r[5], l[5];
+    s.evaluate(knots[i], 4, r);
+    s.evaluate(xl, 4, l);
+    for (std::size_t k = 0; k <= 4; ++k) right[k].push_back(r[k]), left[k].push_back(l[k]);
   }
-  for (std::size_t i = 0; i < knots.size(); ++i) {
-    for (std::size_t k = 0; k <= 4; ++k) {
-      INFO("knot " << i << " at x = " << knots[i] << ", derivative " << k);
-      CHECK(std::abs(right[i][k] - left[i][k]) <= kContinuityTol * scale[k]);
-    }
-  }
+  // each derivative: left limit against right limit at every knot, of the peak |right limit|
+  for (std::size_t k = 0; k <= 4; ++k)
+    CHECK_SERIES(camopt::test::compare_series("left limit of f^(" + std::to_string(k) + ")", left[k], right[k],
+                                              {.rel = kSplineContinuityRel}, knots, "knot x"));
 }
 
 }  // namespace
@@ -117,9 +108,9 @@ TEST_CASE("periodic spline: interpolates the data") {
       REQUIRE(s.knots().size() == x.size());
       for (std::size_t i = 0; i < x.size(); ++i) {
         INFO("n = " << n << ", jitter = " << jitter << ", node " << i);
-        CHECK(s(x[i]) == Approx(y[i]).margin(kNodeTol));
+        CHECK_ABS(s(x[i]), y[i], kSplineNodeAbs);
         // the closing point x0 + period has the value y0
-        CHECK(s(x[0] + kTwoPi) == Approx(y[0]).margin(kNodeTol));
+        CHECK_ABS(s(x[0] + kTwoPi), y[0], kSplineNodeAbs);
       }
     }
   }
@@ -203,21 +194,19 @@ TEST_CASE("periodic spline: the banded solve and the uniform recursive filter gi
     }
     const PeriodicSpline lu = PeriodicSpline::interpolate_by_sparse_lu(x, y, 2 * std::numbers::pi);
     const PeriodicSpline banded = PeriodicSpline::interpolate(x, y, 2 * std::numbers::pi);
-    double worst[6] = {}, size[6] = {};
+    std::array<std::vector<double>, 6> by_lu, by_banded;
+    std::vector<double> ats;
     for (int k = 0; k < 997; ++k) {
       const double at = 2 * std::numbers::pi * (k + 0.37) / 997;
       double a[6], b[6];
       lu.evaluate(at, 5, a);
       banded.evaluate(at, 5, b);
-      for (int o = 0; o < 6; ++o) {
-        worst[o] = std::max(worst[o], std::abs(a[o] - b[o]));
-        size[o] = std::max(size[o], std::abs(a[o]));
-      }
+      ats.push_back(at);
+      for (std::size_t o = 0; o < 6; ++o) by_lu[o].push_back(a[o]), by_banded[o].push_back(b[o]);
     }
-    for (int o = 0; o < 6; ++o) {
-      INFO("derivative " << o << ": " << worst[o] << " of " << size[o]);
-      CHECK(worst[o] <= 1e-12 * size[o]);
-    }
+    for (std::size_t o = 0; o < 6; ++o)
+      CHECK_SERIES(camopt::test::compare_series("banded f^(" + std::to_string(o) + ")", by_banded[o], by_lu[o],
+                                                {.rel = kSplineSolverRel}, ats, "x"));
   }
 }
 
@@ -229,17 +218,14 @@ TEST_CASE("periodic spline: the uniform recursive filter solves its cyclic syste
   for (int n : {1, 2, 5, 6, 7, 12, 63, 64, 65, 1440}) {
     INFO("n = " << n);
     std::vector<double> b(static_cast<std::size_t>(n)), x(b.size());
-    double size = 0.0;
-    for (double& v : b) v = 16.0 + value(rng), size = std::max(size, std::abs(v));
+    for (double& v : b) v = 16.0 + value(rng);
     camopt::detail::solve_uniform_quintic_cyclic(b, x);
-    double worst = 0.0;
+    std::vector<double> lhs;
     for (int i = 0; i < n; ++i) {
       auto at = [&](int k) { return x[static_cast<std::size_t>(((i + k) % n + n) % n)]; };
-      const double lhs = (at(-2) + 26 * at(-1) + 66 * at(0) + 26 * at(1) + at(2)) / 120;
-      worst = std::max(worst, std::abs(lhs - b[static_cast<std::size_t>(i)]));
+      lhs.push_back((at(-2) + 26 * at(-1) + 66 * at(0) + 26 * at(1) + at(2)) / 120);
     }
-    INFO("worst residual " << worst << " against values up to " << size);
-    CHECK(worst <= 4e-15 * size);
+    CHECK_SERIES(camopt::test::compare_series("cyclic system row", lhs, b, {.rel = kCyclicFilterRel}));
   }
 }
 
@@ -263,9 +249,8 @@ TEST_CASE("periodic spline: wraps by whole periods") {
     s.evaluate(xe - 7 * kTwoPi, 5, c);
     // |f^(k)| <= 25 here; x + 3 period carries a rounding of ~1e-15 [rad]
     for (int k = 0; k <= 5; ++k) {
-      const double scale = std::max(1.0, std::abs(a[k]));
-      CHECK(std::abs(a[k] - b[k]) <= kWrapTol * scale);
-      CHECK(std::abs(a[k] - c[k]) <= kWrapTol * scale);
+      CHECK_NEAR(b[k], a[k], kSplineWrapRel, kSplineWrapRel);
+      CHECK_NEAR(c[k], a[k], kSplineWrapRel, kSplineWrapRel);
     }
   }
 }
@@ -278,11 +263,11 @@ TEST_CASE("periodic spline: jet overload equals the scalar derivatives") {
     s.evaluate(x0, 5, d);
     const Jet<3> j = s(Jet<3>::variable(x0));
     for (int k = 0; k <= 3; ++k)
-      CHECK(j.derivative(k) == Approx(d[k]).epsilon(kJetTol).margin(kJetTol));
+      CHECK_NEAR(j.derivative(k), d[k], kSplineJetRel, kSplineJetRel);
     // chain rule for x(t) = x0 + 2t: d^k/dt^k = 2^k f^(k)
     const Jet<5> j5 = s(Jet<5>::variable(x0, 2.0));
     for (int k = 0; k <= 5; ++k) {
-      CHECK(j5.derivative(k) == Approx(std::pow(2.0, k) * d[k]).epsilon(kJetTol).margin(kJetTol));
+      CHECK_NEAR(j5.derivative(k), std::pow(2.0, k) * d[k], kSplineJetRel, kSplineJetRel);
     }
     // beyond degree 5 every derivative vanishes
     const Jet<7> j7 = s(Jet<7>::variable(x0));
@@ -328,24 +313,24 @@ TEST_CASE("spline: interpolates and reproduces quadratics") {
       double d[4];
       s.evaluate(xe, 3, d);
       INFO("n = " << n << ", x = " << xe);
-      CHECK(d[0] == Approx(q(xe)).margin(kPolyTol));
-      CHECK(d[1] == Approx(-1.3 + 0.9 * xe).margin(kPolyTol));
-      CHECK(d[2] == Approx(0.9).margin(kPolyTol));
-      CHECK(d[3] == Approx(0.0).margin(kPolyTol));
+      CHECK_ABS(d[0], q(xe), kSplinePolyAbs);
+      CHECK_ABS(d[1], -1.3 + 0.9 * xe, kSplinePolyAbs);
+      CHECK_ABS(d[2], 0.9, kSplinePolyAbs);
+      CHECK_ABS(d[3], 0.0, kSplinePolyAbs);
     }
   }
   // general data: nodes hit, natural end conditions hold
   const auto x = grid(30, 0.3);
   const auto y = sample(x);
   const auto s = Spline::interpolate(x, y);
-  for (std::size_t i = 0; i < x.size(); ++i) CHECK(s(x[i]) == Approx(y[i]).margin(kNodeTol));
+  for (std::size_t i = 0; i < x.size(); ++i) CHECK_ABS(s(x[i]), y[i], kSplineNodeAbs);
   double d0[5], dn[5];
   s.evaluate(x.front(), 4, d0);
   s.evaluate(x.back(), 4, dn);
-  CHECK(std::abs(d0[3]) < 1e-9);
-  CHECK(std::abs(d0[4]) < 1e-8);
-  CHECK(std::abs(dn[3]) < 1e-9);
-  CHECK(std::abs(dn[4]) < 1e-8);
+  CHECK_ABS(d0[3], 0.0, kNaturalEndThirdAbs);
+  CHECK_ABS(d0[4], 0.0, kNaturalEndFourthAbs);
+  CHECK_ABS(dn[3], 0.0, kNaturalEndThirdAbs);
+  CHECK_ABS(dn[4], 0.0, kNaturalEndFourthAbs);
 }
 
 TEST_CASE("spline: c4 at every interior knot") {
@@ -368,11 +353,11 @@ TEST_CASE("spline: linear extrapolation with the end slope") {
     double l[4], r[4];
     s.evaluate(x.front() - d, 3, l);
     s.evaluate(x.back() + d, 3, r);
-    CHECK(l[0] == Approx(a[0] - a[1] * d).margin(1e-14));
+    CHECK_ABS(l[0], a[0] - a[1] * d, kSplineExtrapolationAbs);
     CHECK(l[1] == a[1]);
     CHECK(l[2] == 0.0);
     CHECK(l[3] == 0.0);
-    CHECK(r[0] == Approx(b[0] + b[1] * d).margin(1e-14));
+    CHECK_ABS(r[0], b[0] + b[1] * d, kSplineExtrapolationAbs);
     CHECK(r[1] == b[1]);
     CHECK(r[2] == 0.0);
     CHECK(r[3] == 0.0);
@@ -426,7 +411,7 @@ TEST_CASE("spline: exact integral against gauss-legendre of the spline") {
     const double expected = quadrature(s, a, b);
     INFO("integral over [" << a << ", " << b << "] = " << s.integral(a, b) << ", quadrature "
                            << expected);
-    CHECK(std::abs(s.integral(a, b) - expected) <= kIntegralTol * std::abs(expected));
+    CHECK_REL(s.integral(a, b), expected, kSplineIntegralRel);
     CHECK(s.integral(b, a) == -s.integral(a, b));
   }
   CHECK(s.integral(1.3, 1.3) == 0.0);
@@ -437,10 +422,10 @@ TEST_CASE("spline: exact integral against gauss-legendre of the spline") {
     double d[3];
     s.evaluate(xe, 2, d);
     INFO("x = " << xe);
-    CHECK(F.value() == Approx(s.integral(x0, xe)).epsilon(1e-15).margin(1e-15));
-    CHECK(F.derivative(1) == Approx(d[0]).epsilon(kJetTol));
-    CHECK(F.derivative(2) == Approx(d[1]).epsilon(kJetTol).margin(kJetTol));
-    CHECK(F.derivative(3) == Approx(d[2]).epsilon(kJetTol).margin(kJetTol));
+    CHECK_NEAR(F.value(), s.integral(x0, xe), kUlpAbs, kUlpRel);
+    CHECK_REL(F.derivative(1), d[0], kSplineJetRel);
+    CHECK_NEAR(F.derivative(2), d[1], kSplineJetRel, kSplineJetRel);
+    CHECK_NEAR(F.derivative(3), d[2], kSplineJetRel, kSplineJetRel);
   }
 }
 
@@ -484,11 +469,11 @@ TEST_CASE("value_range: the extremes of a spline, inside its pieces too") {
   const auto s = PeriodicSpline::interpolate(x, y, kTwoPi);
   double lo = 0.0, hi = 0.0;
   s.value_range(x.front() + kTwoPi, lo, hi);
-  CHECK(hi == Approx(extreme(s, x.front(), x.front() + kTwoPi, 1.0)).epsilon(1e-15));
-  CHECK(lo == Approx(extreme(s, x.front(), x.front() + kTwoPi, -1.0)).epsilon(1e-15));
+  CHECK_REL(hi, extreme(s, x.front(), x.front() + kTwoPi, 1.0), kUlpRel);
+  CHECK_REL(lo, extreme(s, x.front(), x.front() + kTwoPi, -1.0), kUlpRel);
   // those of the function to the interpolation error, and not at a knot
-  CHECK(hi == Approx(3.0).margin(1e-6));
-  CHECK(lo == Approx(1.0).margin(1e-6));
+  CHECK_ABS(hi, 3.0, kSplineExtremeAbs);
+  CHECK_ABS(lo, 1.0, kSplineExtremeAbs);
   CHECK(hi > *std::max_element(y.begin(), y.end()));
   CHECK(lo < *std::min_element(y.begin(), y.end()));
   // a natural spline through sin: its last piece ends at x.back(); the minimum at an end
@@ -497,6 +482,6 @@ TEST_CASE("value_range: the extremes of a spline, inside its pieces too") {
   for (std::size_t i = 0; i < xn.size(); ++i) yn[i] = std::sin(xn[i]);
   const auto n = Spline::interpolate(xn, yn);
   n.value_range(xn.back(), lo, hi);
-  CHECK(hi == Approx(extreme(n, xn.front(), xn.back(), 1.0)).epsilon(1e-15));
-  CHECK(lo == Approx(extreme(n, xn.front(), xn.back(), -1.0)).epsilon(1e-15));
+  CHECK_REL(hi, extreme(n, xn.front(), xn.back(), 1.0), kUlpRel);
+  CHECK_REL(lo, extreme(n, xn.front(), xn.back(), -1.0), kUlpRel);
 }

@@ -123,10 +123,10 @@ TEST_CASE("rigid (a): direct-acting valve against F = m a + k (x + x0) + gas, to
         guide.add(t, s.reaction_at(i, 2, 0, w), mu * f);
         axial.add(t, s.reaction_at(i, 2, 1, w), 0.0);
       }
-      force.check(kForceRel);
-      torque.check(kForceRel);
-      guide.check(kForceRel);
-      axial.check(0.0, kForceRel * 1000);
+      CHECK_SERIES(force.compare(kForceRel));
+      CHECK_SERIES(torque.compare(kForceRel));
+      CHECK_SERIES(guide.compare(kForceRel));
+      CHECK_SERIES(axial.compare(0.0, kForceRel * 1000));
     }
 }
 
@@ -149,7 +149,7 @@ TEST_CASE("rigid (a): progressive spring table, piecewise linear and extrapolate
     const double spring = x <= 2 ? 200 + 30 * x : 260 + (400 - 260) / 3.0 * (x - 2);
     force.add(t, s.force_at(i, 0, w), 1e-3 * (c.mass + c.spring_mass / 3) * w * w * y[2] + spring);
   }
-  force.check(kForceRel);
+  CHECK_SERIES(force.compare(kForceRel));
 }
 
 TEST_CASE("rigid (a): separation speed is exact from the rpm^2 split", "[dynamics][rigid]") {
@@ -221,7 +221,7 @@ TEST_CASE("rigid (a): a damped valve spring: F = m a + k (x + x0) + c v, separat
     for (double root : {(-qb + std::sqrt(disc)) / (2 * qa), (-qb - std::sqrt(disc)) / (2 * qa)})
       if (root > 0) w_min = std::min(w_min, root);
   }
-  force.check(kForceRel);
+  CHECK_SERIES(force.compare(kForceRel));
   const auto sep = dynamics::separation_speed(s, m.model, 0);
   CHECK(sep.engine_rpm == Approx(dynamics::engine_rpm(w_min, 2.0)).epsilon(1e-9));
   // the undamped separation speed differs: the damper matters here
@@ -391,11 +391,11 @@ TEST_CASE("rigid (a): four-bar with a massive rocker against a Newton-Euler bala
     ry.add(th, s.reaction_at(i, rocker, 1, w), ma.y() - lambda * u.y());
     cx.add(th, s.reaction_at(i, 1, 0, w), lambda * u.x());
   }
-  link_force.check(kForceRel);
-  torque.check(kForceRel);
-  rx.check(kForceRel);
-  ry.check(kForceRel);
-  cx.check(kForceRel);
+  CHECK_SERIES(link_force.compare(kForceRel));
+  CHECK_SERIES(torque.compare(kForceRel));
+  CHECK_SERIES(rx.compare(kForceRel));
+  CHECK_SERIES(ry.compare(kForceRel));
+  CHECK_SERIES(cx.compare(kForceRel));
 }
 
 TEST_CASE("rigid (a): offset slider-crank with a massive slider against a Newton-Euler balance",
@@ -430,9 +430,9 @@ TEST_CASE("rigid (a): offset slider-crank with a massive slider against a Newton
     torque.add(th, s.torque_at(i, w), cross2(A, lambda * u));
     guide.add(th, s.reaction_at(i, 2, 0, w), -lambda * u.x());
   }
-  rod_force.check(kForceRel);
-  torque.check(kForceRel);
-  guide.check(kForceRel);
+  CHECK_SERIES(rod_force.compare(kForceRel));
+  CHECK_SERIES(torque.compare(kForceRel));
+  CHECK_SERIES(guide.compare(kForceRel));
 }
 
 TEST_CASE("rigid (a): gear and rack-pinion transmit the spring loads, torque by virtual work",
@@ -482,9 +482,9 @@ TEST_CASE("rigid (a): gear and rack-pinion transmit the spring loads, torque by 
     rack_force.add(t, s.force_at(i, 1, w), rack);
     torque.add(t, s.torque_at(i, w), -0.5 * wheel + 12 * rack);
   }
-  gear_torque.check(kForceRel);
-  rack_force.check(kForceRel);
-  torque.check(kForceRel);
+  CHECK_SERIES(gear_torque.compare(kForceRel));
+  CHECK_SERIES(rack_force.compare(kForceRel));
+  CHECK_SERIES(torque.compare(kForceRel));
 }
 
 TEST_CASE("rigid (a): power balance, drive power = d(kinetic + spring energy)/dt + friction loss",
@@ -554,7 +554,7 @@ TEST_CASE("rigid (a): power balance, drive power = d(kinetic + spring energy)/dt
       }
       prev = torque;
     }
-    power.check(kForceRel);
+    CHECK_SERIES(power.compare(kForceRel));
     if (zero_lash && std::string(file) == "cvvl_swing_cam.toml") {
       // friction (pad on the valve tip, mu 0.08) is the only net work over a closed cycle
       INFO("net work " << work << " N mm rad of " << abs_work);

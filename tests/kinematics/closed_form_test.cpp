@@ -23,10 +23,6 @@ namespace {
 
 // contact outputs are positions (contact point, angles) or rates: same acceptance as the
 // displacement and the velocity
-constexpr double kContactPointRel = kDisplacementRel;  // of the mechanism size
-constexpr double kAngleAbs = 1e-9;                     // pressure angle [rad]
-constexpr double kRateRel = kVelocityRel;              // roller speed, sliding, entrainment
-constexpr double kCurvatureRel = 1e-9;
 
 // solve at each driver value in turn (warm starts chain along the sweep)
 void run(const kin::Mechanism& m, const std::vector<double>& driver, bool contacts,
@@ -170,17 +166,17 @@ TEST_CASE("closed form (a): eccentric disc + centred flat-faced follower", "[kin
       // along the face at s'' and along the disc at R (derivation in derivatives_test.cpp)
       sl.add(t, cs.sliding, y[0]);
       en.add(t, cs.entrainment, 0.5 * y[0] + y[2]);
-      CHECK(cs.curvature_a == Approx(1.0 / c.R).epsilon(kCurvatureRel));
+      CHECK_REL(cs.curvature_a, 1.0 / c.R, kCurvatureRel);
       CHECK(cs.curvature_b == 0.0);
       CHECK_FALSE(cs.open);
     });
     REQUIRE(lift.size() == kSweepPoints);
-    lift.check();
-    cx.check(0.0, kContactPointRel * m.length_scale);
-    cy.check(0.0, kContactPointRel * m.length_scale);
-    pa.check(0.0, kAngleAbs);
-    sl.check(kRateRel);
-    en.check(kRateRel);
+    CHECK_COMPARISONS(lift.compare());
+    CHECK_SERIES(cx.compare(0.0, kContactPointRel * m.length_scale));
+    CHECK_SERIES(cy.compare(0.0, kContactPointRel * m.length_scale));
+    CHECK_SERIES(pa.compare(0.0, kPressureAngleAbs));
+    CHECK_SERIES(sl.compare(kContactRateRel));
+    CHECK_SERIES(en.compare(kContactRateRel));
   }
 }
 
@@ -215,25 +211,25 @@ TEST_CASE("closed form (b): eccentric disc + offset translating roller follower,
         pa.add(t, cs.pressure_angle, o.pressure_angle(t));
         rs.add(t, cs.roller_speed, o.roller_speed(t));
         sl.add(t, cs.sliding, 0.0);
-        CHECK(cs.curvature_a == Approx(1.0 / c.R).epsilon(kCurvatureRel));
-        CHECK(cs.curvature_b == Approx(1.0 / c.r).epsilon(kCurvatureRel));
+        CHECK_REL(cs.curvature_a, 1.0 / c.R, kCurvatureRel);
+        CHECK_REL(cs.curvature_b, 1.0 / c.r, kCurvatureRel);
         if (!circle) return;
         REQUIRE(kin::solve(m_profile, ws_profile, t, kin::Request{3, true}).ok());
         const auto& ref = ws_profile.contacts[0];
         en.add(t, cs.entrainment, ref.entrainment);
         cx.add(t, cs.x, ref.x);
         cy.add(t, cs.y, ref.y);
-        CHECK(cs.normal_x == Approx(ref.normal_x).margin(kContactPointRel));
-        CHECK(cs.normal_y == Approx(ref.normal_y).margin(kContactPointRel));
+        CHECK_ABS(cs.normal_x, ref.normal_x, kContactPointRel);
+        CHECK_ABS(cs.normal_y, ref.normal_y, kContactPointRel);
       });
-      lift.check();
-      pa.check(0.0, kAngleAbs);
-      rs.check(kRateRel);
-      sl.check(0.0, kRateRel * c.R);
+      CHECK_COMPARISONS(lift.compare());
+      CHECK_SERIES(pa.compare(0.0, kPressureAngleAbs));
+      CHECK_SERIES(rs.compare(kContactRateRel));
+      CHECK_SERIES(sl.compare(0.0, kContactRateRel * c.R));
       if (!circle) continue;
-      en.check(kRateRel);
-      cx.check(0.0, kContactPointRel * m->length_scale);
-      cy.check(0.0, kContactPointRel * m->length_scale);
+      CHECK_SERIES(en.compare(kContactRateRel));
+      CHECK_SERIES(cx.compare(0.0, kContactPointRel * m->length_scale));
+      CHECK_SERIES(cy.compare(0.0, kContactPointRel * m->length_scale));
     }
   }
 }
@@ -254,11 +250,11 @@ TEST_CASE("closed form (a) and (b): the follower may be side a of the contact", 
     const auto y = fo.face_height(t);
     sl.add(t, ws.contacts[0].sliding, y[0]);
     en.add(t, ws.contacts[0].entrainment, -(0.5 * y[0] + y[2]));
-    CHECK(ws.contacts[0].curvature_b == Approx(1.0 / fc.R).epsilon(kCurvatureRel));
+    CHECK_REL(ws.contacts[0].curvature_b, 1.0 / fc.R, kCurvatureRel);
   });
-  flat_lift.check();
-  sl.check(kRateRel);
-  en.check(kRateRel);
+  CHECK_COMPARISONS(flat_lift.compare());
+  CHECK_SERIES(sl.compare(kContactRateRel));
+  CHECK_SERIES(en.compare(kContactRateRel));
 
   const RollerCase rc{18.0, 3.0, 0.3, 9.0, 3.0, {-50 * deg, {-6, 2}}};
   const oracles::EccentricOffsetRoller ro{rc.R, rc.e, rc.phase, rc.r, rc.offset};
@@ -272,9 +268,9 @@ TEST_CASE("closed form (a) and (b): the follower may be side a of the contact", 
     pa.add(t, ws.contacts[0].pressure_angle, ro.pressure_angle(t));
     rs.add(t, ws.contacts[0].roller_speed, ro.roller_speed(t));
   });
-  roller_lift.check();
-  pa.check(0.0, kAngleAbs);
-  rs.check(kRateRel);
+  CHECK_COMPARISONS(roller_lift.compare());
+  CHECK_SERIES(pa.compare(0.0, kPressureAngleAbs));
+  CHECK_SERIES(rs.compare(kContactRateRel));
 }
 
 TEST_CASE("closed form (c): eccentric disc + oscillating roller follower", "[kinematics][closed_form]") {
@@ -301,9 +297,9 @@ TEST_CASE("closed form (c): eccentric disc + oscillating roller follower", "[kin
       // its pin, not through the arm's material point at the contact (up to atan(r/l) apart)
       pa.add(t, ws.contacts[0].pressure_angle, o.pressure_angle(t));
     });
-    lift.check();
-    rs.check(kRateRel);
-    pa.check(0.0, kAngleAbs);
+    CHECK_COMPARISONS(lift.compare());
+    CHECK_SERIES(rs.compare(kContactRateRel));
+    CHECK_SERIES(pa.compare(0.0, kPressureAngleAbs));
   }
 }
 
@@ -342,7 +338,7 @@ TEST_CASE("closed form (d): grashof four-bar, both assembly branches, driven by 
         ref[0] = wrap_angle(ref[0] - th4_0);
         rocker.add(r.driver[i], k, ref);
       }
-      rocker.check();
+      CHECK_COMPARISONS(rocker.compare());
       // the compiled plan keeps the branch of the drawing
       REQUIRE(m.plan.size() == 1);
       CHECK(m.plan[0].method == kin::StepMethod::link_closed_form);
@@ -379,7 +375,7 @@ TEST_CASE("closed form (d): four-bar driven by the rocker (any node can drive)",
           ref[0] = wrap_angle(ref[0] - crank0);
           crank.add(q, motion_of(node_jet(m, ws, "crank")), ref);
         });
-    crank.check();
+    CHECK_COMPARISONS(crank.compare());
   }
 }
 
@@ -407,7 +403,7 @@ TEST_CASE("closed form (e): offset slider-crank, driven by the crank and by the 
           ref[0] -= x0;
           slider.add(t, motion_of(node_jet(m, ws, "slider")), ref);
         });
-        slider.check();
+        CHECK_COMPARISONS(slider.compare());
       }
       {
         // drawing at mid-stroke (crank normal to the slide), slider driven +-12 mm: the
@@ -422,7 +418,7 @@ TEST_CASE("closed form (e): offset slider-crank, driven by the crank and by the 
           ref[0] = wrap_angle(ref[0] - mid);
           crank.add(q, motion_of(node_jet(m, ws, "crank")), ref);
         });
-        crank.check();
+        CHECK_COMPARISONS(crank.compare());
       }
     }
 }
@@ -444,7 +440,7 @@ TEST_CASE("closed form (f): gear pair and rack-pinion, driven from either end", 
     run(m, revolution(), false, [&](std::size_t, double t, const kin::Workspace& ws) {
       cmp.add(t, motion_of(node_jet(m, ws, from_output ? "crank" : "cam")), from_output ? g.input(t) : g.output(t));
     });
-    cmp.check();
+    CHECK_COMPARISONS(cmp.compare());
   }
   const oracles::RackPinion rp{12.0};
   for (const bool from_rack : {false, true}) {
@@ -463,7 +459,7 @@ TEST_CASE("closed form (f): gear pair and rack-pinion, driven from either end", 
     run(m, drive, false, [&](std::size_t, double t, const kin::Workspace& ws) {
       cmp.add(t, motion_of(node_jet(m, ws, from_rack ? "pinion" : "rack")), from_rack ? rp.pinion(t) : rp.rack(t));
     });
-    cmp.check();
+    CHECK_COMPARISONS(cmp.compare());
   }
 }
 
@@ -488,9 +484,9 @@ TEST_CASE("closed form (g): flat tappet on a polar table cam (support function)"
       curvature.add(t, cs.curvature_a, 1.0 / o.radius_of_curvature(t));
       cx.add(t, local_point(c.place, cs.x, cs.y).x(), o.contact_x(t));
     });
-    lift.check();
-    curvature.check(kCurvatureRel);
-    cx.check(0.0, kContactPointRel * m.length_scale);
+    CHECK_COMPARISONS(lift.compare());
+    CHECK_SERIES(curvature.compare(kCurvatureRel));
+    CHECK_SERIES(cx.compare(0.0, kContactPointRel * m.length_scale));
   }
 }
 
@@ -505,6 +501,6 @@ TEST_CASE("closed form (g): pressure angle of a flat tappet normal to its travel
     ScalarCompare pa("polar flat pressure angle, orientation " + std::to_string(orientation / deg));
     run(m, revolution(), true,
         [&](std::size_t, double t, const kin::Workspace& ws) { pa.add(t, ws.contacts[0].pressure_angle, 0.0); });
-    pa.check(0.0, kAngleAbs);
+    CHECK_SERIES(pa.compare(0.0, kPressureAngleAbs));
   }
 }

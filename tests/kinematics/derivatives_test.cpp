@@ -25,10 +25,6 @@ namespace {
 constexpr double kStep = 1e-3;         // [rad]
 constexpr int kHalfWidth8 = 4;         // 9 points, 8th order
 constexpr int kHalfWidth6 = 3;         // 7 points, 6th order
-constexpr double kFdRel = 1e-7;        // relative to the peak of the quantity over the samples
-constexpr double kGeometryRel = 1e-9;  // a position-level output against its closed form
-constexpr double kAngleAbs = 1e-9;     // pressure angle [rad]
-constexpr double kRateRel = 1e-7;      // rates (per rad of cam) against closed forms
 
 constexpr double kRoller = 9.0;  // roller radius [mm]
 constexpr int kSamples = 36;     // driver samples over a revolution
@@ -125,7 +121,7 @@ double centred_in_piece(const kin::Mechanism& m, double theta) {
   REQUIRE(kin::solve(m, ws, theta, {}).ok());
   const Jet<3>& j = ws.vars[static_cast<std::size_t>(u)];
   // the stencil's reach in u stays inside the piece
-  CHECK(std::abs(j.value() / deg - std::floor(j.value() / deg) - 0.5) < 1e-6);
+  CHECK_ABS(j.value() / deg - std::floor(j.value() / deg), 0.5, kNewtonCentringAbs);
   CHECK(kHalfWidth8 * kStep * std::abs(j.derivative(1)) < 0.5 * deg);
   return theta;
 }
@@ -191,8 +187,8 @@ TEST_CASE("derivatives: oscillating roller on a table cam, jets against central 
       j8.add(t, centre.derivative(3), oracles::central_difference(order(2), 1, kStep));
       j6.add(t, centre.derivative(3), oracles::central_difference(inner(order(2)), 1, kStep));
     }
-    for (const ScalarCompare* w : {&v8, &v6, &a8, &a6, &j8, &j6}) w->check(kFdRel);
-    if (arm) a2.check(kFdRel);
+    for (const ScalarCompare* w : {&v8, &v6, &a8, &a6, &j8, &j6}) CHECK_SERIES(w->compare(kKernelFdRel));
+    if (arm) CHECK_SERIES(a2.compare(kKernelFdRel));
   }
 }
 
@@ -248,13 +244,13 @@ TEST_CASE("derivatives: contact point velocity and cam curvature on the table ca
     roller.add(t, cs.roller_speed, 1.0 + (alpha1 - 1.0) * (rho + kRoller) / kRoller - c.follower.derivative(1));
     sliding.add(t, cs.sliding, 0.0);
   }
-  vx.check(kFdRel);
-  vy.check(kFdRel);
-  vt.check(kFdRel);
-  polar.check(0.0, kAngleAbs);
-  curvature.check(kGeometryRel);
-  roller.check(kFdRel);
-  sliding.check(0.0, kRateRel * 20.0);
+  CHECK_SERIES(vx.compare(kKernelFdRel));
+  CHECK_SERIES(vy.compare(kKernelFdRel));
+  CHECK_SERIES(vt.compare(kKernelFdRel));
+  CHECK_SERIES(polar.compare(0.0, kPressureAngleAbs));
+  CHECK_SERIES(curvature.compare(kCurvatureRel));
+  CHECK_SERIES(roller.compare(kKernelFdRel));
+  CHECK_SERIES(sliding.compare(0.0, kContactRateRel * 20.0));
 }
 
 TEST_CASE("derivatives: offset translating roller on the table cam, pressure angle and rolling",
@@ -288,11 +284,11 @@ TEST_CASE("derivatives: offset translating roller on the table cam, pressure ang
     a8.add(t, s2, oracles::central_difference(order(1), 1, kStep));
     j8.add(t, c.follower.derivative(3), oracles::central_difference(order(2), 1, kStep));
   }
-  pressure.check(0.0, kAngleAbs);
-  roller.check(kRateRel);
-  v8.check(kFdRel);
-  a8.check(kFdRel);
-  j8.check(kFdRel);
+  CHECK_SERIES(pressure.compare(0.0, kPressureAngleAbs));
+  CHECK_SERIES(roller.compare(kContactRateRel));
+  CHECK_SERIES(v8.compare(kKernelFdRel));
+  CHECK_SERIES(a8.compare(kKernelFdRel));
+  CHECK_SERIES(j8.compare(kKernelFdRel));
 }
 
 TEST_CASE("derivatives: flat-faced translating tappet on the table cam, sliding and contact travel",
@@ -328,12 +324,12 @@ TEST_CASE("derivatives: flat-faced translating tappet on the table cam, sliding 
     double d[4];
     r.evaluate(cs.polar_angle_a, 3, d);
     curvature.add(t, cs.curvature_a, 1.0 / (y + s2));
-    CHECK(1.0 / (y + s2) == Approx(1.0 / oracles::polar_radius_of_curvature(d[0], d[1], d[2])).epsilon(1e-9));
+    CHECK_REL(1.0 / (y + s2), 1.0 / oracles::polar_radius_of_curvature(d[0], d[1], d[2]), kCurvatureRel);
   }
-  sliding.check(kRateRel);
-  along_face.check(kRateRel);
-  along_cam.check(kRateRel);
-  offset.check(0.0, kGeometryRel * m.length_scale);
-  travel_fd.check(kFdRel);
-  curvature.check(kGeometryRel);
+  CHECK_SERIES(sliding.compare(kContactRateRel));
+  CHECK_SERIES(along_face.compare(kContactRateRel));
+  CHECK_SERIES(along_cam.compare(kContactRateRel));
+  CHECK_SERIES(offset.compare(0.0, kCurvatureRel * m.length_scale));
+  CHECK_SERIES(travel_fd.compare(kKernelFdRel));
+  CHECK_SERIES(curvature.compare(kCurvatureRel));
 }

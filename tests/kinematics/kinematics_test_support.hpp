@@ -1,8 +1,8 @@
 #pragma once
-// shared pieces of the kinematics accuracy tests: the named acceptance tolerances, small
-// DesignSpec builders (mechanisms inline in code, like the smoke test), a rigid placement
-// of a textbook frame into the drawing, and a per-sweep compare against an oracle that
-// reports the worst point.
+// shared pieces of the kinematics accuracy tests: small DesignSpec builders (mechanisms
+// inline in code, like the smoke test) and a rigid placement of a textbook frame into the
+// drawing; the named tolerances and the per-sweep compare against an oracle come from
+// tests/support/compare.hpp.
 #include <Eigen/Core>
 #include <algorithm>
 #include <catch2/catch.hpp>
@@ -18,6 +18,7 @@
 #include "camopt/kinematics/mechanism.hpp"
 #include "camopt/kinematics/solver.hpp"
 #include "oracles/oracles.hpp"
+#include "support/compare.hpp"
 
 namespace camopt::kin_test {
 
@@ -27,27 +28,14 @@ using oracles::Motion;
 using camopt::pi;
 inline constexpr double deg = camopt::rad_per_deg;
 
-// acceptance of the kinematics engine against closed forms, each relative to the peak
-// magnitude of the same quantity over the sweep
-inline constexpr double kDisplacementRel = 1e-9;
-inline constexpr double kVelocityRel = 1e-7;
-inline constexpr double kAccelerationRel = 1e-7;
-inline constexpr double kJerkRel = 1e-5;
-inline constexpr double kOrderRel[4] = {kDisplacementRel, kVelocityRel, kAccelerationRel, kJerkRel};
+// the named tolerances and the compare helpers (tests/support/compare.hpp)
+using namespace camopt::test::tol;
+using camopt::test::ScalarCompare;
+using camopt::test::SweepCompare;
 
 // the accuracy sweep: a full revolution at 0.5 deg
 inline constexpr double kSweepStepDeg = 0.5;
 inline constexpr int kSweepPoints = 721;  // 0 .. 360 deg, both ends
-
-// the largest difference between two formulations of a quantity, and the quantity's peak
-struct Peaks {
-  double err = 0.0, peak = 0.0;
-  void add(double a, double b) {
-    err = std::max(err, std::abs(a - b));
-    peak = std::max(peak, std::abs(b));
-  }
-  double rel() const { return err / std::max(peak, 1e-300); }
-};
 
 // a rigid placement of an oracle's textbook frame into the drawing [rad, mm]
 struct Placement {
@@ -196,83 +184,5 @@ inline const Jet<3>& node_jet(const kin::Mechanism& m, const kin::Workspace& ws,
 }
 
 inline Motion motion_of(const Jet<3>& j) { return {j.derivative(0), j.derivative(1), j.derivative(2), j.derivative(3)}; }
-
-// |kernel - reference| of one point for the compare helpers: +infinity when either is not
-// finite, so a NaN or an infinity anywhere fails the comparison (and is the worst point)
-inline double compare_error(double kernel, double reference) {
-  if (!std::isfinite(kernel) || !std::isfinite(reference)) return std::numeric_limits<double>::infinity();
-  return std::abs(kernel - reference);
-}
-
-// the compare helpers of these tests: kernel against reference over a sweep, passing when
-// the worst |kernel - reference| is within rel * (peak |reference| over the sweep) + abs;
-// a failure reports the worst point; a non-finite value fails. SweepCompare: a displacement
-// and its three derivatives (kOrderRel each); ScalarCompare: one quantity.
-class SweepCompare {
- public:
-  SweepCompare(std::string name, bool angle) : name_(std::move(name)), angle_(angle) {}
-
-  void add(double driver, const Motion& kernel, const Motion& oracle) {
-    driver_.push_back(driver);
-    kernel_.push_back(kernel);
-    oracle_.push_back(oracle);
-  }
-
-  // every order within kOrderRel[k] of the oracle's peak |d^k| over the sweep
-  void check(const double (&rel)[4] = kOrderRel) const {
-    REQUIRE(!driver_.empty());
-    for (int k = 0; k <= 3; ++k) {
-      const auto ks = static_cast<std::size_t>(k);
-      double peak = 0.0, worst = -1.0;
-      std::size_t at = 0;
-      for (const auto& o : oracle_) peak = std::max(peak, std::abs(o[ks]));
-      for (std::size_t i = 0; i < driver_.size(); ++i) {
-        double err = compare_error(kernel_[i][ks], oracle_[i][ks]);
-        if (k == 0 && angle_ && std::isfinite(err)) err = std::abs(oracles::wrap_angle(kernel_[i][ks] - oracle_[i][ks]));
-        if (err > worst) worst = err, at = i;
-      }
-      INFO(name_ << ": d^" << k << " worst error " << worst << " at driver " << driver_[at] << " (kernel "
-                 << kernel_[at][ks] << ", oracle " << oracle_[at][ks] << "), peak " << peak << ", allowed "
-                 << rel[k] * peak);
-      CHECK(worst <= rel[k] * peak);
-    }
-  }
-
-  std::size_t size() const { return driver_.size(); }
-
- private:
-  std::string name_;
-  bool angle_;
-  std::vector<double> driver_;
-  std::vector<Motion> kernel_, oracle_;
-};
-
-// a scalar output (contact quantity) against its closed form, within rel * peak + abs
-class ScalarCompare {
- public:
-  explicit ScalarCompare(std::string name) : name_(std::move(name)) {}
-  void add(double driver, double kernel, double oracle) {
-    driver_.push_back(driver);
-    kernel_.push_back(kernel);
-    oracle_.push_back(oracle);
-  }
-  void check(double rel, double abs = 0.0) const {
-    REQUIRE(!driver_.empty());
-    double peak = 0.0, worst = -1.0;
-    std::size_t at = 0;
-    for (double o : oracle_) peak = std::max(peak, std::abs(o));
-    for (std::size_t i = 0; i < driver_.size(); ++i) {
-      const double err = compare_error(kernel_[i], oracle_[i]);
-      if (err > worst) worst = err, at = i;
-    }
-    INFO(name_ << ": worst error " << worst << " at driver " << driver_[at] << " (kernel " << kernel_[at]
-               << ", closed form " << oracle_[at] << "), peak " << peak << ", allowed " << rel * peak + abs);
-    CHECK(worst <= rel * peak + abs);
-  }
-
- private:
-  std::string name_;
-  std::vector<double> driver_, kernel_, oracle_;
-};
 
 }  // namespace camopt::kin_test

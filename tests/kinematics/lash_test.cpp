@@ -24,8 +24,6 @@ namespace {
 
 constexpr double kR = 20.0, kE = 4.0;  // disc radius, eccentricity [mm]
 constexpr double kLash = 0.2;          // [mm]
-constexpr double kGapAbs = 1e-12;      // [mm] clearance against its closed form
-constexpr double kLiftLossAbs = 1e-12; // [mm]
 
 DesignSpec flat_with_lash(double lash, const Placement& p) {
   DesignSpec d = design("lash_flat", "cam", "tappet");
@@ -67,7 +65,7 @@ TEST_CASE("lash: flat tappet on an eccentric disc is held at rest while the clea
         // at rest, exactly, with zero rates; the gap is the clearance left
         CHECK(s.value() == 0.0);
         for (int k = 1; k <= 3; ++k) CHECK(s.derivative(k) == 0.0);
-        CHECK(std::abs(cs.gap - (-closed)) <= kGapAbs);
+        CHECK_ABS(cs.gap, -closed, kGapAbs);
         ++open_points;
         lift.add(t, motion_of(s), {0, 0, 0, 0});
       } else {
@@ -77,8 +75,8 @@ TEST_CASE("lash: flat tappet on an eccentric disc is held at rest while the clea
     }
     // open for cos(theta) > 1 - L/e: 2 acos(0.95) = 36.4 deg of the revolution
     const double open_span = 2.0 * std::acos(1.0 - kLash / kE) / deg;
-    CHECK(open_points == Approx(open_span / kSweepStepDeg).margin(2));
-    lift.check();
+    CHECK_ABS(open_points, open_span / kSweepStepDeg, kSweepCountAbs);
+    CHECK_COMPARISONS(lift.compare());
   }
 }
 
@@ -94,17 +92,21 @@ TEST_CASE("lash: the lift lost is exactly the lash", "[kinematics][lash]") {
   REQUIRE(rw.positions[0].status.ok());
   REQUIRE(rn.positions[0].status.ok());
   const auto sw = kin::summarize(with, rw, 0), sn = kin::summarize(without, rn, 0);
-  CHECK(std::abs(sn.max_lift - 2.0 * kE) <= kLiftLossAbs);
-  CHECK(std::abs((sn.max_lift - sw.max_lift) - kLash) <= kLiftLossAbs);
-  CHECK(sw.max_lift_at == Approx(180.0));
+  CHECK_ABS(sn.max_lift, 2.0 * kE, kLiftLossAbs);
+  CHECK_ABS(sn.max_lift - sw.max_lift, kLash, kLiftLossAbs);
+  CHECK_ABS(sw.max_lift_at, 180.0, kPeakAngleAbs);
   // the lash contact reports its separation; the closed contact does not
   CHECK(sw.separations.size() == 1);
   CHECK(sn.separations.empty());
   // point by point: with lash = max(0, without - lash)
   const int v = with.nodes[static_cast<std::size_t>(with.node_index("tappet"))].first_variable;
-  for (std::size_t i = 0; i < rw.driver.size(); ++i)
-    CHECK(std::abs(rw.positions[0].value(i, v, 0) - std::max(0.0, rn.positions[0].value(i, v, 0) - kLash)) <=
-          kDisplacementRel * 2.0 * kE);
+  std::vector<double> with_lash, expected;
+  for (std::size_t i = 0; i < rw.driver.size(); ++i) {
+    with_lash.push_back(rw.positions[0].value(i, v, 0));
+    expected.push_back(std::max(0.0, rn.positions[0].value(i, v, 0) - kLash));
+  }
+  CHECK_SERIES(camopt::test::compare_series("lift with lash [mm]", with_lash, expected,
+                                            {.abs = kDisplacementRel * 2.0 * kE}, rw.driver, "driver [deg]"));
 }
 
 TEST_CASE("lash: offset roller on an eccentric disc closes along the contact normal", "[kinematics][lash]") {
@@ -135,7 +137,7 @@ TEST_CASE("lash: offset roller on an eccentric disc closes along the contact nor
     INFO("theta " << t / deg << " deg, gap at rest " << gap);
     REQUIRE(cs.open == (gap > 0));
     if (gap > 0) {
-      CHECK(std::abs(cs.gap - gap) <= kGapAbs);
+      CHECK_ABS(cs.gap, gap, kGapAbs);
       lift.add(t, motion_of(node_jet(m, ws, "tappet")), {0, 0, 0, 0});
     } else {
       auto ref = closed.centre_height(t);
@@ -143,7 +145,7 @@ TEST_CASE("lash: offset roller on an eccentric disc closes along the contact nor
       lift.add(t, motion_of(node_jet(m, ws, "tappet")), ref);
     }
   }
-  lift.check();
+  CHECK_COMPARISONS(lift.compare());
 }
 
 TEST_CASE("lash: flat tappet on a polar table cam (implicit solve) is held at rest while the clearance is open",
@@ -201,7 +203,7 @@ TEST_CASE("lash: flat tappet on a polar table cam (implicit solve) is held at re
     // the lobe lifts 3 mm; it is below the lash (0.2 mm) for about 120 deg around its base
     CHECK(open_points > 100);
     CHECK(closed_points > 100);
-    lift.check();
-    gap.check(0.0, kDisplacementRel * 3.0);
+    CHECK_COMPARISONS(lift.compare());
+    CHECK_SERIES(gap.compare(0.0, kDisplacementRel * 3.0));
   }
 }

@@ -18,7 +18,6 @@ using Catch::Matchers::Contains;
 
 namespace {
 
-constexpr double kPoseAbs = 1e-9;  // [mm] a point that the constraints hold in place
 
 Vector2d polar(double r, double a) { return {r * std::cos(a), r * std::sin(a)}; }
 Vec2 v2(const Vector2d& p) { return {p.x(), p.y()}; }
@@ -138,8 +137,8 @@ TEST_CASE("assembly: a four-bar followed by a contact is solved in dependency or
                        c * (cb * q[3] - 3 * sb * q[1] * q[2] - cb * q[1] * q[1] * q[1])};
     valve.add(t, motion_of(node_jet(m, ws, "valve")), {C0.y() - cy[0], -cy[1], -cy[2], -cy[3]});
   }
-  rocker.check();
-  valve.check();
+  CHECK_COMPARISONS(rocker.compare());
+  CHECK_COMPARISONS(valve.compare());
 }
 
 TEST_CASE("assembly: a floating rocker held by two ground links is a coupled cluster", "[kinematics][assembly]") {
@@ -165,7 +164,7 @@ TEST_CASE("assembly: a floating rocker held by two ground links is a coupled clu
   const auto& plate = m.nodes[static_cast<std::size_t>(m.node_index("plate"))];
   kin::Workspace ws(m);
   SweepCompare phi("floating rocker angle", true);
-  double worst_pivot = 0.0;
+  ScalarCompare pivot("plate's O4 away from the ground pivot [mm]");
   for (int i = 0; i < kSweepPoints; ++i) {
     const double t = i * kSweepStepDeg * deg;
     const Status st = kin::solve(m, ws, t, {});
@@ -180,10 +179,10 @@ TEST_CASE("assembly: a floating rocker held by two ground links is a coupled clu
     const double a = v[2].value();
     const Vector2d o4 = Vector2d(v[0].value(), v[1].value()) + ref +
                         Vector2d(std::cos(a) * r.x() - std::sin(a) * r.y(), std::sin(a) * r.x() + std::cos(a) * r.y());
-    worst_pivot = std::max(worst_pivot, (o4 - O4).norm());
+    pivot.add(t, (o4 - O4).norm(), 0.0);
   }
-  phi.check();
-  CHECK(worst_pivot <= kPoseAbs);
+  CHECK_COMPARISONS(phi.compare());
+  CHECK_SERIES(pivot.compare(0.0, kPoseAbs));
 }
 
 TEST_CASE("assembly: a floating coupler pinned by link pairs closes the four-bar simultaneously",
@@ -223,8 +222,8 @@ TEST_CASE("assembly: a floating coupler pinned by link pairs closes the four-bar
     rocker.add(t, motion_of(node_jet(m, ws, "rocker")), q4);
     coupler.add(t, motion_of(ws.vars[static_cast<std::size_t>(coupler_phi)]), q3);
   }
-  rocker.check();
-  coupler.check();
+  CHECK_COMPARISONS(rocker.compare());
+  CHECK_COMPARISONS(coupler.compare());
 }
 
 TEST_CASE("assembly: a link that cannot close reports cannot_assemble with its name and the angle",
@@ -234,7 +233,7 @@ TEST_CASE("assembly: a link that cannot close reports cannot_assemble with its n
   // past 85.62 deg: the first failing point of a 0.5 deg sweep is 86 deg
   const oracles::FourBar bad{Vector2d(0, 0), Vector2d(60, 0), 30, 40, 25, 1};
   const double limit = std::acos(275.0 / 3600.0) / deg;
-  REQUIRE(limit == Approx(85.62).margin(0.01));
+  REQUIRE_ABS(limit, 85.62, kPrintedLimitAbs);
   const double th4_0 = bad.solve(0.0).rocker_angle[0];
   DesignSpec d = design("too_long_crank", "crank", "rocker");
   d.nodes = {rotational("crank", {0, 0}), rotational("rocker", {60, 0})};

@@ -10,11 +10,13 @@
 #include "camopt/io/design_file.hpp"
 #include "camopt/kinematics/mechanism.hpp"
 #include "camopt/kinematics/solver.hpp"
+#include "support/compare.hpp"
 
 using namespace camopt;
+using namespace camopt::test::tol;
+using camopt::test::ScalarCompare;
 
 namespace {
-constexpr double kLiftTolerance = 1e-8;  // [mm] brute force resolves ~1e-11 mm
 
 double touching_height(const kin::CamProfile& prof, double theta, double roller, double ox, double oy) {
   auto height = [&](double phi) {
@@ -51,18 +53,18 @@ TEST_CASE("roller lift on the MBSim polar contour matches a brute-force envelope
   const auto mech = kin::compile(spec);
   REQUIRE(mech.profiles.size() == 1);
   // the table is 361 rows with the 0-deg point repeated at 360 deg: the repeat is dropped
-  CHECK(mech.profiles[0].base_radius_mm() == Approx(22.0).margin(1e-3));
-  CHECK(mech.profiles[0].max_radius_mm() == Approx(26.517).margin(2e-3));
+  CHECK_ABS(mech.profiles[0].base_radius_mm(), 22.0, kPrintedRadiusAbs);
+  CHECK_ABS(mech.profiles[0].max_radius_mm(), 26.517, kPrintedMaxRadiusAbs);
   kin::Workspace ws(mech);
   const int follower = mech.nodes[mech.output_node].first_variable;
-  double worst = 0.0;
+  ScalarCompare lift("follower centre height [mm]");
   for (int i = 0; i <= 720; ++i) {
     const double theta = i * camopt::pi / 360.0;
     const auto st = kin::solve(mech, ws, theta, {3, true});
     REQUIRE(st.ok());
     const double centre = 45.0 + ws.vars[follower].value();
     const double expected = touching_height(mech.profiles[0], theta, 10.0, 3.0, 10.0);
-    worst = std::max(worst, std::abs(centre - expected));
+    lift.add(theta, centre, expected);
   }
-  CHECK(worst < kLiftTolerance);
+  CHECK_SERIES(lift.compare(0.0, kBruteForceLiftAbs));
 }

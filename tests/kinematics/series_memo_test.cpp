@@ -15,11 +15,12 @@
 #include "camopt/kinematics/mechanism.hpp"
 #include "camopt/kinematics/solver.hpp"
 #include "camopt/kinematics/sweep.hpp"
+#include "support/compare.hpp"
 
 using namespace camopt;
 
 namespace {
-constexpr double eps = std::numeric_limits<double>::epsilon();
+using namespace camopt::test::tol;
 
 // a polar cam: base circle 18 mm plus a smooth 8 mm lobe, 1 deg table
 kin::CamProfile lobe_profile() {
@@ -70,10 +71,10 @@ TEST_CASE("jet: taylor_shift re-expands a series about a shifted point", "[jet]"
     }
     return sum;
   };
-  for (int k = 0; k <= 4; ++k) CHECK(std::abs(p.c[k] - poly(h, k)) <= 8 * eps * 10.0);
+  for (int k = 0; k <= 4; ++k) CHECK_ABS(p.c[k], poly(h, k), kTaylorShiftAbs);
   // shifting back restores the series
   taylor_shift(p, -h);
-  for (int k = 0; k <= 4; ++k) CHECK(std::abs(p.c[k] - c[k]) <= 8 * eps * 10.0);
+  for (int k = 0; k <= 4; ++k) CHECK_ABS(p.c[k], c[k], kTaylorShiftAbs);
 }
 
 TEST_CASE("cam profile: point_series equals the curve on a variable jet", "[kinematics][profile]") {
@@ -82,12 +83,12 @@ TEST_CASE("cam profile: point_series equals the curve on a variable jet", "[kine
     INFO("u = " << u);
     const auto direct = profile.point(Jet<4>::variable(u), false);
     const auto series = profile.point_series<4>(u);
-    CHECK(series_difference(series, direct) <= 4 * eps);
+    CHECK_ABS(series_difference(series, direct), 0.0, kPointSeriesAbs);
     // and its derivatives agree with the double evaluation
     const auto values = profile.point(u, true);
-    CHECK(std::abs(series.x.c[0] - values.x) <= 4 * eps * 30.0);
-    CHECK(std::abs(series.dx.c[0] - values.dx) <= 4 * eps * 30.0);
-    CHECK(std::abs(series.dx.c[1] - values.ddx) <= 4 * eps * 300.0);
+    CHECK_ABS(series.x.c[0], values.x, kPointCoordAbs);
+    CHECK_ABS(series.dx.c[0], values.dx, kPointCoordAbs);
+    CHECK_ABS(series.dx.c[1], values.ddx, kPointCurvAbs);
   }
 }
 
@@ -102,7 +103,7 @@ TEST_CASE("cam profile: a shifted memo entry equals a fresh evaluation", "[kinem
       // a copy of the profile has its own memo key: a fresh evaluation
       const kin::CamProfile fresh = lobe_profile();
       const auto direct = fresh.point_series<4>(u + h);
-      CHECK(series_difference(shifted, direct) <= 16 * eps);
+      CHECK_ABS(series_difference(shifted, direct), 0.0, kPointSeriesShiftAbs);
     }
   }
   // sin and cos rotated by h agree with libm to an ulp or two
@@ -112,8 +113,8 @@ TEST_CASE("cam profile: a shifted memo entry equals a fresh evaluation", "[kinem
       sin_cos(x, s, c);
       memo_sin_cos_shift(x, h);
       sin_cos(x + h, s, c);
-      CHECK(std::abs(s - std::sin(x + h)) <= 2 * eps);
-      CHECK(std::abs(c - std::cos(x + h)) <= 2 * eps);
+      CHECK_ABS(s, std::sin(x + h), kRotatedSinCosAbs);
+      CHECK_ABS(c, std::cos(x + h), kRotatedSinCosAbs);
     }
   }
 }
@@ -172,13 +173,14 @@ TEST_CASE("lift-only sweeps solve the same positions as sweeps with every output
     for (std::size_t p = 0; p < all.positions.size(); ++p) {
       REQUIRE(lift_only.positions[p].status.ok());
       REQUIRE(all.positions[p].status.ok());
-      double worst = 0.0;
+      // every variable at every point [mm or deg]
+      std::vector<double> alone, with_all;
       for (std::size_t i = 0; i < all.driver.size(); ++i)
-        for (std::size_t v = 0; v < nv; ++v)
-          worst = std::max(worst, std::abs(lift_only.positions[p].value(i, static_cast<int>(v), 0) -
-                                            all.positions[p].value(i, static_cast<int>(v), 0)));
-      // [mm or deg]: the solve tolerance 1e-13 x ~100 mm, with the conditioning of the chain
-      CHECK(worst <= 1e-9);
+        for (std::size_t v = 0; v < nv; ++v) {
+          alone.push_back(lift_only.positions[p].value(i, static_cast<int>(v), 0));
+          with_all.push_back(all.positions[p].value(i, static_cast<int>(v), 0));
+        }
+      CHECK_SERIES(camopt::test::compare_series("position solved alone", alone, with_all, {.abs = kSolverPathAbs}));
     }
   }
 }

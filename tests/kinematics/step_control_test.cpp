@@ -15,8 +15,10 @@
 #include "camopt/io/design_file.hpp"
 #include "camopt/kinematics/mechanism.hpp"
 #include "camopt/kinematics/solver.hpp"
+#include "support/compare.hpp"
 
 using namespace camopt;
+using namespace camopt::test::tol;
 
 namespace {
 
@@ -25,7 +27,6 @@ constexpr double kFineStepDeg = 0.25;     // the reference continuation [driver 
 constexpr double kFineControlStep = 0.25;  // [control deg or mm]
 constexpr double kGridDeg = 7.5;          // every coarse step below lands on this grid
 constexpr int kGridEvery = 30;            // fine steps per grid point
-constexpr double kValueTol = 1e-9;        // [mm or rad] both sides solved to 1e-13 x size
 
 std::vector<std::string> bundled_designs() {
   std::vector<std::string> out;
@@ -75,7 +76,7 @@ std::vector<std::vector<double>> fine_reference(const kin::Mechanism& m, const s
 void check_same_point(const kin::Mechanism& m, const kin::Workspace& ws, const std::vector<double>& reference) {
   for (std::size_t v = 0; v < m.variables.size(); ++v) {
     INFO("variable " << m.variables[v].name);
-    CHECK(ws.values[v] == Approx(reference[v]).margin(kValueTol));
+    CHECK_ABS(ws.values[v], reference[v], kSolverPathAbs);
   }
 }
 
@@ -102,7 +103,7 @@ TEST_CASE("step control: coarse steps and first points follow the fine-step bran
           const Status st = kin::solve(m, ws, g * kGridDeg * deg, {3, true});
           INFO(st.str());
           REQUIRE(st.ok());
-          CHECK(ws.values[output] == Approx(reference[g][output]).margin(kValueTol));
+          CHECK_ABS(ws.values[output], reference[g][output], kSolverPathAbs);
           check_same_point(m, ws, reference[g]);
         }
         coarse_rejections += ws.stats.rejected_steps;
@@ -127,14 +128,14 @@ TEST_CASE("step control: the rocker arm at 7.5 and 15 deg steps (the reported ju
   const int rocker = m.nodes[m.node_index("rocker")].first_variable;
   const auto reference = fine_reference(m, {});
   // cam 127.5 deg: 1.388 mm by fine steps (bundled lobe, 0.25 deg continuation)
-  CHECK(reference[17][valve] == Approx(1.388).margin(5e-4));
+  CHECK_ABS(reference[17][valve], 1.388, kPrintedValveLiftAbs);
   for (double step : {7.5, 15.0}) {
     kin::Workspace ws(m);
     const int every = static_cast<int>(std::lround(step / kGridDeg));
     for (std::size_t g = 0; g < reference.size(); g += every) {
       INFO("step " << step << " deg, cam " << g * kGridDeg << " deg");
       REQUIRE(kin::solve(m, ws, g * kGridDeg * deg, {3, true}).ok());
-      CHECK(ws.values[valve] == Approx(reference[g][valve]).margin(kValueTol));
+      CHECK_ABS(ws.values[valve], reference[g][valve], kSolverPathAbs);
       CHECK(std::abs(ws.values[rocker]) < 1.0);  // [rad]: never a wound-up rocker
     }
     CHECK(ws.stats.rejected_steps > 0);

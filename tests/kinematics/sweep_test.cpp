@@ -20,8 +20,10 @@
 #include "camopt/io/design_file.hpp"
 #include "camopt/kinematics/mechanism.hpp"
 #include "camopt/kinematics/sweep.hpp"
+#include "support/compare.hpp"
 
 using namespace camopt;
+using namespace camopt::test::tol;
 
 namespace {
 int contact_count(const kin::Mechanism& m) {
@@ -169,14 +171,14 @@ TEST_CASE("sweep: output_lift is the output node's travel from rest and value() 
     for (std::size_t i = 0; i < r.driver.size(); ++i) {
       const double raw = p.data[(i * p.variables + static_cast<std::size_t>(out.first_variable)) * 4];
       CHECK(p.value(i, out.first_variable) == raw);
-      CHECK(std::abs(kin::output_lift(m, p, i) - (raw - rest)) <= 1e-12 * std::max(1.0, std::abs(raw)));
+      CHECK_ABS(kin::output_lift(m, p, i), raw - rest, kOutputLiftRel * std::max(1.0, std::abs(raw)));
       for (int k = 1; k <= 3; ++k) CHECK(kin::output_lift(m, p, i, k) == p.value(i, out.first_variable, k));
       peak = std::max(peak, kin::output_lift(m, p, i));
     }
     // the summary's peak is refined between grid points: never below the grid's, and close to it
     const kin::PositionSummary s = kin::summarize(m, r, 0);
-    CHECK(s.max_lift >= peak - 1e-12);
-    CHECK(s.max_lift - peak <= 0.01 * std::abs(peak) + 1e-9);
+    CHECK(s.max_lift >= peak - kGridPeakAbs);
+    CHECK_NEAR(s.max_lift, peak, kRefinedPeakAbs, kRefinedPeakRel);
   }
   const kin::Mechanism m = bundled("rocker_arm");
   kin::SweepSpec spec;

@@ -42,23 +42,22 @@ TEST_CASE("near-toggle four-bars: exact to the closed form, condition number as 
     require_finite(p);
     const double th4_0 = f.solve(crank_drawing).rocker_angle[0];
     kin_test::SweepCompare rocker("near-toggle four-bar", true);
-    double worst_condition_error = 0, max_condition = 0;
+    double max_condition = 0;
     for (std::size_t i = 0; i < result.driver.size(); ++i) {
       const double crank = crank_drawing + result.driver[i] * deg;
       oracles::Motion ref = f.solve(crank).rocker_angle;
       ref[0] = oracles::wrap_angle(ref[0] - th4_0);
       rocker.add(result.driver[i], node_motion(m, p, i, "rocker", true), ref);
       const double expected = link_condition(f, crank);
-      worst_condition_error = std::max(worst_condition_error, std::abs(p.condition[i] - expected) / expected);
+      CHECK_REL(p.condition[i], expected, test::tol::kConditionRel);
       max_condition = std::max(max_condition, p.condition[i]);
     }
     // near toggle the derivatives grow like 1/sqrt(slack): relative to their own peaks the
     // issue's accuracy still holds
-    rocker.check();
-    CHECK(worst_condition_error < 1e-6);
+    CHECK_COMPARISONS(rocker.compare());
     CHECK(max_condition > previous_condition);
     const kin::PositionSummary summary = kin::summarize(m, result, 0);
-    CHECK(summary.max_condition == Approx(max_condition).epsilon(1e-12));
+    CHECK_REL(summary.max_condition, max_condition, test::tol::kSummaryOfSameRel);
     previous_condition = max_condition;
   }
 }
@@ -100,19 +99,20 @@ TEST_CASE("pressure angle close to 90 deg: exact to the closed form, conditionin
     REQUIRE(p.status.ok());
     require_finite(p);
     kin_test::SweepCompare lift("offset roller", false);
-    double worst_alpha = 0, max_alpha = 0;
+    kin_test::ScalarCompare alpha("offset roller pressure angle [rad]");
+    double max_alpha = 0;
     for (std::size_t i = 0; i < result.driver.size(); ++i) {
       const double t = result.driver[i] * deg;
       lift.add(result.driver[i], node_motion(m, p, i, "tappet", false), o.lift(t));
-      worst_alpha = std::max(worst_alpha, std::abs(p.contacts[i].pressure_angle - o.pressure_angle(t)));
+      alpha.add(result.driver[i], p.contacts[i].pressure_angle, o.pressure_angle(t));
       max_alpha = std::max(max_alpha, o.pressure_angle(t));
     }
-    lift.check();
-    CHECK(worst_alpha < 1e-9);
+    CHECK_COMPARISONS(lift.compare());
+    CHECK_SERIES(alpha.compare(0.0, test::tol::kPressureAngleAbs));
     CHECK(max_alpha > previous);
     previous = max_alpha;
     const kin::PositionSummary summary = kin::summarize(m, result, 0);
-    CHECK(summary.max_pressure_angle_deg == Approx(max_alpha / deg).epsilon(1e-6));
+    CHECK_REL(summary.max_pressure_angle_deg, max_alpha / deg, test::tol::kRefinedExtremeRel);
   }
   CHECK(previous > 80 * deg);  // the last case is within 10 deg of 90
 }

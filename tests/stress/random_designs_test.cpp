@@ -51,7 +51,7 @@ void check_four_bar(const RandomFourBar& r, double step_deg) {
     ref[0] = oracles::wrap_angle(ref[0] - th4_0);
     rocker.add(result.driver[i], node_motion(m, result.positions[0], i, "rocker", true), ref);
   }
-  rocker.check();
+  CHECK_COMPARISONS(rocker.compare());
 }
 
 // eccentric disc + offset translating roller with the pressure angle below 60 deg
@@ -86,8 +86,8 @@ void check_roller(const RandomRoller& c, double step_deg) {
     lift.add(result.driver[i], node_motion(m, result.positions[0], i, "tappet", false), c.cam.lift(t));
     pressure.add(result.driver[i], result.positions[0].contacts[i * connections].pressure_angle, c.cam.pressure_angle(t));
   }
-  lift.check();
-  pressure.check(0.0, 1e-9);
+  CHECK_COMPARISONS(lift.compare());
+  CHECK_SERIES(pressure.compare(0.0, 1e-9));
 }
 
 // offset slider-crank with the rod angle below 45 deg
@@ -123,7 +123,7 @@ void check_slider_crank(const RandomSliderCrank& r, double step_deg) {
     ref[0] -= x0;
     slider.add(result.driver[i], node_motion(m, result.positions[0], i, "slider", false), ref);
   }
-  slider.check();
+  CHECK_COMPARISONS(slider.compare());
 }
 
 }  // namespace
