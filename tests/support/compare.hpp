@@ -19,93 +19,10 @@
 #include <string>
 #include <string_view>
 #include <vector>
+#include "support/tolerances.hpp"
 
 namespace camopt::test {
 
-// named tolerances, each with the reason for its size
-namespace tol {
-// the kinematics engine against closed forms, each relative to the peak magnitude of the same
-// quantity over the sweep (docs/kinematics.md#accuracy): position solves to ~1e-12, the
-// derivatives come from implicit differentiation of the same solve
-inline constexpr double kDisplacementRel = 1e-9;
-inline constexpr double kVelocityRel = 1e-7;
-inline constexpr double kAccelerationRel = 1e-7;
-inline constexpr double kJerkRel = 1e-5;
-inline constexpr double kOrderRel[4] = {kDisplacementRel, kVelocityRel, kAccelerationRel, kJerkRel};
-
-// round-off
-inline constexpr double kUlpRel = 1e-15;           // one closed form evaluated along two paths: a few ulps
-inline constexpr double kUlpAbs = 1e-15;           // the same, for a quantity of size ~1 that may be 0
-inline constexpr double kOctantTrigAbs = 2.3e-16;    // sin/cos from the first octant: libm's error there, below an ulp of 1
-inline constexpr double kReorderedSumRel = 1e-14;  // the same sum accumulated in another order
-
-// finite differences (tests/oracles/finite_difference.hpp): truncation + round-off at the step used
-inline constexpr double kCentral8Step1e3Rel = 1e-11;  // 8th order at h = 1e-3: truncation ~1e-24 f^(9), round-off ~1e-13
-inline constexpr double kCentral2Step1e5Rel = 1e-8;   // 2-point at h = 1e-5: truncation h^2 f'''/6 ~1e-10, round-off ~1e-11
-
-// jets and splines (core)
-inline constexpr double kJetRecurrenceRel = 1e-13;     // Taylor recurrences against a symbolic closed form
-inline constexpr double kJetRecurrenceAbs = 1e-14;     // the same, for references that are ~0
-inline constexpr double kJetTwoFormsRel = 1e-12;       // two jet formulations of one function (atan2 vs atan(y/x), compose vs direct)
-inline constexpr double kSplineJetRel = 1e-14;         // a spline's jet overload against its scalar derivatives
-inline constexpr double kSplineNodeAbs = 1e-12;        // interpolation at the data sites, |f| ~ 1: solve round-off
-inline constexpr double kSplineContinuityRel = 1e-9;   // left/right limits at a knot, of max |f^(k)| (f'''' amplifies round-off)
-inline constexpr double kSplineWrapRel = 1e-12;        // f^(k)(x + 3 period) vs f^(k)(x): x + 3 period rounds by ~1e-15 rad
-inline constexpr double kSplineSolverRel = 1e-12;      // two solvers of one spline system (sparse LU, banded), of the peak
-inline constexpr double kCyclicFilterRel = 4e-15;      // residual of the recursive cyclic filter, of the right-hand side
-inline constexpr double kSplineIntegralRel = 1e-12;    // exact piecewise integral against Gauss-Legendre
-inline constexpr double kSplinePolyAbs = 1e-10;        // reproduction of a quadratic (f'' amplifies round-off by 1/h^2)
-inline constexpr double kNaturalEndThirdAbs = 1e-9;    // f''' = 0 at a natural end: solve round-off / h^3
-inline constexpr double kNaturalEndFourthAbs = 1e-8;   // f'''' = 0 at a natural end: solve round-off / h^4
-inline constexpr double kSplineExtrapolationAbs = 1e-14;  // linear extrapolation a + a' d against the same line, |f| ~ 1
-inline constexpr double kSplineExtremeAbs = 1e-6;      // a spline's extreme against the function's: interpolation error at 40 knots
-
-// kinematics: contact outputs and derivatives (tests/kinematics)
-inline constexpr double kContactPointRel = kDisplacementRel;  // contact point and normal, of the mechanism size
-inline constexpr double kPressureAngleAbs = 1e-9;   // [rad] a position-level angle against its closed form
-inline constexpr double kContactRateRel = kVelocityRel;  // roller speed, sliding, entrainment (per rad of cam), of the peak
-inline constexpr double kCurvatureRel = 1e-9;       // a position-level output (curvature) against its closed form
-inline constexpr double kKernelFdRel = 1e-7;        // solved jets against 6th/8th-order central differences at 1e-3 rad, of the peak
-inline constexpr double kNewtonCentringAbs = 1e-6;  // [deg of u] four Newton steps centring a sample in its table piece
-inline constexpr double kGapAbs = 1e-12;            // [mm] a contact's clearance against its closed form: solve round-off
-inline constexpr double kLiftLossAbs = 1e-12;       // [mm] a summary's peak lift against its closed form
-inline constexpr double kPeakAngleAbs = 1e-6;       // [deg] the refined angle of a symmetric peak
-inline constexpr double kSweepCountAbs = 2.0;       // points of a span counted on the sweep grid: one at each end
-inline constexpr double kPoseAbs = 1e-9;            // [mm] a point that the constraints hold in place
-inline constexpr double kSolverPathAbs = 1e-9;      // [mm or rad] two solve paths, each to 1e-13 x size, through the chain's conditioning
-inline constexpr double kPrescribedAbs = 1e-11;     // [mm] a prescribed solve against the whole solve, one point
-inline constexpr double kOutputLiftRel = 1e-12;     // output lift against raw - rest: one subtraction, of max(1, |raw|)
-inline constexpr double kGridPeakAbs = 1e-12;       // [mm] the refined peak never below the grid's (one rounding)
-inline constexpr double kEccentricSolveAbs = 1e-11; // [mm] solved eccentric flat-follower lift (Newton to 1e-13 x size)
-inline constexpr double kEccentricRateAbs = 1e-9;   // [mm/rad^k] its derivatives by implicit differentiation
-inline constexpr double kBruteForceLiftAbs = 1e-8;  // [mm] kernel lift against a brute-force touching height (resolves ~1e-11 mm)
-inline constexpr double kChordSpline24Abs = 2e-6;   // [mm] lift from a 24-point chord-length cubic spline contour; O(h^4) below (measured 1.4e-6)
-inline constexpr double kTransmissionSineAbs = 1e-4;  // a transmission sine against its value printed to 4 digits
-inline constexpr double kPrintedLiftAbs = 0.01;     // [mm] a design's max lift against its documented 3-digit value
-inline constexpr double kPrintedLimitAbs = 0.01;    // [deg] a reported limit against its 2-decimal value
-inline constexpr double kPrintedRadiusAbs = 1e-3;   // [mm] a profile radius against its documented value
-inline constexpr double kPrintedMaxRadiusAbs = 2e-3;  // [mm] the same for the max radius read off a measured table
-inline constexpr double kPrintedValveLiftAbs = 5e-4;  // [mm] a valve lift against its value printed to 3 decimals
-inline constexpr double kTaylorShiftAbs = 8 * 2.220446049250313e-16 * 10.0;  // a degree-4 Taylor shift: 8 roundings of terms up to ~10
-inline constexpr double kPointSeriesAbs = 4 * 2.220446049250313e-16;  // profile point series vs the jet evaluation, of their size (same operations)
-inline constexpr double kPointSeriesShiftAbs = 16 * 2.220446049250313e-16;  // a shifted memo entry vs a fresh evaluation, of their size
-inline constexpr double kPointCoordAbs = 4 * 2.220446049250313e-16 * 30.0;  // [mm] point and slope, |x| <= 30: 4 roundings
-inline constexpr double kPointCurvAbs = 4 * 2.220446049250313e-16 * 300.0;  // second derivative, |x''| <= 300: 4 roundings
-inline constexpr double kRotatedSinCosAbs = 2 * 2.220446049250313e-16;      // sin, cos rotated by a small angle: two ulps of 1
-inline constexpr double kVariableGearAbs[4] = {1e-13, 1e-12, 1e-11, 1e-10};  // a variable gear's jet: Newton to 1e-13, each order one more 1/h
-inline constexpr double kGearInverseAbs[3] = {1e-12, 1e-12, 1e-11};          // its inverse, the same
-inline constexpr double kFastGeneralRel[4] = {1e-10, 1e-9, 1e-8, 1e-7};  // two contact formulations, each solved to 1e-13: round-off ~1e-11 of each order's peak
-inline constexpr double kFastGeneralContactRel = 1e-8;  // their contact quantities and condition numbers, of the peak
-inline constexpr double kPrescribedRel[4] = {1e-12, 1e-11, 1e-10, 1e-9};  // a prescribed pose vs the whole solve from the same bits: round-off, of each order's peak
-inline constexpr double kRefinedPeakRel = 0.01;    // the refined peak above the peak of a 2-deg grid: the lift's curvature over a step
-inline constexpr double kRefinedPeakAbs = 1e-9;     // [mm] the same, for a peak of ~0
-
-// stress (tests/stress)
-inline constexpr double kConditionRel = 1e-6;        // a link's condition number against its closed form, near toggle
-inline constexpr double kSummaryOfSameRel = 1e-12;   // a summary's extreme against the extreme of the same per-point values
-inline constexpr double kRefinedExtremeRel = 1e-6;   // a refined extreme against the largest of a 0.5-deg grid's closed forms
-inline constexpr double kQuasiStaticForceRel = 1e-2; // compliant contact forces against rigid ones at <= 10 rpm: the deflection's share of the peak
-}  // namespace tol
 
 // the outcome of one comparison
 struct Comparison {
