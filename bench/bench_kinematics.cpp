@@ -81,7 +81,7 @@ std::pair<double, double> derivative_self_check(const kin::Mechanism& m, const s
     for (int k = -3; k <= 3; ++k) {
       ok &= kin::solve(m, fd, th + k * h, {0, false}).ok();
       ok &= !any_open(fd);
-      x[k + 3] = fd.values[out];
+      x[k + 3] = fd.values()[out];
     }
     if (!ok) continue;
     const double d1 = (-x[0] + 9 * x[1] - 45 * x[2] + 45 * x[4] - 9 * x[5] + x[6]) / (60 * h);
