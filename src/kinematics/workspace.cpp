@@ -97,7 +97,9 @@ WorkspaceStateHandle::WorkspaceStateHandle(const WorkspaceStateHandle& other)
     : state_(std::make_unique<WorkspaceState>(*other.state_)) {}
 WorkspaceStateHandle::WorkspaceStateHandle(WorkspaceStateHandle&& other) noexcept = default;
 WorkspaceStateHandle& WorkspaceStateHandle::operator=(const WorkspaceStateHandle& other) {
-  if (this != &other) *state_ = *other.state_;  // the buffers keep their storage
+  if (this == &other) return *this;
+  if (state_) *state_ = *other.state_;  // the buffers keep their storage
+  else state_ = std::make_unique<WorkspaceState>(*other.state_);  // assigned to after a move
   return *this;
 }
 WorkspaceStateHandle& WorkspaceStateHandle::operator=(WorkspaceStateHandle&& other) noexcept = default;
