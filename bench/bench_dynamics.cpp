@@ -231,9 +231,11 @@ void run_flex(const Context& ctx, double rtol, double atol, bool restart, dynami
 
 // the direct-acting valve with n surge masses, compiled once per n
 struct Valve {
+  DesignSpec spec;
   kin::Mechanism mech;
   dynamics::Model model;
-  explicit Valve(int n) : mech(kin::compile(direct_valve_with_spring_mass(n))), model(dynamics::compile_dynamics(mech)) {}
+  explicit Valve(int n)
+      : spec(direct_valve_with_spring_mass(n)), mech(kin::compile(spec)), model(dynamics::compile_dynamics(spec, mech)) {}
   void run(const dynamics::FlexibleOptions& opt, dynamics::FlexibleResult& r) const {
     check(dynamics::run_flexible(mech, model, {}, kRpm, 0, 360, 1, opt, r));
   }
@@ -470,8 +472,9 @@ int main(int argc, char** argv) {
   camopt::keep_freed_memory();  // as the camopt program does
   Options o;
   if (!parse_options(argc, argv, o)) return 2;
-  const kin::Mechanism mech = kin::compile(io::load_design(std::string(CAMOPT_SOURCE_DIR) + "/designs/cvvl_swing_cam.toml"));
-  const Context c{mech, dynamics::compile_dynamics(mech), {0.0}, o.repeat};
+  const DesignSpec spec = io::load_design(std::string(CAMOPT_SOURCE_DIR) + "/designs/cvvl_swing_cam.toml");
+  const kin::Mechanism mech = kin::compile(spec);
+  const Context c{mech, dynamics::compile_dynamics(spec, mech), {0.0}, o.repeat};
   if (o.single) return single_run(c, o), 0;
   std::vector<std::string> rows{"mode,setting,ms_per_cycle,error_metric,error,steps,rhs_evaluations"};
   if (!o.flexible_only) {

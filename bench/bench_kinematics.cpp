@@ -35,8 +35,8 @@ constexpr double deg = camopt::rad_per_deg;
 kin::SweepResult run(const kin::Mechanism& m, int order, bool contacts, double step, const std::vector<double>& controls,
                      int threads) {
   kin::SweepSpec s;
-  s.start = m.spec.driver.start_deg;
-  s.stop = m.spec.driver.stop_deg;
+  s.start = m.driver.start;
+  s.stop = m.driver.stop;
   s.step = step;
   s.request = {order, contacts};
   s.threads = threads;
@@ -72,7 +72,7 @@ std::pair<double, double> derivative_self_check(const kin::Mechanism& m, const s
     if (!kin::solve(m, ws, th, {3, false}).ok()) continue;
     // skip stencils that straddle a lash opening or closing (the lift is only C0 there)
     auto any_open = [](const kin::Workspace& w) {
-      for (bool o : w.open)
+      for (bool o : w.lash_open())
         if (o) return true;
       return false;
     };
@@ -81,7 +81,7 @@ std::pair<double, double> derivative_self_check(const kin::Mechanism& m, const s
     for (int k = -3; k <= 3; ++k) {
       ok &= kin::solve(m, fd, th + k * h, {0, false}).ok();
       ok &= !any_open(fd);
-      x[k + 3] = fd.values[out];
+      x[k + 3] = fd.values()[out];
     }
     if (!ok) continue;
     const double d1 = (-x[0] + 9 * x[1] - 45 * x[2] + 45 * x[4] - 9 * x[5] + x[6]) / (60 * h);

@@ -8,6 +8,7 @@
 #include <ctime>
 #include <cstring>
 #include <fstream>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -65,7 +66,12 @@ int main(int argc, char** argv) {
     };
     std::vector<Row> rows;
     double best = 1e300;
-    opt::CamProblem problem(d, set, nullptr);
+    std::unique_ptr<opt::CamProblem> made;
+    if (const Status st = opt::CamProblem::create(d, set, nullptr, made); !st.ok()) {
+      std::fprintf(stderr, "%s: %s\n", c.design, st.str().c_str());
+      return 4;
+    }
+    opt::CamProblem& problem = *made;
     for (const auto& s : solvers) {
       opt::SolverOptions so;
       // "ipopt-h" / "ipopt-lbfgs": ipopt with the objective's own hessian / limited-memory bfgs

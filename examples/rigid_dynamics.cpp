@@ -7,8 +7,9 @@
 
 int main() {
   using namespace camopt;
-  const kin::Mechanism mech = kin::compile(io::load_design("designs/bucket_tappet.toml"));
-  const dynamics::Model model = dynamics::compile_dynamics(mech);
+  const DesignSpec design = io::load_design("designs/bucket_tappet.toml");
+  const kin::Mechanism mech = kin::compile(design);
+  const dynamics::Model model = dynamics::compile_dynamics(design, mech);
   dynamics::RigidSweep sweep;
   if (const Status st = dynamics::rigid_sweep(mech, model, mech.default_controls(), 0.0, 360.0, 0.5, sweep); !st.ok())
     return std::fprintf(stderr, "%s\n", st.str().c_str()), 4;

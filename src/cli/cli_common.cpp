@@ -77,17 +77,19 @@ long sweep_points(const std::string& option, double start, double stop, double s
   return static_cast<long>(points);
 }
 
-kin::Mechanism load_mechanism(const std::string& design_path) {
-  kin::Mechanism mech = kin::compile(io::load_design(design_path));
-  for (const auto& note : kin::check_drawing(mech)) info(design_path + ": warning: " + note);
-  return mech;
+LoadedDesign load_mechanism(const std::string& design_path) {
+  LoadedDesign d;
+  d.spec = io::load_design(design_path);
+  d.mech = kin::compile(d.spec);
+  for (const auto& note : kin::check_drawing(d.mech)) info(design_path + ": warning: " + note);
+  return d;
 }
 
-DriverRange driver_range(const DesignSpec& spec, double step_option) {
+DriverRange driver_range(const kin::Mechanism& mech, double step_option) {
   DriverRange r;
-  r.start = spec.driver.start_deg;
-  r.stop = spec.driver.stop_deg;
-  r.step = step_option > 0 ? step_option : spec.driver.step_deg;
+  r.start = mech.driver.start;
+  r.stop = mech.driver.stop;
+  r.step = step_option > 0 ? step_option : mech.driver.step;
   if (r.step > r.stop - r.start)
     throw InputError("--step: value " + std::to_string(r.step) + " exceeds the driver range " +
                      std::to_string(r.stop - r.start));

@@ -84,15 +84,22 @@ inline const std::vector<std::string> kOptimizeOutputs = {"lift.csv",    "swing_
 io::OutputTransaction open_outputs(const std::string& out_dir, const std::vector<std::string>& outputs);
 
 // the steps the commands share
+// a design file as parsed and as compiled. The spec is the source description that the
+// dynamics data and an edited recompile read; the compiled mechanism is what the kernels take.
+struct LoadedDesign {
+  DesignSpec spec;
+  kin::Mechanism mech;  // kin::compile(spec)
+};
+
 // the design file parsed and compiled; the drawing check's warnings on stderr
-kin::Mechanism load_mechanism(const std::string& design_path);
+LoadedDesign load_mechanism(const std::string& design_path);
 
 // the driver range of the design and the step: --step when given (> 0), else driver.step_deg;
 // InputError when the step exceeds the range
 struct DriverRange {
   double start = 0.0, stop = 0.0, step = 0.0;  // [driver deg, or mm for a translational driver]
 };
-DriverRange driver_range(const DesignSpec& spec, double step_option);
+DriverRange driver_range(const kin::Mechanism& mech, double step_option);
 
 // the control positions of a run: the design's first control at each value of --control (a
 // value, a list a,b,c or START:STOP:COUNT, inside the control's range), the others at their

@@ -74,7 +74,7 @@ nlohmann::json compliant_summary(const DynamicsSetup& su, const std::string& des
   const kin::Mechanism& mech = su.mech;
   const std::size_t nc = mech.connections.size();
   nlohmann::json summary;
-  summary["design"] = su.mech.spec.name;
+  summary["design"] = su.mech.name;
   summary["design_file"] = design_file;
   summary["model"] = "rigid";
   summary["mode"] = "stiff separable contacts, CVODE (b)";

@@ -37,10 +37,12 @@ std::vector<double> parse_rpms(const std::string& option_value) {
 // the design, the mechanism, the dynamics model, the speeds, the cam angles and the control positions
 DynamicsSetup make_setup(const DynamicsOptions& o) {
   DynamicsSetup su;
-  su.mech = load_mechanism(o.design);
-  su.model = dynamics::compile_dynamics(su.mech);
+  LoadedDesign design = load_mechanism(o.design);
+  su.spec = std::move(design.spec);
+  su.mech = std::move(design.mech);
+  su.model = dynamics::compile_dynamics(su.spec, su.mech);
   su.rpms = parse_rpms(o.rpm);
-  su.range = driver_range(su.mech.spec, o.step_deg);
+  su.range = driver_range(su.mech, o.step_deg);
   su.controls = resolve_controls(su.mech, o.design, o.control);
   sweep_points(o.step_deg > 0 ? "--step" : "driver.step_deg", su.range.start, su.range.stop, su.range.step,
                static_cast<double>(su.controls.positions.size() * su.rpms.size()), "--control x --rpm");

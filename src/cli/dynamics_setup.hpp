@@ -13,7 +13,8 @@
 namespace camopt::cli {
 
 struct DynamicsSetup {
-  kin::Mechanism mech;         // the design (mech.spec) compiled
+  DesignSpec spec;             // the design as parsed
+  kin::Mechanism mech;         // compiled from it
   dynamics::Model model;       // its dynamics data
   std::vector<double> rpms;    // engine speeds [rpm]
   ControlPositions controls;   // the first control's positions, every control per position

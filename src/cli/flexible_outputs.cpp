@@ -111,7 +111,7 @@ nlohmann::json flexible_summary(const DynamicsSetup& su, const std::string& desi
   const Res& first = runs.front().result;
   const bool has_seat = !first.seat_names.empty();
   nlohmann::json summary;
-  summary["design"] = su.mech.spec.name;
+  summary["design"] = su.mech.name;
   summary["design_file"] = design_file;
   summary["model"] = "flexible";
   summary["step_cam_deg"] = su.range.step;

@@ -88,6 +88,7 @@ std::vector<kin::PositionSummary> summaries(const kin::Mechanism& mech, const ki
 // what the run writes, and the units of its columns and keys
 struct Run {
   const KinematicsOptions& options;
+  const DesignSpec& spec;  // as parsed: the lash-free recompile edits a copy
   const kin::Mechanism& mech;
   OutputSelection sel;
   ControlPositions controls;
@@ -100,7 +101,7 @@ struct Run {
 
 // the sweep over the driver range at every control position, to the asked derivative order
 kin::SweepSpec make_sweep(const Run& run) {
-  const DriverRange range = driver_range(run.mech.spec, run.options.step_deg);
+  const DriverRange range = driver_range(run.mech, run.options.step_deg);
   kin::SweepSpec sweep;
   sweep.start = range.start;
   sweep.stop = range.stop;
@@ -132,7 +133,7 @@ kin::SweepResult run_sweep(const kin::Mechanism& mech, kin::SweepSpec sweep, dou
 std::vector<kin::PositionSummary> no_lash_summaries(const Run& run, const kin::SweepSpec& sweep) {
   std::vector<kin::PositionSummary> out;
   if (!run.has_lash) return out;
-  DesignSpec zero = run.mech.spec;
+  DesignSpec zero = run.spec;
   for (auto& c : zero.connections) c.lash_mm = 0.0;
   const kin::Mechanism mech0 = kin::compile(zero);
   kin::SweepSpec s0 = sweep;
@@ -307,7 +308,7 @@ nlohmann::json summary_json(const Run& run, const kin::SweepSpec& sweep, const k
                             const std::vector<kin::PositionSummary>& no_lash, double seconds) {
   const kin::Mechanism& mech = run.mech;
   nlohmann::json summary;
-  summary["design"] = mech.spec.name;
+  summary["design"] = mech.name;
   summary["design_file"] = run.options.design;
   summary["driver"] = mech.nodes[mech.driver_node].name;
   summary["step_" + run.driver_unit] = sweep.step;
@@ -337,8 +338,9 @@ nlohmann::json summary_json(const Run& run, const kin::SweepSpec& sweep, const k
 void run_kinematics(const KinematicsOptions& o) {
   // the outputs asked for, the design and the --duration-at heights
   const OutputSelection sel = parse_outputs(o.outputs);
-  const kin::Mechanism mech = load_mechanism(o.design);
-  Run run{o, mech, sel, {}, {}, false, "", 0.0, false};
+  const LoadedDesign design = load_mechanism(o.design);
+  const kin::Mechanism& mech = design.mech;
+  Run run{o, design.spec, mech, sel, {}, {}, false, "", 0.0, false};
   run.output_is_angle = mech.variables[mech.nodes[mech.output_node].first_variable].is_angle;
   run.heights = parse_duration_heights(o.duration_at.empty() ? "1,0.1" : o.duration_at, run.output_is_angle);
   // the sweep: driver range, derivative order, control positions
@@ -354,7 +356,7 @@ void run_kinematics(const KinematicsOptions& o) {
   const std::vector<kin::PositionSummary> no_lash = no_lash_summaries(run, sweep);
   // the units of the columns and keys
   run.driver_unit = mech.driver_is_angle() ? "deg" : "mm";
-  run.cam_deg_per_s = o.rpm / mech.spec.driver.crank_per_cam * 6.0;  // [deg/s]
+  run.cam_deg_per_s = o.rpm / mech.driver.crank_per_cam * 6.0;  // [deg/s]
   // kinematics.csv and summary.json, committed together
   const std::string csv = CsvColumns(run, result).csv();
   const nlohmann::json summary = summary_json(run, sweep, result, no_lash, seconds);

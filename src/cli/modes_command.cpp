@@ -73,16 +73,16 @@ std::vector<Point> linearisation_points(const kin::Mechanism& mech, const Contro
       for (double a : angles) points.push_back({p, a, "--cam-deg", 0.0, {}});
     return points;
   }
-  const auto& d = mech.spec.driver;
-  const kin::SweepResult grid = output_sweep(mech, positions, d.start_deg, d.stop_deg, d.step_deg);
+  const kin::DriverDefaults& d = mech.driver;
+  const kin::SweepResult grid = output_sweep(mech, positions, d.start, d.stop, d.step);
   for (std::size_t p = 0; p < positions.size(); ++p) {
     const kin::PositionResult& r = grid.positions[p];
     if (!r.status.ok()) fail_at(mech, controls, r.status, p, std::nan(""));
     std::size_t peak = 0;
     for (std::size_t i = 1; i < grid.driver.size(); ++i)
       if (lift_from_rest(mech, r, i) > lift_from_rest(mech, r, peak)) peak = i;
-    points.push_back({p, d.start_deg, "driver start", 0.0, {}});
-    if (grid.driver[peak] != d.start_deg) points.push_back({p, grid.driver[peak], "peak lift", 0.0, {}});
+    points.push_back({p, d.start, "driver start", 0.0, {}});
+    if (grid.driver[peak] != d.start) points.push_back({p, grid.driver[peak], "peak lift", 0.0, {}});
   }
   return points;
 }
@@ -162,7 +162,7 @@ nlohmann::json modes_summary(const kin::Mechanism& mech, const dynamics::Model& 
   const bool angle_out = mech.nodes[mech.output_node].kind != NodeKind::translational;
   const std::string lift_unit = angle_out ? "deg" : "mm";
   nlohmann::json summary;
-  summary["design"] = mech.spec.name;
+  summary["design"] = mech.name;
   summary["design_file"] = rq.design;
   summary["model"] = "modes";
   summary["linearisation"] =
@@ -205,8 +205,9 @@ void run_modes(const ModesRequest& rq) {
   // the cam angles of --cam-deg, the design and its dynamics model
   const std::vector<double> angles =
       rq.modes.cam_deg.empty() ? std::vector<double>{} : parse_range("--cam-deg", rq.modes.cam_deg);
-  const kin::Mechanism mech = load_mechanism(rq.design);
-  const dynamics::Model model = dynamics::compile_dynamics(mech);
+  const LoadedDesign design = load_mechanism(rq.design);
+  const kin::Mechanism& mech = design.mech;
+  const dynamics::Model model = dynamics::compile_dynamics(design.spec, mech);
   if (!rq.rpm.empty()) info("dynamics (modes): note: --rpm is not used (the modes are at no speed)");
   // the control positions and the cam angles at each
   const ControlPositions controls = resolve_controls(mech, rq.design, rq.control);

@@ -392,7 +392,10 @@ void run_optimize(const OptimizeOptions& o) {
     target = std::make_unique<ValveTarget>(read_valve_target(table, set.objective.target_file, spec, {}));
   }
   // the problem and its solution
-  opt::CamProblem problem(spec, set, target ? &target->fit.lift : nullptr);
+  std::unique_ptr<opt::CamProblem> made_problem;
+  if (Status st = opt::CamProblem::create(spec, set, target ? &target->fit.lift : nullptr, made_problem); !st.ok())
+    throw NumericalError(st);
+  opt::CamProblem& problem = *made_problem;
   info("optimize: " + std::to_string(problem.variables()) + " variables, " + std::to_string(problem.rows().size()) +
        " inequality constraints on a " + std::to_string(set.grid_step_deg) + " deg grid, solver " + o.solver);
   const opt::SolveResult result = opt::optimize(problem, so);

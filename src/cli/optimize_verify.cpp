@@ -228,7 +228,7 @@ void verify_rotational(const DesignSpec& made, const synthesis::SynthesisResult&
 
   // rigid and flexible dynamics at the set's speed
   try {
-    const dynamics::Model model = dynamics::compile_dynamics(mech);
+    const dynamics::Model model = dynamics::compile_dynamics(made, mech);
     report["verify"]["rigid_dynamics"] =
         check_rigid(mech, model, controls, made_cam.connection, set, problem.cam_speed_rad_per_s(), "", verdict);
     if (set.verify.flexible) report["verify"]["flexible_dynamics"] = check_flexible(mech, model, controls, set, "", verdict);
@@ -244,7 +244,7 @@ void verify_swing_dynamics(const DesignSpec& made, const opt::CamProblem& proble
   const opt::OptimizationSpec& set = problem.spec();
   try {
     const kin::Mechanism mech = kin::compile(made);
-    const dynamics::Model dyn = dynamics::compile_dynamics(mech);
+    const dynamics::Model dyn = dynamics::compile_dynamics(made, mech);
     nlohmann::json rigid = nlohmann::json::array();
     for (std::size_t k = 0; k < model.positions().size(); ++k) {
       const std::string at = "control " + fmt(model.positions()[k]) + ", ";

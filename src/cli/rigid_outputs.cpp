@@ -350,7 +350,7 @@ nlohmann::json rigid_summary(const DynamicsSetup& su, const std::string& design_
   const kin::Mechanism& mech = su.mech;
   const dynamics::Model& model = su.model;
   nlohmann::json summary;
-  summary["design"] = su.mech.spec.name;
+  summary["design"] = su.mech.name;
   summary["design_file"] = design_file;
   summary["model"] = "rigid";
   summary["mode"] = "kinematically constrained inverse dynamics (a)";

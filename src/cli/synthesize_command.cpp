@@ -250,13 +250,12 @@ nlohmann::json checks_json(const SynthesizeOptions& o, const DesignSpec& spec, c
 nlohmann::json report_json(const SynthesizeOptions& o, const kin::Mechanism& mech, const Target& target,
                            const synthesis::SynthesisOptions& opt, const synthesis::SynthesisResult& res,
                            nlohmann::json checks) {
-  const DesignSpec& spec = mech.spec;
   nlohmann::json report;
-  report["design"] = spec.name;
+  report["design"] = mech.name;
   report["design_file"] = o.design;
   report["target_file"] = o.target_csv;
   report["target_angle_basis"] = io::to_string(target.basis);
-  report["target_node"] = target.valve ? spec.output_node : o.target_node;
+  report["target_node"] = target.valve ? mech.nodes[mech.output_node].name : o.target_node;
   report["cam"] = o.cam;
   report["connection"] = res.connection;
   report["cam_node"] = res.cam_node;

@@ -15,15 +15,14 @@ namespace {
 
 // the flexible model's laws, stiffnesses and damping, each marked when it is a default; a
 // design without the dynamics data (masses) has none
-std::string describe_flexible(const kin::Mechanism& mech) {
+std::string describe_flexible(const DesignSpec& spec, const kin::Mechanism& mech) {
   dynamics::Model model;
   try {
-    model = dynamics::compile_dynamics(mech);
+    model = dynamics::compile_dynamics(spec, mech);
   } catch (const InputError& e) {
     return "flexible model: not available (" + std::string(e.what()) + ")\n";
   }
-  std::vector<double> controls;
-  for (const ControlSpec& c : mech.spec.controls) controls.push_back(c.default_value);
+  const std::vector<double> controls = mech.default_controls();
   const auto parameters = dynamics::flexible_parameters(mech, model, controls, dynamics::FlexibleOptions{});
   if (parameters.empty()) return "flexible model: not available (its kinematic path does not assemble)\n";
   std::string out = "flexible model (docs/dynamics.md; [default] = not in the design):\n";
@@ -54,7 +53,7 @@ void setup_validate(CLI::App& app) {
     for (const auto& f : *files) {
       const DesignSpec spec = io::load_design(f);
       const kin::Mechanism mech = kin::compile(spec);
-      const std::string flexible = describe_flexible(mech);  // throws for bad flexible-model data
+      const std::string flexible = describe_flexible(spec, mech);  // throws for bad flexible-model data
       if (!global_options().quiet) std::cout << f << ": ok\n" << kin::describe(mech) << flexible << describe_oil(spec);
       for (const auto& note : kin::check_drawing(mech)) info(f + ": warning: " + note);
       if (!global_options().quiet) std::cout << "\n";

@@ -98,8 +98,7 @@ double contact_modulus(double e_a, double nu_a, double e_b, double nu_b) {
 namespace {
 
 // a rotational driver and a positive crank ratio
-void compile_driver(const kin::Mechanism& mech, Model& model) {
-  const DesignSpec& spec = mech.spec;
+void compile_driver(const DesignSpec& spec, const kin::Mechanism& mech, Model& model) {
   model.crank_per_cam = spec.driver.crank_per_cam;
   model.driver_start_deg = spec.driver.start_deg;
   require_positive(spec.driver.where, "driver.crank_per_cam", model.crank_per_cam);
@@ -109,9 +108,9 @@ void compile_driver(const kin::Mechanism& mech, Model& model) {
 }
 
 // mass, inertia and centre of gravity of every node; a moving node needs what its kind needs
-void compile_bodies(const kin::Mechanism& mech, Model& model) {
+void compile_bodies(const DesignSpec& spec, const kin::Mechanism& mech, Model& model) {
   model.bodies.resize(mech.nodes.size());
-  for (const NodeSpec& ns : mech.spec.nodes) {
+  for (const NodeSpec& ns : spec.nodes) {
     const int n = mech.node_index(ns.name);
     CAMOPT_ASSERT(n > 0);
     const kin::Node& node = mech.nodes[n];
@@ -181,8 +180,8 @@ void compile_compression_law(const kin::Mechanism& mech, const SpringSpec& ss, c
 }
 
 // every spring's load law, damper and coil data; a spring's mass puts 1/3 on its node
-void compile_springs(const kin::Mechanism& mech, Model& model) {
-  for (const SpringSpec& ss : mech.spec.springs) {
+void compile_springs(const DesignSpec& spec, const kin::Mechanism& mech, Model& model) {
+  for (const SpringSpec& ss : spec.springs) {
     Spring s;
     s.name = ss.name;
     s.kind = ss.kind;
@@ -215,8 +214,8 @@ void compile_springs(const kin::Mechanism& mech, Model& model) {
 }
 
 // cylinder gas forces on translational nodes, tables against crank angle over one cycle
-void compile_gas_forces(const kin::Mechanism& mech, Model& model) {
-  for (const GasForceSpec& gs : mech.spec.gas_forces) {
+void compile_gas_forces(const DesignSpec& spec, const kin::Mechanism& mech, Model& model) {
+  for (const GasForceSpec& gs : spec.gas_forces) {
     GasForce g;
     g.node = mech.node_index(gs.node);
     if (g.node <= 0 || mech.nodes[g.node].kind != NodeKind::translational)
@@ -268,8 +267,7 @@ void compile_contact_materials(const DesignSpec& spec, const ConnectionSpec& cs,
 
 // per contact: materials, friction, damping, force law and the node its lash holds; per
 // link or gear: its flexible-model stiffness and damping ratio
-void compile_connections(const kin::Mechanism& mech, Model& model) {
-  const DesignSpec& spec = mech.spec;
+void compile_connections(const DesignSpec& spec, const kin::Mechanism& mech, Model& model) {
   model.contacts.resize(mech.connections.size());
   model.links.resize(mech.connections.size());
   for (std::size_t ci = 0; ci < mech.connections.size(); ++ci) {
@@ -308,8 +306,8 @@ void compile_connections(const kin::Mechanism& mech, Model& model) {
 }
 
 // nodes with an axial or torsional stiffness, in design order
-void compile_compliances(const kin::Mechanism& mech, Model& model) {
-  for (const NodeSpec& ns : mech.spec.nodes) {
+void compile_compliances(const DesignSpec& spec, const kin::Mechanism& mech, Model& model) {
+  for (const NodeSpec& ns : spec.nodes) {
     const std::optional<double> stiffness =
         ns.torsional_stiffness_Nm_per_rad ? std::optional<double>(*ns.torsional_stiffness_Nm_per_rad * 1e3)
                                           : ns.axial_stiffness_N_per_mm;  // [N mm/rad] or [N/mm]
@@ -341,12 +339,12 @@ double seat_modulus(const DesignSpec& spec, const std::string& node, const SeatS
 }
 
 // the seat of the output node (a translational valve) and of every node with a seat table
-void compile_seats(const kin::Mechanism& mech, Model& model) {
+void compile_seats(const DesignSpec& spec, const kin::Mechanism& mech, Model& model) {
   for (int n = 0; n < static_cast<int>(mech.nodes.size()); ++n) {
     const kin::Node& node = mech.nodes[n];
     if (node.kind != NodeKind::translational || n == mech.driver_node) continue;
     const NodeSpec* ns = nullptr;
-    for (const NodeSpec& x : mech.spec.nodes)
+    for (const NodeSpec& x : spec.nodes)
       if (x.name == node.name) ns = &x;
     CAMOPT_ASSERT(ns != nullptr);
     const SeatSpec& sp = ns->seat;
@@ -358,7 +356,7 @@ void compile_seats(const kin::Mechanism& mech, Model& model) {
     seat.angle_deg = sp.angle_deg;
     seat.width = sp.width_mm;
     seat.crown_radius = sp.crown_radius_mm;
-    seat.e_star = seat_modulus(mech.spec, node.name, sp);
+    seat.e_star = seat_modulus(spec, node.name, sp);
     seat.law = sp.law;
     seat.seat_where = sp.where;
     seat.node_where = ns->where;
@@ -378,30 +376,44 @@ void compile_free_rows(const kin::Mechanism& mech, Model& model) {
     }
   }
   if (model.free_variables.size() != mech.connections.size())
-    throw InputError(mech.spec.file + ": the rigid dynamics model needs as many connections (" +
+    throw InputError(mech.file + ": the rigid dynamics model needs as many connections (" +
                      std::to_string(mech.connections.size()) + ") as free node coordinates (" +
                      std::to_string(model.free_variables.size()) + ")");
 }
 
+// InputError unless `mech` was compiled from `spec`: the same name, nodes and connections
+void check_compiled_from(const DesignSpec& spec, const kin::Mechanism& mech) {
+  bool same = spec.name == mech.name && spec.nodes.size() + 1 == mech.nodes.size() &&
+              spec.connections.size() == mech.connections.size();
+  for (std::size_t i = 0; same && i < spec.nodes.size(); ++i) same = spec.nodes[i].name == mech.nodes[i + 1].name;
+  for (std::size_t i = 0; same && i < spec.connections.size(); ++i)
+    same = spec.connections[i].name == mech.connections[i].name;
+  if (!same)
+    throw InputError("compile_dynamics: the design spec '" + spec.name + "' is not the one mechanism '" + mech.name +
+                     "' was compiled from (rule: the same nodes and connections, in order)");
+}
+
 }  // namespace
 
-Model compile_dynamics(const kin::Mechanism& mech) {
+Model compile_dynamics(const DesignSpec& spec, const kin::Mechanism& mech) {
   Model model;
+  // the spec is the one the mechanism was compiled from
+  check_compiled_from(spec, mech);
   // driver: rotational, with its crank ratio
-  compile_driver(mech, model);
+  compile_driver(spec, mech, model);
   // bodies: mass, inertia and centre of gravity per node
-  compile_bodies(mech, model);
+  compile_bodies(spec, mech, model);
   // springs: load laws, dampers, coil masses (1/3 on the node)
-  compile_springs(mech, model);
+  compile_springs(spec, mech, model);
   // gas forces against crank angle
-  compile_gas_forces(mech, model);
+  compile_gas_forces(spec, mech, model);
   // contacts (materials, friction, force laws, lash) and links (compliance)
-  compile_connections(mech, model);
+  compile_connections(spec, mech, model);
   // compliant nodes and valve seats of the flexible model
-  compile_compliances(mech, model);
-  compile_seats(mech, model);
+  compile_compliances(spec, mech, model);
+  compile_seats(spec, mech, model);
   // the oil of the EHL film
-  model.oil = mech.spec.oil;
+  model.oil = spec.oil;
   // the rows of the force balance
   compile_free_rows(mech, model);
   return model;

@@ -66,7 +66,7 @@ int point_partials(const kin::Mechanism& mech, const kin::Workspace& kws, int no
   if (n.ground || n.first_variable < 0) return 0;
   switch (n.kind) {
     case NodeKind::rotational: {
-      const Eigen::Vector2d r = p - kws.pivots[node];
+      const Eigen::Vector2d r = p - kws.pivots()[node];
       out[0] = {-r.y(), r.x()};
       return 1;
     }
@@ -114,7 +114,7 @@ void add_inertia(const kin::Mechanism& mech, const Model& model, RigidWorkspace&
   for (int n = 1; n < nn; ++n) {
     const kin::Node& node = mech.nodes[n];
     const BodyInertia& b = model.bodies[n];
-    const auto pose = node_pose(mech, n, vars.data(), ws.kin.pivots.data());
+    const auto pose = node_pose(mech, n, vars.data(), ws.kin.pivots().data());
     const auto cg = pose.apply(b.cg.x(), b.cg.y());
     ws.cg_pos[n] = {cg.x.c[0], cg.y.c[0]};
     ws.cg_acc[n] = {2.0 * cg.x.c[2], 2.0 * cg.y.c[2]};
@@ -146,7 +146,7 @@ void add_point_spring(const kin::Mechanism& mech, const Model& model, RigidWorks
   const auto& vars = ws.kin.vars;
   const Spring& sp = model.springs[s];
   const int v = mech.nodes[sp.node].first_variable;
-  const auto pj = node_pose(mech, sp.node, vars.data(), ws.kin.pivots.data()).apply(sp.point.x(), sp.point.y());
+  const auto pj = node_pose(mech, sp.node, vars.data(), ws.kin.pivots().data()).apply(sp.point.x(), sp.point.y());
   const Eigen::Vector2d p(pj.x.value(), pj.y.value());
   const double x = sp.direction.dot(p - sp.point), load = sp.load(x), k = sp.stiffness(x);
   ws.spring_load(static_cast<Eigen::Index>(s)) = load;
@@ -209,8 +209,8 @@ void add_connection_gradients(const kin::Mechanism& mech, const Model& model, Ri
     switch (conn.kind) {
       case ConnectionKind::link:
       case ConnectionKind::crank_slider: {
-        const auto pa_j = node_pose(mech, conn.node_a, vars.data(), ws.kin.pivots.data()).apply(conn.pin_a.x(), conn.pin_a.y());
-        const auto pb_j = node_pose(mech, conn.node_b, vars.data(), ws.kin.pivots.data()).apply(conn.pin_b.x(), conn.pin_b.y());
+        const auto pa_j = node_pose(mech, conn.node_a, vars.data(), ws.kin.pivots().data()).apply(conn.pin_a.x(), conn.pin_a.y());
+        const auto pb_j = node_pose(mech, conn.node_b, vars.data(), ws.kin.pivots().data()).apply(conn.pin_b.x(), conn.pin_b.y());
         const Eigen::Vector2d pa(pa_j.x.value(), pa_j.y.value()), pb(pb_j.x.value(), pb_j.y.value());
         const Eigen::Vector2d u = (pb - pa).normalized();
         add_gradient(mech, ws, ws.g, conn.node_b, pb, u, 1.0, c);

@@ -1,4 +1,4 @@
-#include "camopt/kinematics/detail/branch_guard.hpp"
+#include "branch_guard.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -8,8 +8,8 @@ namespace camopt::kin::detail {
 namespace {
 
 // the block's solved variables against their taylor prediction
-void check_prediction(const Mechanism& m, const Workspace& ws, std::size_t step, TrustOutcome& trust) {
-  const Workspace::Block& b = ws.full_blocks[step];
+void check_prediction(const Mechanism& m, const WorkspaceState& ws, std::size_t step, TrustOutcome& trust) {
+  const WorkspaceState::Block& b = ws.full_blocks[step];
   // a lash contact that was open at the last point has a kink in its motion
   if (m.plan[step].one_sided && ws.prev_open[step]) return;
   for (int v : b.unknowns) {
@@ -22,8 +22,8 @@ void check_prediction(const Mechanism& m, const Workspace& ws, std::size_t step,
 }
 
 // the block's determinant sign against the last accepted point's
-void check_sign(const Workspace& ws, std::size_t step, bool smallest_step, TrustOutcome& trust) {
-  const Workspace::Block& b = ws.full_blocks[step];
+void check_sign(const WorkspaceState& ws, std::size_t step, bool smallest_step, TrustOutcome& trust) {
+  const WorkspaceState::Block& b = ws.full_blocks[step];
   if (b.sign == 0 || b.accepted_sign == 0 || std::abs(b.sign) != std::abs(b.accepted_sign)) return;
   if (b.sign == b.accepted_sign) return;
   const double closest = std::min(b.margin, b.accepted_margin);
@@ -36,7 +36,7 @@ void check_sign(const Workspace& ws, std::size_t step, bool smallest_step, Trust
 
 }  // namespace
 
-void guard_branch(const Mechanism& m, const Workspace& ws, bool compare_prediction, bool smallest_step,
+void guard_branch(const Mechanism& m, const WorkspaceState& ws, bool compare_prediction, bool smallest_step,
                   TrustOutcome& trust) {
   for (std::size_t si = 0; si < ws.full_blocks.size() && !trust.rejected; ++si) {
     if (!ws.full_blocks[si].solved) continue;
@@ -45,7 +45,7 @@ void guard_branch(const Mechanism& m, const Workspace& ws, bool compare_predicti
   }
 }
 
-void accept_branch(Workspace& ws) {
+void accept_branch(WorkspaceState& ws) {
   for (auto& b : ws.full_blocks) {
     b.accepted_sign = b.solved ? b.sign : 0;
     b.accepted_margin = b.margin;

@@ -25,7 +25,7 @@ Status Kernel::distance_closed_form(const SolveStep& step, const T* vars, T& q, 
   const Node& node = m_.nodes[u];
   const auto pk = known_pose(k, vars).apply(pin_k.x(), pin_k.y());
   if (node.kind == NodeKind::rotational) {
-    const Eigen::Vector2d o = ws_.pivots[u];
+    const Eigen::Vector2d o = st_.pivots[u];
     const Eigen::Vector2d a0 = pin_u - node.pivot;
     const double rho = a0.norm();
     const V2<T> d{pk.x - o.x(), pk.y - o.y()};
@@ -119,10 +119,10 @@ Status Kernel::line_closed_form(const SolveStep& step, const T* vars, T& s_out, 
 }
 
 void Kernel::hold_at_rest(const SolveStep& step, int step_index, double gap) {
-  ws_.open[step_index] = true;
+  st_.open[step_index] = true;
   ws_.contacts[step.connections[0]].gap = gap;
   set_constant(m_.nodes[step.output_node].first_variable, m_.nodes[step.output_node].rest);
-  ws_.invalidate_pose(step.output_node);
+  st_.invalidate_pose(step.output_node);
 }
 
 // a link, or a circle on a circle (a link between the centres at the touching distance);
@@ -145,9 +145,9 @@ Status Kernel::distance_step(const SolveStep& step, int step_index, double drive
     L = inside ? touching + c.lash : touching - c.lash;
     if (c.one_sided) {
       // the follower at rest: is the physical gap open?
-      ws_.values[var] = m_.nodes[u].rest;
-      const auto pu = node_pose(m_, u, ws_.values.data(), ws_.pivots.data()).apply(pin_u.x(), pin_u.y());
-      const auto pk = node_pose(m_, k, ws_.values.data(), ws_.pivots.data()).apply(pin_k.x(), pin_k.y());
+      st_.values[var] = m_.nodes[u].rest;
+      const auto pu = node_pose(m_, u, st_.values.data(), st_.pivots.data()).apply(pin_u.x(), pin_u.y());
+      const auto pk = node_pose(m_, k, st_.values.data(), st_.pivots.data()).apply(pin_k.x(), pin_k.y());
       const double dist = std::hypot(pu.x - pk.x, pu.y - pk.y);
       const double gap = (inside ? touching - dist : dist - touching) + c.lash;
       if (gap > 0.0) {
@@ -161,7 +161,7 @@ Status Kernel::distance_step(const SolveStep& step, int step_index, double drive
     pin_u = u == c.node_a ? c.pin_a : c.pin_b;
     pin_k = u == c.node_a ? c.pin_b : c.pin_a;
   }
-  const double previous = ws_.values[var];
+  const double previous = st_.values[var];
   ++ws_.stats.jet_closed_forms;
   Status st = distance_closed_form(step, ws_.vars.data(), q, driver, pin_u, k, pin_k, L);
   if (!st.ok()) return st;
@@ -197,12 +197,12 @@ Status Kernel::line_step(const SolveStep& step, int step_index, double driver, J
     held = true;
     u = Jet3(u.value() + du);
     ws_.vars[line.variable] = u;
-    ws_.values[line.variable] = u.value();
+    st_.values[line.variable] = u.value();
     return Status::success();
   }
   if (c.one_sided) ws_.contacts[step.connections[0]].gap = 0.0;
   ws_.vars[line.variable] = u;
-  ws_.values[line.variable] = u.value();
+  st_.values[line.variable] = u.value();
   return Status::success();
 }
 
@@ -213,7 +213,7 @@ Status Kernel::closed_form(const SolveStep& step, int step_index, double driver)
   const bool out_b = step.output_node == c.node_b;
   const int ia = m_.nodes[c.node_a].first_variable, ib = m_.nodes[c.node_b].first_variable;
   Jet3 q;
-  ws_.open[step_index] = false;
+  st_.open[step_index] = false;
   bool held = false;
   switch (step.method) {
     case StepMethod::link_closed_form:
@@ -236,8 +236,8 @@ Status Kernel::closed_form(const SolveStep& step, int step_index, double driver)
       CAMOPT_ASSERT(false);
   }
   ws_.vars[var] = q;
-  ws_.values[var] = q.value();
-  ws_.invalidate_pose(step.output_node);
+  st_.values[var] = q.value();
+  st_.invalidate_pose(step.output_node);
   return Status::success();
 }
 

@@ -156,7 +156,7 @@ double pressure_angle(const Mechanism& m, const Workspace& ws, const SolveStep& 
   if (fn.kind == NodeKind::translational) {
     dir = {fn.direction.x(), fn.direction.y()};
   } else if (fn.kind == NodeKind::rotational) {
-    const Eigen::Vector2d o = ws.pivots[follower];
+    const Eigen::Vector2d o = state(ws).pivots[follower];
     dir = {-(trace_y - o.y()), trace_x - o.x()};
   } else {
     // a floating follower has no fixed path: use the trace point's velocity; while the
@@ -181,20 +181,20 @@ void Kernel::contact_outputs(int step_index) {
     if (c.kind != ConnectionKind::contact) continue;
     ContactState& out = ws_.contacts[ci];
     ++ws_.stats.contact_outputs;
-    out.open = ws_.open[step_index];
+    out.open = st_.open[step_index];
     if (!out.open) out.gap = 0.0;
-    const J1* vars = ws_.vars1.data();
+    const J1* vars = st_.vars1.data();
     // a body's pose serves every contact it carries (every variable is final here)
-    const CachedPoses<J1> poses{m_, vars, ws_.pivots.data(), ws_.poses1, ws_.point_id, ws_.no_node_solving, &ws_.poses3};
+    const CachedPoses<J1> poses{m_, vars, st_.pivots.data(), st_.poses1, st_.point_id, st_.no_node_solving, &st_.poses3};
     const auto& pa = poses.get(c.node_a);
     const auto& pb = poses.get(c.node_b);
     // the surfaces at the values: points, tangents d/du and d2/du2 (global) [mm]
-    const auto A = surface_point(m_, c.surface_a, pose_values(pa), ws_.values.data(), true, true);
-    const auto B = surface_point(m_, c.surface_b, pose_values(pb), ws_.values.data(), true, true);
+    const auto A = surface_point(m_, c.surface_a, pose_values(pa), st_.values.data(), true, true);
+    const auto B = surface_point(m_, c.surface_b, pose_values(pb), st_.values.data(), true, true);
     // the contact point, its normal and its velocity
     const V2<double> vc = contact_point(c, A, B, pa, pb, vars, out);
     // where it lies on each body, and the curvatures there
-    contact_geometry(c, A, B, pa, pb, ws_.values.data(), out);
+    contact_geometry(c, A, B, pa, pb, st_.values.data(), out);
     // rolling, sliding and entrainment speeds
     surface_speeds(m_, ws_, c, pa, pb, vc, out);
     // the pressure angle at the follower

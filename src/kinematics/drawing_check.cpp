@@ -18,13 +18,13 @@ std::vector<std::string> check_drawing(const Mechanism& mech) {
   }
   std::vector<bool> at_rest(mech.nodes.size(), false);
   for (std::size_t si = 0; si < mech.plan.size(); ++si)
-    if (ws.open[si]) at_rest[mech.plan[si].output_node] = true;
+    if (ws.lash_open()[si]) at_rest[mech.plan[si].output_node] = true;
   for (std::size_t v = 0; v < mech.variables.size(); ++v) {
     const int n = mech.variables[v].node;
     if (n < 0 || n == mech.driver_node || at_rest[n]) continue;
     const bool angle = mech.variables[v].is_angle;
     const double tol = angle ? 1e-3 * pi / 180.0 : 1e-3;  // 0.001 deg or 0.001 mm
-    const double x = ws.values[v];
+    const double x = ws.values()[v];
     if (std::abs(x) > tol) {
       std::ostringstream os;
       os.precision(6);

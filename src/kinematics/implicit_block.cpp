@@ -13,7 +13,7 @@ namespace camopt::kin::detail {
 namespace {
 
 // out = a * v for the leading n x n block (no expression templates: n is 1 to 3 here)
-void multiply(int n, const Workspace::Matrix& a, const double* v, double* out) {
+void multiply(int n, const WorkspaceState::Matrix& a, const double* v, double* out) {
   for (int i = 0; i < n; ++i) {
     double s = 0.0;
     for (int j = 0; j < n; ++j) s += a(i, j) * v[j];
@@ -23,10 +23,10 @@ void multiply(int n, const Workspace::Matrix& a, const double* v, double* out) {
 
 }  // namespace
 
-double Kernel::evaluate(Workspace::Block& b, const Workspace::Vector& x, Workspace::Vector& f) {
+double Kernel::evaluate(WorkspaceState::Block& b, const WorkspaceState::Vector& x, WorkspaceState::Vector& f) {
   const int n = static_cast<int>(b.unknowns.size());
-  for (int i = 0; i < n; ++i) ws_.values[b.unknowns[i]] = x[i];
-  block_residual(m_, b, ws_.values.data(), ws_.pivots.data(), ws_.poses0, ws_.point_id, ws_.residual_buffer.data(),
+  for (int i = 0; i < n; ++i) st_.values[b.unknowns[i]] = x[i];
+  block_residual(m_, b, st_.values.data(), st_.pivots.data(), st_.poses0, st_.point_id, st_.residual_buffer.data(),
                  f.data());
   double norm = 0.0;
   for (int i = 0; i < n; ++i) {
@@ -41,22 +41,22 @@ double Kernel::evaluate(Workspace::Block& b, const Workspace::Vector& x, Workspa
 // seeds unknown first + j, giving column first + j of J. One sweep gives the residual
 // itself (into f), r_1 and up to M - 1 columns.
 template <int M>
-void Kernel::jacobian_columns(Workspace::Block& b, const Workspace::Vector& x, Workspace::Vector& f, int first) {
+void Kernel::jacobian_columns(WorkspaceState::Block& b, const WorkspaceState::Vector& x, WorkspaceState::Vector& f, int first) {
   using D = Dual<M>;
   const int n = static_cast<int>(b.unknowns.size());
   const int cols = std::min(M - 1, n - first);
-  auto& vars = ws_.vars_dual<M>();
-  for (std::size_t v = 0; v < ws_.values.size(); ++v) {
-    vars[v] = D(ws_.values[v]);
+  auto& vars = st_.vars_dual<M>();
+  for (std::size_t v = 0; v < st_.values.size(); ++v) {
+    vars[v] = D(st_.values[v]);
     vars[v].d[0] = ws_.vars[v].c[1];
   }
   for (int i = 0; i < n; ++i) {
     vars[b.unknowns[i]] = D(x[i]);
-    ws_.values[b.unknowns[i]] = x[i];
+    st_.values[b.unknowns[i]] = x[i];
   }
   for (int j = 0; j < cols; ++j) vars[b.unknowns[first + j]].d[1 + j] = 1.0;
-  D out[Workspace::max_block], scratch[4];
-  block_residual(m_, b, vars.data(), DirectPoses<D>{m_, vars.data(), ws_.pivots.data()}, scratch, out);
+  D out[WorkspaceState::max_block], scratch[4];
+  block_residual(m_, b, vars.data(), DirectPoses<D>{m_, vars.data(), st_.pivots.data()}, scratch, out);
   for (int i = 0; i < n; ++i) {
     f[i] = out[i].v;
     b.r1[i] = out[i].d[0];
@@ -65,9 +65,9 @@ void Kernel::jacobian_columns(Workspace::Block& b, const Workspace::Vector& x, W
 }
 
 // the exact jacobian and r_1 at x, and the residual there (into f); returns its norm
-double Kernel::jacobian(Workspace::Block& b, const Workspace::Vector& x, Workspace::Vector& f) {
+double Kernel::jacobian(WorkspaceState::Block& b, const WorkspaceState::Vector& x, WorkspaceState::Vector& f) {
   const int n = static_cast<int>(b.unknowns.size());
-  CAMOPT_ASSERT(n <= Workspace::max_block);
+  CAMOPT_ASSERT(n <= WorkspaceState::max_block);
   switch (n) {
     case 1:
       jacobian_columns<2>(b, x, f, 0);
@@ -79,8 +79,8 @@ double Kernel::jacobian(Workspace::Block& b, const Workspace::Vector& x, Workspa
       jacobian_columns<4>(b, x, f, 0);
       break;
     default:
-      for (int first = 0; first < n; first += Workspace::max_dual - 1)
-        jacobian_columns<Workspace::max_dual>(b, x, f, first);
+      for (int first = 0; first < n; first += WorkspaceState::max_dual - 1)
+        jacobian_columns<WorkspaceState::max_dual>(b, x, f, first);
   }
   double norm = 0.0;
   for (int i = 0; i < n; ++i) {
@@ -90,7 +90,7 @@ double Kernel::jacobian(Workspace::Block& b, const Workspace::Vector& x, Workspa
   return norm;
 }
 
-bool Kernel::broyden(Workspace::Block& b, double tol) {
+bool Kernel::broyden(WorkspaceState::Block& b, double tol) {
   // "good" broyden update of the inverse jacobian (Broyden 1965; Kelley, Iterative
   // Methods for Linear and Nonlinear Equations, ch. 7), started from the last exact one.
   // When the last observed contraction says a step will converge, the step's residual is
@@ -143,7 +143,7 @@ bool Kernel::broyden(Workspace::Block& b, double tol) {
   return false;
 }
 
-Status Kernel::newton(Workspace::Block& b, double tol, double driver) {
+Status Kernel::newton(WorkspaceState::Block& b, double tol, double driver) {
   ++ws_.stats.newton_fallbacks;
   const int n = static_cast<int>(b.unknowns.size());
   double norm = evaluate(b, b.x, b.f);
@@ -188,16 +188,16 @@ Status Kernel::newton(Workspace::Block& b, double tol, double driver) {
 }
 
 // contact parameters from a global scan: used on the first point and after a failure
-void Kernel::scan_contact_parameters(const Workspace::Block& b) {
+void Kernel::scan_contact_parameters(const WorkspaceState::Block& b) {
   for (int ci : b.connections) {
     const Connection& c = m_.connections[ci];
     if (c.kind != ConnectionKind::contact) continue;
     const Surface& sa = c.surface_a;
     const Surface& sb = c.surface_b;
     if (sa.variable < 0 && sb.variable < 0) continue;
-    const double* v = ws_.values.data();
-    const auto pa = node_pose(m_, c.node_a, v, ws_.pivots.data());
-    const auto pb = node_pose(m_, c.node_b, v, ws_.pivots.data());
+    const double* v = st_.values.data();
+    const auto pa = node_pose(m_, c.node_a, v, st_.pivots.data());
+    const auto pb = node_pose(m_, c.node_b, v, st_.pivots.data());
     if (sa.variable >= 0 && sb.variable >= 0)
       scan_two_curves(c, pa, pb);
     else
@@ -224,17 +224,17 @@ void Kernel::scan_two_curves(const Connection& c, const Pose<double>& pa, const 
   constexpr int n2 = 180;
   for (int i = 0; i < n2; ++i)
     for (int j = 0; j < n2; ++j) {
-      ws_.values[sa.variable] = a0 + (a1 - a0) * i / n2;
-      ws_.values[sb.variable] = b0 + (b1 - b0) * j / n2;
-      const auto A = surface_point(m_, sa, pa, ws_.values.data());
-      const auto B = surface_point(m_, sb, pb, ws_.values.data());
+      st_.values[sa.variable] = a0 + (a1 - a0) * i / n2;
+      st_.values[sb.variable] = b0 + (b1 - b0) * j / n2;
+      const auto A = surface_point(m_, sa, pa, st_.values.data());
+      const auto B = surface_point(m_, sb, pb, st_.values.data());
       const V2<double> d{B.p.x - A.p.x, B.p.y - A.p.y};
       const double align = 1.0 + dot(A.d1, B.d1) / std::sqrt(dot(A.d1, A.d1) * dot(B.d1, B.d1));
       const double score = std::sqrt(dot(d, d)) + m_.length_scale * align;
-      if (score < best) best = score, best_a = ws_.values[sa.variable], best_b = ws_.values[sb.variable];
+      if (score < best) best = score, best_a = st_.values[sa.variable], best_b = st_.values[sb.variable];
     }
-  ws_.values[sa.variable] = best_a;
-  ws_.values[sb.variable] = best_b;
+  st_.values[sa.variable] = best_a;
+  st_.values[sb.variable] = best_b;
 }
 
 // a curve or face against a circle: the parameter where the circle centre lies on the
@@ -252,8 +252,8 @@ void Kernel::scan_curve_circle(const Connection& c, const Pose<double>& pa, cons
   const auto [range_lo, range_hi] = scan_range(m_, sp);
   const double u0 = range_lo, u1 = range_hi;  // copies: a lambda cannot capture structured bindings in C++17 mode
   auto score_at = [&](int i) {
-    ws_.values[sp.variable] = u0 + (u1 - u0) * i / samples;
-    const auto P = surface_point(m_, sp, pose_p, ws_.values.data());
+    st_.values[sp.variable] = u0 + (u1 - u0) * i / samples;
+    const auto P = surface_point(m_, sp, pose_p, st_.values.data());
     const V2<double> d{centre.x - P.p.x, centre.y - P.p.y};
     const double len = std::sqrt(dot(P.d1, P.d1));
     const double along = std::abs(dot(d, P.d1)) / len;
@@ -297,12 +297,12 @@ void Kernel::scan_curve_circle(const Connection& c, const Pose<double>& pa, cons
       consider(i, score_at(i));
     }
   const double best_u = u0 + (u1 - u0) * best_i / samples;
-  ws_.values[sp.variable] = best_u;
+  st_.values[sp.variable] = best_u;
 }
 
-Status Kernel::solve_values(Workspace::Block& b, double driver) {
+Status Kernel::solve_values(WorkspaceState::Block& b, double driver) {
   const int n = static_cast<int>(b.unknowns.size());
-  for (int i = 0; i < n; ++i) b.x[i] = ws_.values[b.unknowns[i]];
+  for (int i = 0; i < n; ++i) b.x[i] = st_.values[b.unknowns[i]];
   const double tol = tolerance();
   b.jacobian_at_x = false;
   if (b.jacobians >= 2 && b.last_driver != b.prev_driver) {
@@ -318,9 +318,9 @@ Status Kernel::solve_values(Workspace::Block& b, double driver) {
   Status st = newton(b, tol, driver);
   if (!st.ok()) {
     // retry from a fresh scan of the contact points
-    for (int i = 0; i < n; ++i) ws_.values[b.unknowns[i]] = b.x[i];
+    for (int i = 0; i < n; ++i) st_.values[b.unknowns[i]] = b.x[i];
     scan_contact_parameters(b);
-    for (int i = 0; i < n; ++i) b.x[i] = ws_.values[b.unknowns[i]];
+    for (int i = 0; i < n; ++i) b.x[i] = st_.values[b.unknowns[i]];
     st = newton(b, tol, driver);
     if (!st.ok()) return st;
   }
@@ -329,7 +329,7 @@ Status Kernel::solve_values(Workspace::Block& b, double driver) {
 
 // taylor coefficients of the block's unknowns: J x_k = -r_k, k = 1..order, where r_k is
 // the order-k residual coefficient with the unknowns' order >= k terms still zero
-Status Kernel::differentiate(Workspace::Block& b, double driver) {
+Status Kernel::differentiate(WorkspaceState::Block& b, double driver) {
   const int n = static_cast<int>(b.unknowns.size());
   if (!b.jacobian_at_x) jacobian(b, b.x, b.f_new);  // also r_1 in b.r1
   b.jacobian_at_x = false;
@@ -340,7 +340,7 @@ Status Kernel::differentiate(Workspace::Block& b, double driver) {
   remember_jacobian(b, driver);
   b.have_inverse = std::isfinite(cond);
   ws_.max_condition = std::max(ws_.max_condition, cond);
-  b.margin = scaled_margin(m_, ws_, n, b.unknowns.data(), b.jacobian, b.inverse, b.r1.data());
+  b.margin = scaled_margin(m_, st_, n, b.unknowns.data(), b.jacobian, b.inverse, b.r1.data());
   b.sign = b.lu.determinant_sign();
   note_margin(b.margin);
   if (!(cond < 1e13)) {
@@ -350,7 +350,7 @@ Status Kernel::differentiate(Workspace::Block& b, double driver) {
                 "): a pressure angle reached 90 deg or a linkage is at toggle",
             driver_text(m_, driver)};
   }
-  double rhs[Workspace::max_block], xk[Workspace::max_block];
+  double rhs[WorkspaceState::max_block], xk[WorkspaceState::max_block];
   for (int i = 0; i < n; ++i) {
     ws_.vars[b.unknowns[i]] = Jet3(b.x[i]);
     rhs[i] = -b.r1[i];
@@ -360,9 +360,9 @@ Status Kernel::differentiate(Workspace::Block& b, double driver) {
   ++ws_.stats.taylor_orders;
   {
     // order 2 needs only second-order jets: the known variables truncated to Jet<2>
-    for (std::size_t v = 0; v < ws_.values.size(); ++v) ws_.vars2[v] = truncate<2>(ws_.vars[v]);
-    Jet<2> out2[Workspace::max_block];
-    block_residual(m_, b, ws_.vars2.data(), ws_.pivots.data(), ws_.poses2, ws_.point_id, ws_.residual_buffer2.data(),
+    for (std::size_t v = 0; v < st_.values.size(); ++v) st_.vars2[v] = truncate<2>(ws_.vars[v]);
+    Jet<2> out2[WorkspaceState::max_block];
+    block_residual(m_, b, st_.vars2.data(), st_.pivots.data(), st_.poses2, st_.point_id, st_.residual_buffer2.data(),
                    out2);
     for (int i = 0; i < n; ++i) rhs[i] = -out2[i].c[2];
     b.lu.solve(rhs, xk);
@@ -370,8 +370,8 @@ Status Kernel::differentiate(Workspace::Block& b, double driver) {
     ++ws_.stats.taylor_orders;
   }
   {
-    Jet3 out[Workspace::max_block];
-    block_residual(m_, b, ws_.vars.data(), ws_.pivots.data(), ws_.poses3, ws_.point_id, ws_.residual_buffer3.data(),
+    Jet3 out[WorkspaceState::max_block];
+    block_residual(m_, b, ws_.vars.data(), st_.pivots.data(), st_.poses3, st_.point_id, st_.residual_buffer3.data(),
                    out);
     for (int i = 0; i < n; ++i) rhs[i] = -out[i].c[3];
     b.lu.solve(rhs, xk);

@@ -15,7 +15,8 @@
 #include <type_traits>
 
 #include "camopt/core/units.hpp"
-#include "camopt/kinematics/detail/branch_guard.hpp"
+#include "branch_guard.hpp"
+#include "workspace_state.hpp"
 #include "camopt/kinematics/solver.hpp"
 
 namespace camopt::kin::detail {
@@ -74,7 +75,7 @@ Pose<double> pose_values(const Pose<Jet<N>>& p) {
 
 // residuals of a block at scalar type T; vars must hold every variable
 template <class T, class Poses>
-void block_residual(const Mechanism& m, const Workspace::Block& b, const T* vars, const Poses& poses, T* scratch,
+void block_residual(const Mechanism& m, const WorkspaceState::Block& b, const T* vars, const Poses& poses, T* scratch,
                     T* out) {
   int i = 0;
   for (int ci : b.connections) {
@@ -85,14 +86,14 @@ void block_residual(const Mechanism& m, const Workspace::Block& b, const T* vars
   }
 }
 template <class T>
-void block_residual(const Mechanism& m, const Workspace::Block& b, const T* vars, const Eigen::Vector2d* pivots,
+void block_residual(const Mechanism& m, const WorkspaceState::Block& b, const T* vars, const Eigen::Vector2d* pivots,
                     PoseCache<T>& cache, long point, T* scratch, T* out) {
   block_residual(m, b, vars, CachedPoses<T>{m, vars, pivots, cache, point, b.solving}, scratch, out);
 }
 
 // a plan step's block: its equations and unknowns (tangency_only: the contact parameters of
 // a lash contact with the follower held at rest) and buffers (workspace.cpp)
-Workspace::Block make_block(const Mechanism& m, const SolveStep& step, bool tangency_only);
+WorkspaceState::Block make_block(const Mechanism& m, const SolveStep& step, bool tangency_only);
 
 // forget every block's broyden inverse and jacobian history (workspace.cpp)
 void drop_block_warm_starts(Workspace& ws);
@@ -104,7 +105,7 @@ class Kernel {
   // smallest_step: the step from the last accepted point cannot be halved further
   Kernel(const Mechanism& m, Workspace& ws, const Request& rq, TrustOutcome* trust = nullptr,
          bool smallest_step = false)
-      : m_(m), ws_(ws), rq_(rq), trust_(trust), smallest_step_(smallest_step) {}
+      : m_(m), ws_(ws), st_(state(ws)), rq_(rq), trust_(trust), smallest_step_(smallest_step) {}
 
   // the plan step `step` is not solved: `node`'s variables are set from `vars` (see
   // solve_prescribed), the step's contact parameters keep their values
@@ -131,18 +132,18 @@ class Kernel {
   void accept(double driver);
 
   // ---- implicit_block.cpp ----
-  double evaluate(Workspace::Block& b, const Workspace::Vector& x, Workspace::Vector& f);
-  double jacobian(Workspace::Block& b, const Workspace::Vector& x, Workspace::Vector& f);
+  double evaluate(WorkspaceState::Block& b, const WorkspaceState::Vector& x, WorkspaceState::Vector& f);
+  double jacobian(WorkspaceState::Block& b, const WorkspaceState::Vector& x, WorkspaceState::Vector& f);
   template <int M>
-  void jacobian_columns(Workspace::Block& b, const Workspace::Vector& x, Workspace::Vector& f, int first);
-  bool broyden(Workspace::Block& b, double tol);
-  Status newton(Workspace::Block& b, double tol, double driver);
-  Status solve_values(Workspace::Block& b, double driver);
-  Status differentiate(Workspace::Block& b, double driver);
-  void scan_contact_parameters(const Workspace::Block& b);
+  void jacobian_columns(WorkspaceState::Block& b, const WorkspaceState::Vector& x, WorkspaceState::Vector& f, int first);
+  bool broyden(WorkspaceState::Block& b, double tol);
+  Status newton(WorkspaceState::Block& b, double tol, double driver);
+  Status solve_values(WorkspaceState::Block& b, double driver);
+  Status differentiate(WorkspaceState::Block& b, double driver);
+  void scan_contact_parameters(const WorkspaceState::Block& b);
   void scan_two_curves(const Connection& c, const Pose<double>& pa, const Pose<double>& pb);
   void scan_curve_circle(const Connection& c, const Pose<double>& pa, const Pose<double>& pb);
-  static void remember_jacobian(Workspace::Block& b, double driver) {
+  static void remember_jacobian(WorkspaceState::Block& b, double driver) {
     const int n = static_cast<int>(b.unknowns.size());
     for (int i = 0; i < n; ++i)
       for (int j = 0; j < n; ++j) {
@@ -156,7 +157,7 @@ class Kernel {
 
   // ---- offset_contact.cpp ----
   template <int M>
-  Status solve_offset_contact(Workspace::Block& b, double driver, bool& solved);
+  Status solve_offset_contact(WorkspaceState::Block& b, double driver, bool& solved);
 
   // ---- closed_form.cpp ----
   Status closed_form(const SolveStep& step, int step_index, double driver);
@@ -175,12 +176,12 @@ class Kernel {
   void contact_outputs(int step_index);
 
   // ---- shared ----
-  void finish_block(const Workspace::Block& b) {
+  void finish_block(const WorkspaceState::Block& b) {
     for (int v : b.unknowns)
-      if (m_.variables[v].node >= 0) ws_.invalidate_pose(m_.variables[v].node);
+      if (m_.variables[v].node >= 0) st_.invalidate_pose(m_.variables[v].node);
   }
   void set_constant(int var, double v) {
-    ws_.values[var] = v;
+    st_.values[var] = v;
     ws_.vars[var] = Jet3(v);
   }
   void note_margin(double margin) { ws_.toggle_margin = std::min(ws_.toggle_margin, margin); }
@@ -190,14 +191,15 @@ class Kernel {
   Pose<T> known_pose(int n, const T* vars) const {
     if constexpr (std::is_same_v<T, Jet3>) {
       if (vars == ws_.vars.data())
-        return CachedPoses<Jet3>{m_, vars, ws_.pivots.data(), ws_.poses3, ws_.point_id, ws_.no_node_solving}.get(n);
+        return CachedPoses<Jet3>{m_, vars, st_.pivots.data(), st_.poses3, st_.point_id, st_.no_node_solving}.get(n);
     }
-    return node_pose(m_, n, vars, ws_.pivots.data());
+    return node_pose(m_, n, vars, st_.pivots.data());
   }
   double tolerance() const { return relative_tolerance * m_.length_scale; }
 
   const Mechanism& m_;
-  Workspace& ws_;
+  Workspace& ws_;       // the results
+  WorkspaceState& st_;  // the buffers behind them
   const Request& rq_;
   TrustOutcome* trust_;
   bool smallest_step_;

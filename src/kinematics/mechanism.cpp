@@ -42,6 +42,7 @@ Surface build_surface(Mechanism& m, const SurfaceSpec& s, const std::string& con
       auto it = profile_index.find(s.profile);
       if (it == profile_index.end()) fail(s.where, "unknown profile '" + s.profile + "'");
       const CamProfile& p = m.profiles[it->second];
+      out.source_profile = it->second;
       const double co = std::cos(s.orientation_deg * rad_per_deg), so = std::sin(s.orientation_deg * rad_per_deg);
       if (p.is_disc()) {
         // a disc (circle or eccentric) is an exact circle surface
@@ -213,6 +214,7 @@ void set_driver_and_output(CompileState& s) {
     fail(spec.driver.where, "driver node '" + spec.driver.node + "' is also set by a control");
   m.output_node = s.node_of(spec.output_node, spec.driver.where);
   if (m.nodes[m.output_node].ground) fail(spec.driver.where, "output_node cannot be the ground");
+  m.driver = {spec.driver.start_deg, spec.driver.stop_deg, spec.driver.step_deg, spec.driver.crank_per_cam};
 }
 
 void add_profiles(CompileState& s) {
@@ -565,7 +567,7 @@ SolveStep make_step(const Mechanism& m, const Assembly& a, const std::vector<int
 Mechanism compile(const DesignSpec& spec) {
   Mechanism m;
   m.name = spec.name;
-  m.spec = spec;
+  m.file = spec.file;
   CompileState s{spec, m, {}, {}, {}};
   // controls, by name
   add_controls(s);

@@ -1,4 +1,4 @@
-// the one-equation form of a curve-circle contact (Workspace::Block::OffsetContact): a
+// the one-equation form of a curve-circle contact (WorkspaceState::Block::OffsetContact): a
 // profile curve on a known body against a circle on the block's one unknown body, which
 // rotates or translates. The circle centre lies on the curve's offset; the block's two
 // unknowns (the body's displacement and the curve parameter u) reduce to one equation g(u)
@@ -13,7 +13,7 @@ namespace camopt::kin::detail {
 
 namespace {
 
-using OffsetContact = Workspace::Block::OffsetContact;
+using OffsetContact = WorkspaceState::Block::OffsetContact;
 
 // the one equation [mm]: the centre at its distance from the unknown body's pivot
 // (rotational) or on the unknown body's line of travel (translational)
@@ -91,7 +91,7 @@ bool offset_newton(const Mechanism& m, const OffsetContact& oc, const Surface& c
 // the block's 2 x 2 jacobian of (tangency, closure) in (displacement, u): its condition
 // into ws.max_condition, the toggle margin (the cosine of the pressure angle) and the
 // determinant's sign into the block; singular when the condition reaches 1e13
-Status offset_condition(const Mechanism& m, Workspace& ws, Workspace::Block& b, const Connection& c, const Node& node,
+Status offset_condition(const Mechanism& m, Workspace& ws, WorkspaceState::Block& b, const Connection& c, const Node& node,
                         const Eigen::Vector2d& pivot, const V2<double>& centre, const V2<double>& centre_u,
                         double driver) {
   const bool rotational = node.kind == NodeKind::rotational;
@@ -213,20 +213,20 @@ Jet3 offset_displacement(const OffsetContact& oc, const Node& node, const Eigen:
 // taylor coefficients in the driver and the body's displacement in closed form from the
 // centre. solved = false (values untouched) leaves the block to the general solver.
 template <int M>
-Status Kernel::solve_offset_contact(Workspace::Block& b, double driver, bool& solved) {
+Status Kernel::solve_offset_contact(WorkspaceState::Block& b, double driver, bool& solved) {
   const auto& oc = b.offset;
   const Connection& c = m_.connections[oc.connection];
   const Surface& curve = oc.curve_on_a ? c.surface_a : c.surface_b;
   const Node& node = m_.nodes[oc.unknown_node];
-  const Eigen::Vector2d pivot = ws_.pivots[oc.unknown_node];
+  const Eigen::Vector2d pivot = st_.pivots[oc.unknown_node];
   solved = false;
   const auto& pose3 =
-      CachedPoses<Jet3>{m_, ws_.vars.data(), ws_.pivots.data(), ws_.poses3, ws_.point_id, b.solving}.get(
+      CachedPoses<Jet3>{m_, ws_.vars.data(), st_.pivots.data(), st_.poses3, st_.point_id, b.solving}.get(
           oc.known_node);
   const auto pose0 = pose_values(pose3);
   // the root of the one equation in u
   OffsetRoot<M> root;
-  root.u = ws_.values[oc.curve_variable];
+  root.u = st_.values[oc.curve_variable];
   if (!offset_newton<M>(m_, oc, curve, node, pivot, pose0, tolerance(), ws_.stats, root)) return Status::success();
   // the contact outputs evaluate the curve at the shifted u
   if (root.u != root.evaluated_at) m_.profiles[curve.profile].shift_memo(root.evaluated_at, root.u - root.evaluated_at);
@@ -237,9 +237,9 @@ Status Kernel::solve_offset_contact(Workspace::Block& b, double driver, bool& so
   Jet3 uj, cx, cy;
   offset_taylor<M>(root, pose3, pose0, node, pivot, ws_.stats, uj, cx, cy);
   // the body's displacement from its circle centre
-  const Jet3 qn = offset_displacement(oc, node, pivot, root.centre, cx, cy, ws_.values[oc.node_variable]);
-  ws_.values[oc.curve_variable] = root.u;
-  ws_.values[oc.node_variable] = qn.value();
+  const Jet3 qn = offset_displacement(oc, node, pivot, root.centre, cx, cy, st_.values[oc.node_variable]);
+  st_.values[oc.curve_variable] = root.u;
+  st_.values[oc.node_variable] = qn.value();
   ws_.vars[oc.curve_variable] = uj;
   ws_.vars[oc.node_variable] = qn;
   solved = true;
@@ -247,6 +247,6 @@ Status Kernel::solve_offset_contact(Workspace::Block& b, double driver, bool& so
 }
 
 // the derivatives need the centre's series to order 4 in u (solve_point.cpp)
-template Status Kernel::solve_offset_contact<4>(Workspace::Block& b, double driver, bool& solved);
+template Status Kernel::solve_offset_contact<4>(WorkspaceState::Block& b, double driver, bool& solved);
 
 }  // namespace camopt::kin::detail

@@ -9,11 +9,11 @@
 namespace camopt::kin::detail {
 
 Status Kernel::run(double driver) {
-  const bool fresh = ws_.history == 0;
-  ++ws_.point_id;  // every cached pose is stale
-  const bool check = trust_ != nullptr && ws_.history >= 1;
+  const bool fresh = st_.history == 0;
+  ++st_.point_id;  // every cached pose is stale
+  const bool check = trust_ != nullptr && st_.history >= 1;
   // predictor for the warm start; a step beyond its reach is rejected before any solve
-  if (ws_.history >= 1 && !predict(driver, check)) return Status::success();
+  if (st_.history >= 1 && !predict(driver, check)) return Status::success();
   // known variables: driver and control-set nodes
   set_known_variables(driver);
   // the plan, from the driver outward
@@ -36,18 +36,18 @@ Status Kernel::run(double driver) {
 // error exceeds a trust radius
 bool Kernel::predict(double driver, bool check) {
   const int nv = static_cast<int>(m_.variables.size());
-  const double h = driver - ws_.prev_driver, step = ws_.prev_driver - ws_.prev2_driver;
-  const bool two = ws_.history >= 2 && step != 0.0;
+  const double h = driver - st_.prev_driver, step = st_.prev_driver - st_.prev2_driver;
+  const bool two = st_.history >= 2 && step != 0.0;
   // quartic term from the change of the cubic coefficient: d c_3 / dt = 4 c_4
   const double quartic = two ? h * h * h * h / (4.0 * step) : 0.0;
   const double cubic = h * h * h;
-  const Jet3* jets = ws_.prev_jets.data();
-  const Jet3* jets2 = ws_.prev2_jets.data();
-  const double* prev = ws_.prev_values.data();
-  const double* radius = ws_.trust_radius.data();
-  double* x = ws_.values.data();
-  double* predicted = ws_.predicted.data();
-  double* error = ws_.predicted_error.data();
+  const Jet3* jets = st_.prev_jets.data();
+  const Jet3* jets2 = st_.prev2_jets.data();
+  const double* prev = st_.prev_values.data();
+  const double* radius = st_.trust_radius.data();
+  double* x = st_.values.data();
+  double* predicted = st_.predicted.data();
+  double* error = st_.predicted_error.data();
   bool beyond = false;
   for (int v = 0; v < nv; ++v) {
     const Jet3& j = jets[v];
@@ -70,7 +70,7 @@ bool Kernel::predict(double driver, bool check) {
 
 // the driver [rad or mm] and every node set by a control [deg -> rad, or mm]
 void Kernel::set_known_variables(double driver) {
-  ws_.values[m_.driver_variable()] = driver;
+  st_.values[m_.driver_variable()] = driver;
   ws_.vars[m_.driver_variable()] = Jet3::variable(driver, 1.0);
   for (const auto& n : m_.nodes)
     if (n.control >= 0) {
@@ -82,7 +82,7 @@ void Kernel::set_known_variables(double driver) {
 // one plan step: prescribed, closed form, or implicit
 Status Kernel::solve_step(int step_index, double driver, bool fresh) {
   const SolveStep& step = m_.plan[step_index];
-  ws_.full_blocks[step_index].solved = false;
+  st_.full_blocks[step_index].solved = false;
   if (step_index == prescribed_step_) {
     take_prescribed(step);
     return Status::success();
@@ -94,27 +94,27 @@ Status Kernel::solve_step(int step_index, double driver, bool fresh) {
 // the prescribed node as given; the step's contact parameters stay where they were last solved
 void Kernel::take_prescribed(const SolveStep& step) {
   const Node& node = m_.nodes[static_cast<std::size_t>(prescribed_node_)];
-  for (int v : step.unknowns) ws_.vars[v] = Jet3(ws_.values[v] = ws_.predicted[v] = ws_.prev_values[v]);
+  for (int v : step.unknowns) ws_.vars[v] = Jet3(st_.values[v] = st_.predicted[v] = st_.prev_values[v]);
   for (int k = 0; k < node.dof; ++k) {
     const int v = node.first_variable + k;
     ws_.vars[v] = prescribed_vars_[k];
-    ws_.values[v] = ws_.vars[v].value();
+    st_.values[v] = ws_.vars[v].value();
   }
-  ws_.invalidate_pose(prescribed_node_);
+  st_.invalidate_pose(prescribed_node_);
 }
 
 // a block solved simultaneously: a lash gap held open, else the one-equation contact form
 // where it applies, else broyden/newton and the taylor coefficients
 Status Kernel::solve_implicit(int step_index, double driver, bool fresh) {
   const SolveStep& step = m_.plan[step_index];
-  auto& b = ws_.full_blocks[step_index];
+  auto& b = st_.full_blocks[step_index];
   if (fresh) scan_contact_parameters(b);
-  ws_.open[step_index] = false;
+  st_.open[step_index] = false;
   if (step.one_sided) {
     bool open = false;
     if (Status st = hold_open_lash(step_index, driver, open); !st.ok() || open) return st;
   }
-  if (b.offset.active && !fresh && ws_.offset_contacts) {
+  if (b.offset.active && !fresh && st_.offset_contacts) {
     bool solved = false;
     // the derivatives need the centre's series to order 4 in u (see there)
     Status st = solve_offset_contact<4>(b, driver, solved);
@@ -143,9 +143,9 @@ Status Kernel::hold_open_lash(int step_index, double driver, bool& open) {
   const SolveStep& step = m_.plan[step_index];
   open = false;
   const int var = m_.nodes[step.output_node].first_variable;
-  auto& t = ws_.tangency_blocks[step_index];
-  const double saved = ws_.values[var];
-  ws_.values[var] = m_.nodes[step.output_node].rest;
+  auto& t = st_.tangency_blocks[step_index];
+  const double saved = st_.values[var];
+  st_.values[var] = m_.nodes[step.output_node].rest;
   double gap = 0.0;
   Status st = Status::success();
   if (!t.unknowns.empty()) {
@@ -154,23 +154,23 @@ Status Kernel::hold_open_lash(int step_index, double driver, bool& open) {
   if (st.ok()) {
     const Connection& c = m_.connections[step.connections[0]];
     double r[3];
-    connection_residual(m_, c, ws_.values.data(), DirectPoses<double>{m_, ws_.values.data(), ws_.pivots.data()}, r);
+    connection_residual(m_, c, st_.values.data(), DirectPoses<double>{m_, st_.values.data(), st_.pivots.data()}, r);
     gap = r[c.equation_count - 1];
   }
   if (st.ok() && gap > 0.0) {
     open = true;
-    ws_.open[step_index] = true;
+    st_.open[step_index] = true;
     set_constant(var, m_.nodes[step.output_node].rest);
     if (!t.unknowns.empty()) {
       Status dst = differentiate(t, driver);
       if (!dst.ok()) return dst;
     }
     ws_.contacts[step.connections[0]].gap = gap;
-    ws_.invalidate_pose(step.output_node);
+    st_.invalidate_pose(step.output_node);
     return Status::success();
   }
-  ws_.values[var] = saved;
-  ws_.invalidate_pose(step.output_node);
+  st_.values[var] = saved;
+  st_.invalidate_pose(step.output_node);
   ws_.contacts[step.connections[0]].gap = 0.0;
   return Status::success();
 }
@@ -178,7 +178,7 @@ Status Kernel::hold_open_lash(int step_index, double driver, bool& open) {
 Status Kernel::check_finite(double driver) const {
   const int nv = static_cast<int>(m_.variables.size());
   for (int v = 0; v < nv; ++v) {
-    if (!std::isfinite(ws_.values[v]))
+    if (!std::isfinite(st_.values[v]))
       return {StatusCode::no_convergence, "variable '" + m_.variables[v].name + "' is not finite",
               driver_text(m_, driver)};
   }
@@ -189,9 +189,9 @@ Status Kernel::check_finite(double driver) const {
 bool Kernel::guard(double driver) {
   const int nv = static_cast<int>(m_.variables.size());
   // a converged point outside the trust region may be another assembly branch
-  const double* x = ws_.values.data();
-  const double* predicted = ws_.predicted.data();
-  const double* radius = ws_.trust_radius.data();
+  const double* x = st_.values.data();
+  const double* predicted = st_.predicted.data();
+  const double* radius = st_.trust_radius.data();
   bool outside = false;
   for (int v = 0; v < nv; ++v) outside |= std::abs(x[v] - predicted[v]) > radius[v];
   if (outside) {
@@ -200,7 +200,7 @@ bool Kernel::guard(double driver) {
         trust_->reject(TrustOutcome::Kind::moved, v, std::abs(x[v] - predicted[v]), radius[v]);
     return false;
   }
-  guard_branch(m_, ws_, driver != ws_.prev_driver && !ws_.controls_moved, smallest_step_, *trust_);
+  guard_branch(m_, st_, driver != st_.prev_driver && !st_.controls_moved, smallest_step_, *trust_);
   return !trust_->rejected;
 }
 
@@ -210,19 +210,19 @@ void Kernel::accept(double driver) {
   if (rq_.contacts) {
     // contact quantities need values and first-order rates only (curvature is taken
     // from values of d1 and d2): first-order jets suffice
-    for (int v = 0; v < nv; ++v) ws_.vars1[v] = truncate<1>(ws_.vars[v]);
+    for (int v = 0; v < nv; ++v) st_.vars1[v] = truncate<1>(ws_.vars[v]);
     for (std::size_t si = 0; si < m_.plan.size(); ++si) contact_outputs(static_cast<int>(si));
   }
-  ws_.prev2_values.swap(ws_.prev_values);
-  ws_.prev_values = ws_.values;
-  ws_.prev2_jets.swap(ws_.prev_jets);
-  ws_.prev_jets = ws_.vars;
-  ws_.prev2_driver = ws_.prev_driver;
-  ws_.prev_driver = driver;
-  ws_.history = std::min(ws_.history + 1, 2);
-  ws_.prev_open = ws_.open;
-  ws_.controls_moved = false;
-  accept_branch(ws_);
+  st_.prev2_values.swap(st_.prev_values);
+  st_.prev_values = st_.values;
+  st_.prev2_jets.swap(st_.prev_jets);
+  st_.prev_jets = ws_.vars;
+  st_.prev2_driver = st_.prev_driver;
+  st_.prev_driver = driver;
+  st_.history = std::min(st_.history + 1, 2);
+  st_.prev_open = st_.open;
+  st_.controls_moved = false;
+  accept_branch(st_);
   if (ws_.toggle_margin < ws_.path_margin) {
     ws_.path_margin = ws_.toggle_margin;
     ws_.path_margin_at = driver;

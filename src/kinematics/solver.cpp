@@ -16,23 +16,26 @@ using detail::driver_text;
 using detail::drop_block_warm_starts;
 using detail::fmt;
 using detail::Kernel;
+using detail::state;
 using detail::min_control_fraction;
 using detail::min_step_rad;
 using detail::TrustOutcome;
+using detail::WorkspaceState;
 
 namespace {
 
 // pivots moved by controls (recomputed when the controls change)
 void place_pivots(const Mechanism& mech, Workspace& ws) {
-  if (ws.pivots_stale) {
-    ws.pivots_stale = false;
+  WorkspaceState& st = state(ws);
+  if (st.pivots_stale) {
+    st.pivots_stale = false;
     for (std::size_t i = 0; i < mech.nodes.size(); ++i) {
       const Node& n = mech.nodes[i];
-      ws.pivots[i] = n.pivot;
+      st.pivots[i] = n.pivot;
       if (n.pivot_control >= 0) {
         const double a = n.pivot_gain * ws.controls()[n.pivot_control];
         const Eigen::Vector2d r = n.pivot - n.pivot_about;
-        ws.pivots[i] = n.pivot_about + Eigen::Vector2d(std::cos(a) * r.x() - std::sin(a) * r.y(),
+        st.pivots[i] = n.pivot_about + Eigen::Vector2d(std::cos(a) * r.x() - std::sin(a) * r.y(),
                                                        std::sin(a) * r.x() + std::cos(a) * r.y());
       }
     }
@@ -101,7 +104,7 @@ Status subdivide(const Mechanism& m, Workspace& ws, double target, const Request
   if (std::abs(target - start) <= min_step) return jump_status(m, first, target, step_text(target - start));
   double h = 0.5 * (target - start);
   for (;;) {
-    const double from = ws.prev_driver;
+    const double from = state(ws).prev_driver;
     const bool last = std::abs(target - from) <= std::abs(h);
     const double at = last ? target : from + h;
     TrustOutcome trust;
@@ -127,8 +130,8 @@ Status subdivide(const Mechanism& m, Workspace& ws, double target, const Request
 // the fine-step path is one attempt)
 Status step_to(const Mechanism& m, Workspace& ws, double target, const Request& rq) {
   place_pivots(m, ws);
-  if (ws.history == 0) return Kernel(m, ws, rq).run(target);
-  const double start = ws.prev_driver;
+  if (state(ws).history == 0) return Kernel(m, ws, rq).run(target);
+  const double start = state(ws).prev_driver;
   const double min_step = m.driver_is_angle() ? min_step_rad : min_step_rad * m.length_scale;
   TrustOutcome first;
   Status st = attempt(m, ws, target, rq, first, std::abs(target - start) <= min_step);
@@ -234,7 +237,7 @@ Status solve_prescribed(const Mechanism& mech, Workspace& ws, double driver, con
                           n.name + "' has " + std::to_string(n.dof) + " variable(s)");
   CAMOPT_THROW_UNLESS(!request.contacts, "solve_prescribed: request.contacts = true: must be false (the contact "
                                          "parameters keep their last values)");
-  CAMOPT_THROW_UNLESS(ws.history >= 1,
+  CAMOPT_THROW_UNLESS(state(ws).history >= 1,
                       "solve_prescribed: the workspace has no solved point: solve() a point at these controls first");
   place_pivots(mech, ws);
   ws.path_margin = INFINITY;
@@ -295,9 +298,9 @@ Status solve_drawing(const Mechanism& mech, Workspace& ws) {
 Status solve(const Mechanism& mech, Workspace& ws, double driver, const Request& request, const Workspace* drawing) {
   request.validate();
   ws.path_margin = INFINITY;
-  if (ws.history == 0 && !at_drawing(mech, ws.controls(), driver))
+  if (state(ws).history == 0 && !at_drawing(mech, ws.controls(), driver))
     return solve_fresh(mech, ws, driver, request, drawing);
-  if (ws.history == 0) CamProfile::clear_thread_memo();  // the drawing does not depend on the thread's past
+  if (state(ws).history == 0) CamProfile::clear_thread_memo();  // the drawing does not depend on the thread's past
   Status st = step_to(mech, ws, driver, request);
   if (!st.ok()) ws.reset();
   return st;

@@ -181,10 +181,9 @@ Separation separation(const Mechanism& m, const SweepResult& r, std::size_t posi
 // the [[profile]] a contact surface is made from (discs too), or "" (a circle, roller or face)
 const std::string& source_profile(const Mechanism& m, std::size_t connection, int side) {
   static const std::string none;
-  if (m.spec.connections.size() != m.connections.size()) return none;  // connections follow the spec's order
-  const ConnectionSpec& cs = m.spec.connections[connection];
-  const SurfaceSpec& sf = side == 0 ? cs.surface_a : cs.surface_b;
-  return sf.shape == SurfaceShape::profile ? sf.profile : none;
+  const Connection& c = m.connections[connection];
+  const int profile = (side == 0 ? c.surface_a : c.surface_b).source_profile;
+  return profile >= 0 ? m.profiles[static_cast<std::size_t>(profile)].name() : none;
 }
 
 // the radii of curvature each curved contact surface meets while its contact is closed,

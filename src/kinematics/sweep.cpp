@@ -16,8 +16,8 @@ namespace {
 // bit s: plan step s holds a lash gap open (steps from 63 on share bit 63)
 std::uint64_t lash_mask(const Workspace& ws) {
   std::uint64_t mask = 0;
-  for (std::size_t s = 0; s < ws.open.size(); ++s)
-    if (ws.open[s]) mask |= std::uint64_t{1} << std::min<std::size_t>(s, 63);
+  for (std::size_t s = 0; s < ws.lash_open().size(); ++s)
+    if (ws.lash_open()[s]) mask |= std::uint64_t{1} << std::min<std::size_t>(s, 63);
   return mask;
 }
 

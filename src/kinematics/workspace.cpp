@@ -2,6 +2,7 @@
 // block per plan step (kernel.hpp)
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <string>
 
 #include "kernel.hpp"
@@ -12,11 +13,11 @@ namespace detail {
 
 namespace {
 
-// the one-equation form of a block (see Workspace::Block::OffsetContact): one contact, no
+// the one-equation form of a block (see WorkspaceState::Block::OffsetContact): one contact, no
 // lash opening, a profile curve on a known body, a circle on the one unknown body, which
 // rotates or translates; its two unknowns are that body's displacement and the curve parameter
-Workspace::Block::OffsetContact offset_contact(const Mechanism& m, const SolveStep& step) {
-  Workspace::Block::OffsetContact oc;
+WorkspaceState::Block::OffsetContact offset_contact(const Mechanism& m, const SolveStep& step) {
+  WorkspaceState::Block::OffsetContact oc;
   if (step.method != StepMethod::implicit || step.connections.size() != 1 || step.one_sided || step.output_node < 0 ||
       step.unknowns.size() != 2)
     return oc;
@@ -52,8 +53,8 @@ Workspace::Block::OffsetContact offset_contact(const Mechanism& m, const SolveSt
 
 }  // namespace
 
-Workspace::Block make_block(const Mechanism& m, const SolveStep& step, bool tangency_only) {
-  Workspace::Block b;
+WorkspaceState::Block make_block(const Mechanism& m, const SolveStep& step, bool tangency_only) {
+  WorkspaceState::Block b;
   b.connections = step.connections;
   for (int ci : step.connections) {
     const Connection& c = m.connections[ci];
@@ -82,13 +83,27 @@ Workspace::Block make_block(const Mechanism& m, const SolveStep& step, bool tang
 }
 
 void drop_block_warm_starts(Workspace& ws) {
-  for (auto* blocks : {&ws.full_blocks, &ws.tangency_blocks})
+  WorkspaceState& st = state(ws);
+  for (auto* blocks : {&st.full_blocks, &st.tangency_blocks})
     for (auto& b : *blocks) {
       b.have_inverse = b.jacobian_at_x = false;
       b.contraction = 0.0;
       b.jacobians = 0;
     }
 }
+
+WorkspaceStateHandle::WorkspaceStateHandle() : state_(std::make_unique<WorkspaceState>()) {}
+WorkspaceStateHandle::WorkspaceStateHandle(const WorkspaceStateHandle& other)
+    : state_(std::make_unique<WorkspaceState>(*other.state_)) {}
+WorkspaceStateHandle::WorkspaceStateHandle(WorkspaceStateHandle&& other) noexcept = default;
+WorkspaceStateHandle& WorkspaceStateHandle::operator=(const WorkspaceStateHandle& other) {
+  if (this == &other) return *this;
+  if (state_) *state_ = *other.state_;  // the buffers keep their storage
+  else state_ = std::make_unique<WorkspaceState>(*other.state_);  // assigned to after a move
+  return *this;
+}
+WorkspaceStateHandle& WorkspaceStateHandle::operator=(WorkspaceStateHandle&& other) noexcept = default;
+WorkspaceStateHandle::~WorkspaceStateHandle() = default;
 
 }  // namespace detail
 
@@ -98,37 +113,39 @@ using detail::trust_angle_rad;
 using detail::trust_length_fraction;
 
 Workspace::Workspace(const Mechanism& mech) {
+  detail::WorkspaceState& st = detail::state(*this);
   const std::size_t nv = mech.variables.size();
   vars.assign(nv, Jet3(0.0));
-  values.assign(nv, 0.0);
-  prev_values.assign(nv, 0.0);
-  prev2_values.assign(nv, 0.0);
-  prev_jets.assign(nv, Jet3(0.0));
-  prev2_jets.assign(nv, Jet3(0.0));
-  vars1.assign(nv, Jet<1>(0.0));
-  vars2.assign(nv, Jet<2>(0.0));
-  std::apply([nv](auto&... v) { (v.assign(nv, {}), ...); }, dual_vars);
+  st.values.assign(nv, 0.0);
+  st.prev_values.assign(nv, 0.0);
+  st.prev2_values.assign(nv, 0.0);
+  st.prev_jets.assign(nv, Jet3(0.0));
+  st.prev2_jets.assign(nv, Jet3(0.0));
+  st.vars1.assign(nv, Jet<1>(0.0));
+  st.vars2.assign(nv, Jet<2>(0.0));
+  std::apply([nv](auto&... v) { (v.assign(nv, {}), ...); }, st.dual_vars);
   contacts.assign(mech.connections.size(), ContactState{});
-  open.assign(mech.plan.size(), false);
-  prev_open.assign(mech.plan.size(), false);
-  residual_buffer.assign(4, 0.0);
-  residual_buffer2.assign(4, Jet<2>(0.0));
-  residual_buffer3.assign(4, Jet3(0.0));
+  st.open.assign(mech.plan.size(), false);
+  st.prev_open.assign(mech.plan.size(), false);
+  st.residual_buffer.assign(4, 0.0);
+  st.residual_buffer2.assign(4, Jet<2>(0.0));
+  st.residual_buffer3.assign(4, Jet3(0.0));
   for (const auto& step : mech.plan) {
-    CAMOPT_ASSERT(static_cast<int>(step.unknowns.size()) <= max_block);  // compile() checks it
-    full_blocks.push_back(make_block(mech, step, false));
-    tangency_blocks.push_back(make_block(mech, step, true));
+    CAMOPT_ASSERT(static_cast<int>(step.unknowns.size()) <= detail::WorkspaceState::max_block);  // compile() checks it
+    st.full_blocks.push_back(make_block(mech, step, false));
+    st.tangency_blocks.push_back(make_block(mech, step, true));
   }
   controls_.resize(mech.controls.size());
   for (std::size_t i = 0; i < mech.controls.size(); ++i) controls_[i] = mech.controls[i].default_value;
-  pivots.resize(mech.nodes.size());
-  poses0.resize(mech.nodes.size());
-  poses2.resize(mech.nodes.size());
-  poses3.resize(mech.nodes.size());
-  poses1.resize(mech.nodes.size());
-  no_node_solving.assign(mech.nodes.size(), 0);
-  predicted.assign(nv, 0.0);
-  predicted_error.assign(nv, 0.0);
+  st.pivots.resize(mech.nodes.size());
+  st.poses0.resize(mech.nodes.size());
+  st.poses2.resize(mech.nodes.size());
+  st.poses3.resize(mech.nodes.size());
+  st.poses1.resize(mech.nodes.size());
+  st.no_node_solving.assign(mech.nodes.size(), 0);
+  st.predicted.assign(nv, 0.0);
+  st.predicted_error.assign(nv, 0.0);
+  std::vector<double>& trust_radius = st.trust_radius;
   trust_radius.assign(nv, INFINITY);
   for (int s = 0; s < 2 * static_cast<int>(mech.connections.size()); ++s) {
     // surface parameters: a curve's is an angle, a flat face's a length
@@ -138,6 +155,7 @@ Workspace::Workspace(const Mechanism& mech) {
       trust_radius[f.variable] =
           f.kind == SurfaceKind::curve ? trust_angle_rad : trust_length_fraction * mech.length_scale;
   }
+  std::vector<double>& variable_scale = st.variable_scale;
   variable_scale.assign(nv, 1.0);
   for (std::size_t v = 0; v < nv; ++v)
     if (mech.variables[v].is_angle) variable_scale[v] = 1.0 / mech.length_scale;
@@ -159,10 +177,11 @@ Workspace::Workspace(const Mechanism& mech) {
 }
 
 void Workspace::reset() {
-  history = 0;
-  std::fill(values.begin(), values.end(), 0.0);
+  detail::WorkspaceState& st = detail::state(*this);
+  st.history = 0;
+  std::fill(st.values.begin(), st.values.end(), 0.0);
   drop_block_warm_starts(*this);
-  for (auto& b : full_blocks) b.accepted_sign = 0;
+  for (auto& b : st.full_blocks) b.accepted_sign = 0;
 }
 
 void Workspace::set_controls(std::span<const double> values_in, bool keep_warm_start) {
@@ -170,9 +189,14 @@ void Workspace::set_controls(std::span<const double> values_in, bool keep_warm_s
                       "control position: " + std::to_string(values_in.size()) + " value(s) given, the mechanism has " +
                           std::to_string(controls_.size()) + " control(s) (one value per control, in its order)");
   std::copy(values_in.begin(), values_in.end(), controls_.begin());
-  pivots_stale = true;
-  controls_moved = true;
+  detail::WorkspaceState& st = detail::state(*this);
+  st.pivots_stale = true;
+  st.controls_moved = true;
   if (!keep_warm_start) reset();
 }
+
+const std::vector<Eigen::Vector2d>& Workspace::pivots() const noexcept { return detail::state(*this).pivots; }
+const std::vector<double>& Workspace::values() const noexcept { return detail::state(*this).values; }
+const std::vector<bool>& Workspace::lash_open() const noexcept { return detail::state(*this).open; }
 
 }  // namespace camopt::kin

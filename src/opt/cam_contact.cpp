@@ -125,7 +125,7 @@ Status CamContactModel::evaluate(double cam_rad, const double lift[3], ContactWo
   const kin::Node& cn = m.up.nodes[static_cast<std::size_t>(m.cam)];
   const double psi1 = ws.up_ws.vars[static_cast<std::size_t>(cn.first_variable)].derivative(1);
   const double psi2 = ws.up_ws.vars[static_cast<std::size_t>(cn.first_variable)].derivative(2);
-  const Eigen::Vector2d cam_pivot = ws.up_ws.pivots[static_cast<std::size_t>(m.cam)];
+  const Eigen::Vector2d cam_pivot = ws.up_ws.pivots()[static_cast<std::size_t>(m.cam)];
 
   // follower coordinate q(L) and dq/dL .. d3q/dL3
   st = kin::solve(m.down, ws.down_ws, lift[0], {3, false});
@@ -150,10 +150,10 @@ Status CamContactModel::evaluate(double cam_rad, const double lift[3], ContactWo
   const G qd2 = Q2 * L1 * L1 + Q1 * L2;  // d2q/dtheta2
 
   // follower trace point g(q) and its q-derivatives (global) [mm]
-  const auto pose = kin::node_pose(m.down, m.follower, ws.down_ws.vars.data(), ws.down_ws.pivots.data());
+  const auto pose = kin::node_pose(m.down, m.follower, ws.down_ws.vars.data(), ws.down_ws.pivots().data());
   const auto gp = pose.apply(m.trace_origin.x(), m.trace_origin.y());
   const Eigen::Vector2d g0{gp.x.value(), gp.y.value()};
-  const Eigen::Vector2d pivot = ws.down_ws.pivots[static_cast<std::size_t>(m.follower)];
+  const Eigen::Vector2d pivot = ws.down_ws.pivots()[static_cast<std::size_t>(m.follower)];
   auto J = [](const Eigen::Vector2d& a) { return Eigen::Vector2d{-a.y(), a.x()}; };
   Eigen::Vector2d gq0, gqq0, gqqq0;  // d^k g / dq^k at q(L0)
   if (m.rotational_follower) {

@@ -82,7 +82,7 @@ DownstreamLoads::DownstreamLoads(const DesignSpec& design, const std::string& ca
   Impl& m = *impl_;
   m.down = kin::compile(cut.downstream);
   const kin::Mechanism full = kin::compile(design);
-  const dynamics::Model model = dynamics::compile_dynamics(full);  // InputError names the missing data
+  const dynamics::Model model = dynamics::compile_dynamics(design, full);  // InputError names the missing data
   m.crank_per_cam = model.crank_per_cam;
   auto down_index = [&](int full_node) { return m.down.node_index(full.nodes[static_cast<std::size_t>(full_node)].name); };
 
@@ -150,7 +150,7 @@ Status DownstreamLoads::evaluate(double cam_rad, const double lift[3], LoadWorks
 
   // inertia: M = sum m |cg_L|^2 + I phi_L^2, N = sum m cg_L . cg_LL + I phi_L phi_LL, and N'
   for (const Impl::Body& b : m.bodies) {
-    const auto pose = kin::node_pose(m.down, b.node, vars.data(), ws.pivots.data());
+    const auto pose = kin::node_pose(m.down, b.node, vars.data(), ws.pivots().data());
     const auto cg = pose.apply(b.cg.x(), b.cg.y());
     const Eigen::Vector2d d1{cg.x.c[1], cg.y.c[1]}, d2{2 * cg.x.c[2], 2 * cg.y.c[2]}, d3{6 * cg.x.c[3], 6 * cg.y.c[3]};
     double p1 = 0, p2 = 0, p3 = 0;
@@ -183,7 +183,7 @@ Status DownstreamLoads::evaluate(double cam_rad, const double lift[3], LoadWorks
       x1 = x.c[1];
       x2 = 2 * x.c[2];
     } else {
-      const auto p = kin::node_pose(m.down, sl.node, vars.data(), ws.pivots.data()).apply(sp.point.x(), sp.point.y());
+      const auto p = kin::node_pose(m.down, sl.node, vars.data(), ws.pivots().data()).apply(sp.point.x(), sp.point.y());
       x0 = sp.direction.x() * (p.x.c[0] - sp.point.x()) + sp.direction.y() * (p.y.c[0] - sp.point.y());
       x1 = sp.direction.x() * p.x.c[1] + sp.direction.y() * p.y.c[1];
       x2 = 2 * (sp.direction.x() * p.x.c[2] + sp.direction.y() * p.y.c[2]);

@@ -29,10 +29,18 @@ bool needs_contact(const OptimizationSpec& s) {
 
 }  // namespace
 
+CamProblem::CamProblem(const OptimizationSpec& spec) : spec_(spec) {}
 CamProblem::~CamProblem() = default;
 
-CamProblem::CamProblem(const DesignSpec& design, const OptimizationSpec& spec, const PeriodicSpline* target_lift)
-    : spec_(spec) {
+Status CamProblem::create(const DesignSpec& design, const OptimizationSpec& spec, const PeriodicSpline* target_lift,
+                          std::unique_ptr<CamProblem>& out) {
+  std::unique_ptr<CamProblem> problem(new CamProblem(spec));
+  if (Status st = problem->build(design, target_lift); !st.ok()) return st;
+  out = std::move(problem);
+  return Status::success();
+}
+
+Status CamProblem::build(const DesignSpec& design, const PeriodicSpline* target_lift) {
   // the set's own rules and its controls against the design's
   validate(spec_, design.driver.crank_per_cam);
   if (!spec_.controls.empty() && spec_.controls.size() != design.controls.size())
@@ -40,7 +48,7 @@ CamProblem::CamProblem(const DesignSpec& design, const OptimizationSpec& spec, c
                      design.file + " has " + std::to_string(design.controls.size()) +
                      " [[control]] (one value per control, in the design's order)");
   // the lift model: the swing cam's pitch curve, or the acceleration b-spline of the event
-  make_lift_model(design);
+  if (Status st = make_lift_model(design); !st.ok()) return st;
   // cam speed [rad/s]
   omega_ = spec_.rpm / design.driver.crank_per_cam * 2.0 * pi / 60.0;
   // ramps against the seating / opening velocity limits
@@ -55,18 +63,18 @@ CamProblem::CamProblem(const DesignSpec& design, const OptimizationSpec& spec, c
   // the constraint rows and the jacobian's pattern
   build_rows();
   // scales of the area and peak objectives from the initial design
-  scale_objectives();
+  return scale_objectives();
 }
 
-void CamProblem::make_lift_model(const DesignSpec& design) {
+Status CamProblem::make_lift_model(const DesignSpec& design) {
   if (spec_.cam == "swing") {
-    if (Status st = SwingCamLift::create(design, spec_.swing, spec_.grid_step_deg, swing_); !st.ok())
-      throw NumericalError(st);
+    if (Status st = SwingCamLift::create(design, spec_.swing, spec_.grid_step_deg, swing_); !st.ok()) return st;
     nv_ = swing_->variables();
   } else {
     lift_.emplace(AccelerationSplineLift::compile(spec_.event));
     nv_ = lift_->variables();
   }
+  return Status::success();
 }
 
 // the ramps are fixed by the event, so a miss is a contradiction between [event] and [limits]
@@ -217,14 +225,14 @@ void CamProblem::set_variables_and_closure() {
 
 // the peak objective's scale (the initial design's worst peak row) and its variable's
 // start and bounds; the area objective's scale (the initial design's lift area)
-void CamProblem::scale_objectives() {
+Status CamProblem::scale_objectives() {
   const bool peak = spec_.objective.peak_weight > 0.0;
   if (peak) {
     start_[static_cast<std::size_t>(n_ - 1)] = 0.0;
     peak_scale_ = 1.0;
     Evaluation e;
     if (Status st = evaluate(start_, e, false); !st.ok())
-      throw NumericalError({st.code, "the initial design: " + st.message, st.where});
+      return {st.code, "the initial design: " + st.message, st.where};
     double worst = 0.0;
     for (std::size_t r = 0; r < rows_.size(); ++r)
       if (rows_[r].kind == ConstraintKind::peak_bound) worst = std::max(worst, e.physical(static_cast<Eigen::Index>(r)));
@@ -234,12 +242,12 @@ void CamProblem::scale_objectives() {
     upper_[static_cast<std::size_t>(n_ - 1)] = 10.0;
   }
   Motions motion;
-  if (Status st = motions(start_, motion); !st.ok())
-    throw NumericalError({st.code, "the initial design: " + st.message, st.where});
+  if (Status st = motions(start_, motion); !st.ok()) return {st.code, "the initial design: " + st.message, st.where};
   double a = 0.0;
   for (std::size_t i = 0; i + 1 < points_.size(); ++i)
     if (scalar_point(i) && adjacent(i)) a += 0.5 * (motion[i][0] + motion[i + 1][0]) * (points_[i + 1].deg - points_[i].deg);
   area0_ = a > 0 ? a : 1.0;
+  return Status::success();
 }
 
 void CamProblem::build_rows() {

@@ -473,7 +473,7 @@ struct SwingCamLift::Impl::Build {
       const double q = ws.vars[static_cast<std::size_t>(full.nodes[static_cast<std::size_t>(fn)].first_variable)].value();
       double px, py, s;
       m.sigma = 1.0;
-      m.frame(q, psi, ws.pivots[static_cast<std::size_t>(sn)], px, py, s);
+      m.frame(q, psi, ws.pivots()[static_cast<std::size_t>(sn)], px, py, s);
       s_raw.push_back(s);
       h_raw.push_back(std::hypot(px, py) - m.rho0);
     }
@@ -560,7 +560,7 @@ struct SwingCamLift::Impl::Build {
         pt.position = static_cast<int>(k);
         pt.cam_deg = deg;
         pt.psi = ws.vars[static_cast<std::size_t>(m.swing_var)];
-        pt.pivot = ws.pivots[static_cast<std::size_t>(m.swing_node)];
+        pt.pivot = ws.pivots()[static_cast<std::size_t>(m.swing_node)];
         double q = 0.0;
         if (!m.solve_q({}, pt.psi.value(), pt.pivot, q, true))
           return {StatusCode::no_convergence, "the follower roller finds no contact with the dwell arc",
@@ -680,7 +680,7 @@ Status SwingCamLift::evaluate_at(int position, double cam_deg, std::span<const d
   pt.position = position;
   pt.cam_deg = cam_deg;
   pt.psi = ws.vars[static_cast<std::size_t>(m.swing_var)];
-  pt.pivot = ws.pivots[static_cast<std::size_t>(m.swing_node)];
+  pt.pivot = ws.pivots()[static_cast<std::size_t>(m.swing_node)];
   double q = near->q;
   return m.evaluate(pt, c, q, motion, rows);
 }

@@ -71,7 +71,7 @@ Status solve_levels(Halves& halves, const TargetSamples& target, const FollowerI
     double* at_level = &inverse[static_cast<std::size_t>(q * out.fields * 4)];
     if (out.invert_centre) {
       const auto centre =
-          kin::node_pose(halves.down, halves.follower, halves.down_ws.vars.data(), halves.down_ws.pivots.data())
+          kin::node_pose(halves.down, halves.follower, halves.down_ws.vars.data(), halves.down_ws.pivots().data())
               .apply(follower_surface.origin_mm[0], follower_surface.origin_mm[1]);
       for (int d = 0; d < 4; ++d) at_level[d] = centre.x.derivative(d), at_level[4 + d] = centre.y.derivative(d);
     } else {

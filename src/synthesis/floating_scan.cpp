@@ -46,8 +46,7 @@ bool move_probe(const FloatingRoller& roller, kin::Mechanism& mech, double cx, d
   const auto [probe, face] = radial_probe(*roller.surface, roller.px, roller.py, cx, cy);
   kin::Node& node = mech.nodes[static_cast<std::size_t>(mech.node_index(probe.name))];
   kin::Connection& contact = mech.connections.back();
-  CAMOPT_ASSERT(contact.name == face.name && mech.spec.connections.back().name == face.name &&
-                mech.spec.nodes.back().name == probe.name);
+  CAMOPT_ASSERT(contact.name == face.name && mech.nodes.back().name == probe.name);
   const Eigen::Vector2d origin(probe.origin_mm[0], probe.origin_mm[1]);
   const Eigen::Vector2d face_origin(face.surface_a.origin_mm[0], face.surface_a.origin_mm[1]);
   const double scale = mech.length_scale;
@@ -57,8 +56,6 @@ bool move_probe(const FloatingRoller& roller, kin::Mechanism& mech, double cx, d
   node.direction = Eigen::Vector2d(probe.direction[0], probe.direction[1]).normalized();  // as compile does
   contact.surface_a.origin = face_origin;
   contact.surface_a.normal = Eigen::Vector2d(face.surface_a.normal[0], face.surface_a.normal[1]).normalized();
-  mech.spec.nodes.back() = probe;
-  mech.spec.connections.back() = face;
   return true;
 }
 
@@ -77,7 +74,7 @@ Status rest_pose(const kin::Mechanism& m0, const MechanismCut& cut, const Floati
   for (int it = 0;; ++it) {
     const Status st = kin::solve(m0, ws0, q, {1, false});
     if (!st.ok()) return {st.code, "placing the lever '" + cut.follower_node + "' at rest: " + st.message, "cam base circle"};
-    const auto c = kin::node_pose(m0, f0, ws0.vars.data(), ws0.pivots.data()).apply(c0x, c0y);
+    const auto c = kin::node_pose(m0, f0, ws0.vars.data(), ws0.pivots().data()).apply(c0x, c0y);
     const Jet3 rho = sqrt((c.x - px) * (c.x - px) + (c.y - py) * (c.y - py));
     rest_x = c.x.value(), rest_y = c.y.value();
     const double miss = rho.value() - base;
@@ -141,7 +138,7 @@ LeverScan::LeverScan(kin::Mechanism probe, const std::vector<double>& controls, 
 }
 
 kin::V2<Jet3> LeverScan::centre_in(const kin::Workspace& w) const {
-  return kin::node_pose(m_, follower_, w.vars.data(), w.pivots.data()).apply(c0x_, c0y_);
+  return kin::node_pose(m_, follower_, w.vars.data(), w.pivots().data()).apply(c0x_, c0y_);
 }
 
 // the scan points of a LeverScan. The lever itself is smooth in q where its other contacts

@@ -57,7 +57,7 @@ void trace_follower(Halves& halves, const TargetSamples& target, const FollowerI
     follower_at(inverse, L, centre, vars);
     // the cam's pose: the driver itself, or interpolated from upstream
     const Jet3* cam_vars = cam_vars_at(cam, angle_dof, i, target.theta[i], driver_alone, up_vars);
-    const auto cpose = kin::node_pose(halves.up, halves.cam, cam_vars, halves.up_ws.pivots.data());
+    const auto cpose = kin::node_pose(halves.up, halves.cam, cam_vars, halves.up_ws.pivots().data());
     out.cam_rate[i] = cam_vars[halves.cam_angle_variable].derivative(1);  // [rad per rad of driver]
     // the follower's surface in the profile frame
     if (inverse.floating) {  // a roller (invert_floating_follower requires one)
@@ -69,7 +69,7 @@ void trace_follower(Halves& halves, const TargetSamples& target, const FollowerI
       out.path[i] = halves.frame.point(cpose, kin::V2<Jet3>{centre[0], centre[1]});
       continue;
     }
-    const auto fpose = kin::node_pose(halves.down, halves.follower, vars.data(), halves.down_ws.pivots.data());
+    const auto fpose = kin::node_pose(halves.down, halves.follower, vars.data(), halves.down_ws.pivots().data());
     out.path[i] = halves.frame.point(cpose, fpose.apply(follower_surface.origin_mm[0], follower_surface.origin_mm[1]));
     if (!halves.roller) {
       const Vec2 nn = follower_surface.normal;

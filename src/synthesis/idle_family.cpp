@@ -68,8 +68,8 @@ std::vector<std::array<double, 3>> solve_family_side(const Halves& halves, kin::
       if (!solve_at_control(halves.down, down_w, ctl, rest_level)) break;
       down_at_rest = true;
     }
-    const auto cpose = kin::node_pose(halves.up, halves.cam, up_w.vars.data(), up_w.pivots.data());
-    const auto fpose = kin::node_pose(halves.down, halves.follower, down_w.vars.data(), down_w.pivots.data());
+    const auto cpose = kin::node_pose(halves.up, halves.cam, up_w.vars.data(), up_w.pivots().data());
+    const auto fpose = kin::node_pose(halves.down, halves.follower, down_w.vars.data(), down_w.pivots().data());
     const P2<Jet3> c =
         halves.frame.point(cpose, fpose.apply(follower_surface.origin_mm[0], follower_surface.origin_mm[1]));
     out.push_back({ctl[0], c.x.value(), c.y.value()});

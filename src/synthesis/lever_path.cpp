@@ -131,7 +131,7 @@ Status build_lever_path(const DesignSpec& upstream, const kin::Mechanism& up, in
   auto scan_point = [&](double q, std::array<double, 20>& g, double& reach) -> Status {
     const Status st = kin::solve(m, ws, q, {3, false});
     if (!st.ok()) return st;
-    const auto pose = kin::node_pose(m, lv, ws.vars.data(), ws.pivots.data());
+    const auto pose = kin::node_pose(m, lv, ws.vars.data(), ws.pivots().data());
     const Jet3 x = pose.tx + pose.c * ex - pose.s * ey - up_lever.reference.x();
     const Jet3 y = pose.ty + pose.s * ex + pose.c * ey - up_lever.reference.y();
     const Jet3& phi = ws.vars[static_cast<std::size_t>(probe_lever.first_variable + 2)];
@@ -178,10 +178,10 @@ void lever_path_state(const LeverPath& path, const kin::Mechanism& up, const kin
   const kin::Connection& c = up.connections[static_cast<std::size_t>(path.contact)];
   const kin::Surface& cam = c.node_a == up.driver_node ? c.surface_a : c.surface_b;
   const auto centre =
-      kin::node_pose(up, path.lever_node, ws.values.data(), ws.pivots.data()).apply(path.roller[0], path.roller[1]);
+      kin::node_pose(up, path.lever_node, ws.values().data(), ws.pivots().data()).apply(path.roller[0], path.roller[1]);
   state.theta = theta;
   state.q = Jet3(path.direction[0] * (centre.x - path.probe_at[0]) + path.direction[1] * (centre.y - path.probe_at[1]));
-  state.u = Jet3(ws.values[static_cast<std::size_t>(cam.variable)]);
+  state.u = Jet3(ws.values()[static_cast<std::size_t>(cam.variable)]);
 }
 
 Status lever_at(const LeverPath& path, const kin::Mechanism& up, const kin::Workspace& ws, double theta,
@@ -189,7 +189,7 @@ Status lever_at(const LeverPath& path, const kin::Mechanism& up, const kin::Work
   const kin::Connection& c = up.connections[static_cast<std::size_t>(path.contact)];
   const kin::Surface& cam = c.node_a == up.driver_node ? c.surface_a : c.surface_b;
   const kin::Node& driver = up.nodes[static_cast<std::size_t>(up.driver_node)];
-  const Eigen::Vector2d pivot = ws.pivots[static_cast<std::size_t>(up.driver_node)];
+  const Eigen::Vector2d pivot = ws.pivots()[static_cast<std::size_t>(up.driver_node)];
   // the cam's pose at theta: p = pivot + R(theta) (p_drawing - drawing pivot)
   double sn, cs;
   sin_cos(theta, sn, cs);

@@ -45,8 +45,9 @@ std::pair<double, double> force_error(const kin::Mechanism& mech, const dynamics
 }  // namespace
 
 TEST_CASE("compliant (b): converges to the rigid mode (a) as the contact stiffness grows", "[dynamics][compliant]") {
-  const kin::Mechanism mech = kin::compile(valve());
-  const dynamics::Model model = dynamics::compile_dynamics(mech);
+  const DesignSpec spec = valve();
+  const kin::Mechanism mech = kin::compile(spec);
+  const dynamics::Model model = dynamics::compile_dynamics(spec, mech);
   double previous = INFINITY;
   for (const double scale : {0.01, 0.1, 1.0, 10.0}) {
     const auto [worst, peak] = force_error(mech, model, 3000, scale);
@@ -58,8 +59,9 @@ TEST_CASE("compliant (b): converges to the rigid mode (a) as the contact stiffne
 }
 
 TEST_CASE("compliant (b): separation and impact events above the separation speed", "[dynamics][compliant]") {
-  const kin::Mechanism mech = kin::compile(valve());
-  const dynamics::Model model = dynamics::compile_dynamics(mech);
+  const DesignSpec spec = valve();
+  const kin::Mechanism mech = kin::compile(spec);
+  const dynamics::Model model = dynamics::compile_dynamics(spec, mech);
   dynamics::RigidSweep a;
   REQUIRE(dynamics::rigid_sweep(mech, model, {}, 0, 360, 1, a).ok());
   const double separation = dynamics::separation_speed(a, model, 0).engine_rpm;
@@ -87,8 +89,9 @@ TEST_CASE("compliant (b): separation and impact events above the separation spee
 }
 
 TEST_CASE("compliant (b): an integrator failure names the time and the state", "[dynamics][compliant]") {
-  const kin::Mechanism mech = kin::compile(valve());
-  const dynamics::Model model = dynamics::compile_dynamics(mech);
+  const DesignSpec spec = valve();
+  const kin::Mechanism mech = kin::compile(spec);
+  const dynamics::Model model = dynamics::compile_dynamics(spec, mech);
   dynamics::CompliantOptions opt;
   opt.max_steps = 3;
   dynamics::CompliantResult r;
@@ -105,7 +108,7 @@ TEST_CASE("compliant (b): a contact without materials or width is an input error
   DesignSpec d = valve();
   d.connections[0].width_mm.reset();
   const kin::Mechanism mech = kin::compile(d);
-  const dynamics::Model model = dynamics::compile_dynamics(mech);
+  const dynamics::Model model = dynamics::compile_dynamics(d, mech);
   dynamics::CompliantResult r;
   CHECK_THROWS_WITH(dynamics::run_compliant(mech, model, {}, 3000, 0, 360, 1, {}, r),
                     Catch::Contains("connection 'cam_tappet': the compliant contact model needs materials and width_mm"));
@@ -122,7 +125,7 @@ TEST_CASE("compliant (b): a four-bar's link force approaches mode (a) as the lin
   d.connections = {link("coupler", "crank", {17.0370, 10.4757}, "rocker", {76.6667, 47.1405})};
   d.connections[0].length_mm = 70;
   const kin::Mechanism mech = kin::compile(d);
-  const dynamics::Model model = dynamics::compile_dynamics(mech);
+  const dynamics::Model model = dynamics::compile_dynamics(d, mech);
   dynamics::RigidSweep a;
   REQUIRE(dynamics::rigid_sweep(mech, model, {}, 0, 360, 1, a).ok());
   const double rpm = 3000, w = dynamics::cam_speed_rad_per_s(rpm, 1.0);
@@ -180,8 +183,9 @@ TEST_CASE("compliant (b) options: path table, tolerances and step budget", "[dyn
 
 TEST_CASE("compliant (b): bad arguments are input errors naming the argument and the rule",
           "[dynamics][compliant][input]") {
-  const kin::Mechanism mech = kin::compile(valve());
-  const dynamics::Model model = dynamics::compile_dynamics(mech);
+  const DesignSpec spec = valve();
+  const kin::Mechanism mech = kin::compile(spec);
+  const dynamics::Model model = dynamics::compile_dynamics(spec, mech);
   const dynamics::CompliantOptions ok;
   dynamics::CompliantResult r;
   CHECK_THROWS_AS(dynamics::run_compliant(mech, model, {}, 6000, 0, 360, 0, ok, r), InputError);

@@ -59,7 +59,7 @@ TEST_CASE("flexible: multi-mass spring surge frequencies (lumped chain and f1 = 
   for (int masses : {4, 40}) {
     DesignSpec d = valve_with_spring_mass(masses);
     const kin::Mechanism mech = kin::compile(d);
-    const dynamics::Model model = dynamics::compile_dynamics(mech);
+    const dynamics::Model model = dynamics::compile_dynamics(d, mech);
     dynamics::FlexibleOptions opt;
     opt.contact_stiffness_scale = 1e3;  // the valve end held (fixed-fixed surge)
     std::vector<double> f;
@@ -90,7 +90,7 @@ TEST_CASE("flexible: nested valve springs surge independently (union of the two 
   inner.surge_masses = 3;
   d.springs.push_back(inner);
   const kin::Mechanism mech = kin::compile(d);
-  const dynamics::Model model = dynamics::compile_dynamics(mech);
+  const dynamics::Model model = dynamics::compile_dynamics(d, mech);
   dynamics::FlexibleOptions opt;
   opt.contact_stiffness_scale = 1e3;  // the valve end held
   std::vector<double> f;
@@ -156,7 +156,7 @@ TEST_CASE("flexible: the Cam Design Handbook pushrod valve gear (CDH11) has mode
   // rocker has turned and the two-mass ratio moves by 3e-4)
   d.nodes[4].seat.enabled = false;
   const kin::Mechanism mech = kin::compile(d);
-  const dynamics::Model model = dynamics::compile_dynamics(mech);
+  const dynamics::Model model = dynamics::compile_dynamics(d, mech);
   dynamics::FlexibleOptions opt;
   opt.contact_stiffness_scale = 1e3;  // the handbook's contacts are rigid
   std::vector<double> f;
@@ -188,7 +188,7 @@ TEST_CASE("flexible: single-mass follower against an RK4 integration with tiny s
   d.connections[0].contact_law.damping_N_s_per_m = 0.0;  // a continuous force (RK4 steps over impacts)
   d.nodes[1].seat.enabled = false;  // the RK4 below models the cam contact alone (seats: flexible_validation_test)
   const kin::Mechanism mech = kin::compile(d);
-  const dynamics::Model model = dynamics::compile_dynamics(mech);
+  const dynamics::Model model = dynamics::compile_dynamics(d, mech);
   const double e_star = dynamics::contact_modulus(210e3, 0.3, 210e3, 0.3);
   for (double rpm : {4000.0, 10000.0}) {
     dynamics::FlexibleOptions opt;
@@ -253,7 +253,7 @@ TEST_CASE("flexible: power balance over a revolution (drive work = energy change
   DesignSpec d = compliant_valve(6);
   d.connections[0].friction_coefficient = 0.08;
   const kin::Mechanism mech = kin::compile(d);
-  const dynamics::Model model = dynamics::compile_dynamics(mech);
+  const dynamics::Model model = dynamics::compile_dynamics(d, mech);
   dynamics::FlexibleOptions opt = one_tight_revolution();
   dynamics::FlexibleResult res;
   const Status st = dynamics::run_flexible(mech, model, {}, 6000, 0, 360, 2, opt, res);
@@ -276,7 +276,7 @@ TEST_CASE("flexible: power balance over a revolution (drive work = energy change
 TEST_CASE("flexible: at low speed the contact forces approach mode (a)") {
   const DesignSpec d = compliant_valve(4);
   const kin::Mechanism mech = kin::compile(d);
-  const dynamics::Model model = dynamics::compile_dynamics(mech);
+  const dynamics::Model model = dynamics::compile_dynamics(d, mech);
   dynamics::RigidSweep a;
   REQUIRE(dynamics::rigid_sweep(mech, model, {}, 0, 360, 2, a).ok());
   double prev = 0;
@@ -317,7 +317,7 @@ TEST_CASE("flexible: at 10-50 rpm the contact force is mode (a) less spring rate
   // leave the force at the preload.
   const DesignSpec d = compliant_valve(4);
   const kin::Mechanism mech = kin::compile(d);
-  const dynamics::Model model = dynamics::compile_dynamics(mech);
+  const dynamics::Model model = dynamics::compile_dynamics(d, mech);
   dynamics::RigidSweep a;
   REQUIRE(dynamics::rigid_sweep(mech, model, {}, 0, 360, 2, a).ok());
   const double e_star = 210e3 / (2 * (1 - 0.3 * 0.3));
@@ -353,7 +353,7 @@ TEST_CASE("flexible: max_steps bounds the whole run, events included (no endless
   // restarts CVODE's own step counter; the run's budget must not restart with it.
   const DesignSpec d = io::load_design(std::string(CAMOPT_SOURCE_DIR) + "/designs/cvvl_swing_cam.toml");
   const kin::Mechanism mech = kin::compile(d);
-  const dynamics::Model model = dynamics::compile_dynamics(mech);
+  const dynamics::Model model = dynamics::compile_dynamics(d, mech);
   dynamics::FlexibleOptions opt;
   opt.max_steps = 400;  // below one revolution's steps, above any one output interval's
   dynamics::FlexibleResult res;
@@ -371,7 +371,7 @@ TEST_CASE("flexible: a periodic steady state stops the run early and reports the
   // revolution, so the start state repeats to the tolerance well before 16 revolutions
   const DesignSpec d = compliant_valve(4);
   const kin::Mechanism mech = kin::compile(d);
-  const dynamics::Model model = dynamics::compile_dynamics(mech);
+  const dynamics::Model model = dynamics::compile_dynamics(d, mech);
   dynamics::FlexibleOptions opt;
   opt.revolutions = 16;
   opt.relative_tolerance = 1e-8;
@@ -411,7 +411,7 @@ TEST_CASE("flexible: the CVVL at 10 rpm is quasi-static (mode (a) forces) and it
   // peak lift), the regularised law passes through zero there (~20 N apart at 179 deg)
   for (ConnectionSpec& c : d.connections) c.friction_coefficient = 0.0;
   const kin::Mechanism mech = kin::compile(d);
-  const dynamics::Model model = dynamics::compile_dynamics(mech);
+  const dynamics::Model model = dynamics::compile_dynamics(d, mech);
   dynamics::RigidSweep a;
   REQUIRE(dynamics::rigid_sweep(mech, model, {0.0}, 0, 360, 1, a).ok());
   dynamics::FlexibleOptions opt;
@@ -495,7 +495,7 @@ TEST_CASE("flexible: the train frequency (the component damping's reference) aga
   const double k_a = 60000;
   d.nodes[1].axial_stiffness_N_per_mm = k_a;
   const kin::Mechanism mech = kin::compile(d);
-  const dynamics::Model model = dynamics::compile_dynamics(mech);
+  const dynamics::Model model = dynamics::compile_dynamics(d, mech);
   dynamics::FlexibleOptions opt;
   opt.revolutions = 1;
   dynamics::FlexibleResult res;
@@ -515,7 +515,7 @@ TEST_CASE("flexible: the Newton matrices K = -df/dq, D = -df/dq' equal central d
   // Hunt-Crossley rate factor (1 + 1.5 alpha rate) and the friction's dmu/dv matter
   const DesignSpec d = io::load_design(std::string(CAMOPT_SOURCE_DIR) + "/designs/cvvl_swing_cam.toml");
   const kin::Mechanism mech = kin::compile(d);
-  const dynamics::Model model = dynamics::compile_dynamics(mech);
+  const dynamics::Model model = dynamics::compile_dynamics(d, mech);
   dynamics::FlexibleOptions opt;
   opt.table_step_deg = 4.0;  // the check holds on any path table; 16x less tabulation per call
   constexpr double kRpm = 6000;
@@ -565,7 +565,7 @@ TEST_CASE("flexible: CVODE's finite-difference Jacobian (analytic_jacobian = fal
   DesignSpec d = compliant_valve(4);
   d.connections[0].friction_coefficient = 0.08;
   const kin::Mechanism mech = kin::compile(d);
-  const dynamics::Model model = dynamics::compile_dynamics(mech);
+  const dynamics::Model model = dynamics::compile_dynamics(d, mech);
   dynamics::FlexibleOptions opt = one_tight_revolution();
   dynamics::FlexibleResult analytic, differenced;
   REQUIRE(dynamics::run_flexible(mech, model, {}, 6000, 0, 360, 2, opt, analytic).ok());
@@ -638,8 +638,9 @@ TEST_CASE("flexible options: damping ratios and stiffnesses", "[dynamics][flexib
 }
 
 TEST_CASE("flexible: bad arguments and options of the public functions are input errors", "[dynamics][flexible][input]") {
-  const kin::Mechanism mech = kin::compile(compliant_valve(0));
-  const dynamics::Model model = dynamics::compile_dynamics(mech);
+  const DesignSpec spec = compliant_valve(0);
+  const kin::Mechanism mech = kin::compile(spec);
+  const dynamics::Model model = dynamics::compile_dynamics(spec, mech);
   const dynamics::FlexibleOptions ok;
   dynamics::FlexibleResult r;
   CHECK_THROWS_AS(dynamics::run_flexible(mech, model, {}, 6000, 0, 360, 0, ok, r), InputError);

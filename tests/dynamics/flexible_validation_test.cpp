@@ -64,7 +64,7 @@ struct Run {
   dynamics::Model model;
   dynamics::FlexibleResult res;
   Status status;
-  explicit Run(const DesignSpec& d) : mech(kin::compile(d)), model(dynamics::compile_dynamics(mech)) {}
+  explicit Run(const DesignSpec& d) : mech(kin::compile(d)), model(dynamics::compile_dynamics(d, mech)) {}
   Run& go(double rpm, double start, double stop, double step, const dynamics::FlexibleOptions& opt) {
     status = dynamics::run_flexible(mech, model, {}, rpm, start, stop, step, opt, res);
     return *this;

@@ -5,6 +5,7 @@
 #include <catch2/catch.hpp>
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "camopt/core/units.hpp"
@@ -37,8 +38,9 @@ DesignSpec flexible_valve() {
 }  // namespace
 
 TEST_CASE("model: the flexible model's data is compiled from the design in the models' units", "[dynamics][model]") {
-  const kin::Mechanism mech = kin::compile(flexible_valve());
-  const dynamics::Model model = dynamics::compile_dynamics(mech);
+  const DesignSpec spec = flexible_valve();
+  const kin::Mechanism mech = kin::compile(spec);
+  const dynamics::Model model = dynamics::compile_dynamics(spec, mech);
   const int valve = mech.node_index("tappet");
   REQUIRE(model.compliances.size() == 1);
   CHECK(model.compliances[0].node == valve);
@@ -65,19 +67,22 @@ TEST_CASE("model: the flexible model's data is compiled from the design in the m
   REQUIRE(model.contacts.size() == 1);
   CHECK(model.contacts[0].law.restitution == 0.7);
   CHECK(model.links.size() == 1);
-  CHECK(model.driver_start_deg == mech.spec.driver.start_deg);
+  CHECK(model.driver_start_deg == spec.driver.start_deg);
   CHECK_FALSE(model.oil.has_value());
 }
 
 TEST_CASE("model: after compile_dynamics the flexible model reads the Model, not the design", "[dynamics][model]") {
-  const kin::Mechanism mech = kin::compile(flexible_valve());
-  const dynamics::Model model = dynamics::compile_dynamics(mech);
-  // the same Model with a mechanism whose design says otherwise: the same parameters
-  kin::Mechanism other = mech;
-  other.spec.nodes[1].axial_stiffness_N_per_mm = 1.0;
-  other.spec.nodes[1].seat.diameter_mm = 50;
-  other.spec.springs[0].surge_masses = 2;
-  other.spec.connections[0].contact_law.restitution = 0.1;
+  const DesignSpec spec = flexible_valve();
+  const kin::Mechanism mech = kin::compile(spec);
+  const dynamics::Model model = dynamics::compile_dynamics(spec, mech);
+  // the same Model with a mechanism compiled from a design whose dynamics data say otherwise:
+  // the same parameters
+  DesignSpec changed = spec;
+  changed.nodes[1].axial_stiffness_N_per_mm = 1.0;
+  changed.nodes[1].seat.diameter_mm = 50;
+  changed.springs[0].surge_masses = 2;
+  changed.connections[0].contact_law.restitution = 0.1;
+  const kin::Mechanism other = kin::compile(changed);
   const dynamics::FlexibleOptions options;
   const std::vector<dynamics::FlexibleParameter> a = dynamics::flexible_parameters(mech, model, {}, options);
   const std::vector<dynamics::FlexibleParameter> b = dynamics::flexible_parameters(other, model, {}, options);
@@ -97,8 +102,28 @@ TEST_CASE("model: data only the flexible model needs is checked when that model 
   DesignSpec d = flexible_valve();
   d.connections[0].contact_law.law = ContactLaw::linear;  // no stiffness_N_per_mm
   const kin::Mechanism mech = kin::compile(d);
-  const dynamics::Model model = dynamics::compile_dynamics(mech);
+  const dynamics::Model model = dynamics::compile_dynamics(d, mech);
   CHECK_THROWS_AS(dynamics::flexible_parameters(mech, model, {}, dynamics::FlexibleOptions{}), InputError);
   CHECK_THROWS_WITH(dynamics::flexible_parameters(mech, model, {}, dynamics::FlexibleOptions{}),
                     Catch::Contains("connection 'cam_tappet': law = \"linear\" needs stiffness_N_per_mm"));
+}
+
+TEST_CASE("model: compile_dynamics rejects a spec the mechanism was not compiled from", "[dynamics][model]") {
+  const DesignSpec spec = flexible_valve();
+  const kin::Mechanism mech = kin::compile(spec);
+  REQUIRE_NOTHROW(dynamics::compile_dynamics(spec, mech));
+  DesignSpec renamed = spec;
+  renamed.name = "another_valve";
+  CHECK_THROWS_WITH(dynamics::compile_dynamics(renamed, mech),
+                    Catch::Contains("the design spec 'another_valve' is not the one mechanism '" + spec.name +
+                                    "' was compiled from"));
+  // the same name, its nodes in another order
+  DesignSpec reordered = spec;
+  REQUIRE(reordered.nodes.size() >= 2);
+  std::swap(reordered.nodes[0], reordered.nodes[1]);
+  CHECK_THROWS_AS(dynamics::compile_dynamics(reordered, mech), InputError);
+  // the same name and nodes, one connection fewer
+  DesignSpec fewer = spec;
+  fewer.connections.pop_back();
+  CHECK_THROWS_AS(dynamics::compile_dynamics(fewer, mech), InputError);
 }

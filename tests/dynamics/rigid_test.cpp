@@ -82,7 +82,7 @@ DesignSpec valve_design(const ValveCase& c, double face_height) {
 struct Compiled {
   kin::Mechanism mech;
   dynamics::Model model;
-  explicit Compiled(const DesignSpec& d) : mech(kin::compile(d)), model(dynamics::compile_dynamics(mech)) {}
+  explicit Compiled(const DesignSpec& d) : mech(kin::compile(d)), model(dynamics::compile_dynamics(d, mech)) {}
 };
 
 dynamics::RigidSweep sweep_of(const Compiled& c, double step = 0.5, std::vector<double> controls = {}) {
@@ -516,7 +516,7 @@ TEST_CASE("rigid (a): power balance, drive power = d(kinetic + spring energy)/dt
       double de = 0.0;
       for (std::size_t n = 1; n < m.mech.nodes.size(); ++n) {
         const auto& b = m.model.bodies[n];
-        const auto pose = kin::node_pose(m.mech, static_cast<int>(n), ws.kin.vars.data(), ws.kin.pivots.data());
+        const auto pose = kin::node_pose(m.mech, static_cast<int>(n), ws.kin.vars.data(), ws.kin.pivots().data());
         const auto cg = pose.apply(b.cg.x(), b.cg.y());
         const double vx = cg.x.c[1], vy = cg.y.c[1], ax = 2 * cg.x.c[2], ay = 2 * cg.y.c[2];
         de += 1e-3 * b.mass * w * w * (vx * ax + vy * ay);
@@ -530,7 +530,7 @@ TEST_CASE("rigid (a): power balance, drive power = d(kinetic + spring energy)/dt
         const dynamics::Spring& sp = m.model.springs[k];
         double rate = ws.kin.vars[m.mech.nodes[sp.node].first_variable].c[1];
         if (sp.on_point) {  // a point of a floating body: its travel rate along the spring's line
-          const auto p = kin::node_pose(m.mech, sp.node, ws.kin.vars.data(), ws.kin.pivots.data())
+          const auto p = kin::node_pose(m.mech, sp.node, ws.kin.vars.data(), ws.kin.pivots().data())
                              .apply(sp.point.x(), sp.point.y());
           rate = sp.direction.x() * p.x.c[1] + sp.direction.y() * p.y.c[1];
         }
@@ -600,7 +600,7 @@ TEST_CASE("rigid (a): missing or bad dynamics data is an InputError naming the f
   const double h = oracles::EccentricFlatFollower{c.R, c.e, c.phase}.face_height(0)[0];
   auto throws_with = [](const DesignSpec& d, const std::string& text) {
     const kin::Mechanism mech = kin::compile(d);
-    CHECK_THROWS_WITH(dynamics::compile_dynamics(mech), Catch::Contains(text));
+    CHECK_THROWS_WITH(dynamics::compile_dynamics(d, mech), Catch::Contains(text));
   };
   DesignSpec d = valve_design(c, h);
   d.nodes[1].mass_kg.reset();
@@ -625,8 +625,9 @@ TEST_CASE("rigid (a): missing or bad dynamics data is an InputError naming the f
 }
 
 TEST_CASE("rigid (a): bad sweep arguments and a connection that is no contact are input errors", "[dynamics][input]") {
-  const kin::Mechanism mech = kin::compile(dyn_test::direct_valve(40, 250));
-  const dynamics::Model model = dynamics::compile_dynamics(mech);
+  const DesignSpec spec = dyn_test::direct_valve(40, 250);
+  const kin::Mechanism mech = kin::compile(spec);
+  const dynamics::Model model = dynamics::compile_dynamics(spec, mech);
   dynamics::RigidSweep s;
   CHECK_THROWS_AS(dynamics::rigid_sweep(mech, model, {}, 0, 360, 0, s), InputError);
   CHECK_THROWS_WITH(dynamics::rigid_sweep(mech, model, {}, 0, 360, -1, s),

@@ -19,10 +19,12 @@ using namespace camopt;
 using camopt::dyn_test::valve_with_spring_mass;
 
 TEST_CASE("scene: rigid mode carries no spring masses, whatever the spring's surge setting", "[dynamics][scene]") {
-  const kin::Mechanism massless_mech = kin::compile(valve_with_spring_mass(0));
-  const kin::Mechanism surge_mech = kin::compile(valve_with_spring_mass(6));
-  const dynamics::Model massless = dynamics::compile_dynamics(massless_mech);
-  const dynamics::Model surge = dynamics::compile_dynamics(surge_mech);
+  const DesignSpec massless_spec = valve_with_spring_mass(0);
+  const kin::Mechanism massless_mech = kin::compile(massless_spec);
+  const DesignSpec surge_spec = valve_with_spring_mass(6);
+  const kin::Mechanism surge_mech = kin::compile(surge_spec);
+  const dynamics::Model massless = dynamics::compile_dynamics(massless_spec, massless_mech);
+  const dynamics::Model surge = dynamics::compile_dynamics(surge_spec, surge_mech);
   const int tappet = massless_mech.node_index("tappet");
   // the spring's mass enters the rigid model once, as m/3 on its node [kg]
   CHECK(massless.bodies[tappet].mass == Approx(0.07 + 0.045 / 3).epsilon(1e-15));

@@ -262,3 +262,32 @@ TEST_CASE("assembly: a link that cannot close reports cannot_assemble with its n
   CHECK(r.positions[0].status.code == StatusCode::cannot_assemble);
   CHECK_THAT(r.positions[0].status.where, Contains("86 deg"));
 }
+
+TEST_CASE("mechanism: a compiled mechanism reports the design's name and file and its driver defaults",
+          "[kinematics][assembly]") {
+  DesignSpec d = design("facts", "cam", "tappet");
+  d.file = "designs/facts.toml";
+  d.driver.start_deg = -20.0;
+  d.driver.stop_deg = 340.0;
+  d.driver.step_deg = 0.25;
+  d.driver.crank_per_cam = 1.0;
+  d.controls = {ControlSpec{"shaft", "deg", -10.0, 30.0, 7.5, {}}, ControlSpec{"shift", "mm", 0.0, 2.0, 1.25, {}}};
+  d.nodes = {rotational("cam", {0, 0}), translational("tappet", {0, 20}, {0, 1})};
+  d.profiles = {lobe_table("unused"), eccentric_profile("disc", 20, 4)};
+  d.connections = {
+      contact("cam_tappet", profile_surface("cam", "disc", {0, 0}, 0), line_surface("tappet", {0, 20}, {0, -1}))};
+  const kin::Mechanism m = kin::compile(d);
+  CHECK(m.name == "facts");
+  CHECK(m.file == "designs/facts.toml");
+  CHECK(m.driver.start == -20.0);
+  CHECK(m.driver.stop == 340.0);
+  CHECK(m.driver.step == 0.25);
+  CHECK(m.driver.crank_per_cam == 1.0);
+  CHECK(m.default_controls() == std::vector<double>{7.5, 1.25});
+  // the disc compiles to a circle surface that still names the profile it is made from
+  const kin::Connection& c = m.connections[0];
+  CHECK(c.surface_a.kind == kin::SurfaceKind::point);
+  REQUIRE(c.surface_a.source_profile == 1);
+  CHECK(m.profiles[1].name() == "disc");
+  CHECK(c.surface_b.source_profile == -1);
+}

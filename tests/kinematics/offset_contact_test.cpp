@@ -11,6 +11,7 @@
 #include "camopt/io/design_file.hpp"
 #include "camopt/kinematics/mechanism.hpp"
 #include "camopt/kinematics/solver.hpp"
+#include "kinematics/workspace_state.hpp"  // private to src/kinematics (tests/CMakeLists.txt adds src/)
 #include "kinematics_test_support.hpp"
 
 using namespace camopt;
@@ -27,9 +28,9 @@ void compare(const std::string& file, double control) {
   if (!controls.empty()) controls[0] = control;
   fast.set_controls(controls);
   general.set_controls(controls);
-  general.offset_contacts = false;
+  kin::detail::state(general).offset_contacts = false;
   int offset_blocks = 0;
-  for (const auto& b : fast.full_blocks) offset_blocks += b.offset.active ? 1 : 0;
+  for (const auto& b : kin::detail::state(fast).full_blocks) offset_blocks += b.offset.active ? 1 : 0;
   INFO(file << " at control " << control);
   REQUIRE(offset_blocks > 0);
   // the fast formulation against the general one, point by point over the sweep

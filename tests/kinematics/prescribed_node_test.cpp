@@ -13,6 +13,7 @@
 #include "camopt/io/design_file.hpp"
 #include "camopt/kinematics/mechanism.hpp"
 #include "camopt/kinematics/solver.hpp"
+#include "kinematics/workspace_state.hpp"  // private to src/kinematics (tests/CMakeLists.txt adds src/)
 #include "kinematics_test_support.hpp"
 
 using namespace camopt;
@@ -151,8 +152,8 @@ TEST_CASE("a given step beyond the predictor is refused and the workspace keeps 
   INFO(refused.str());
   REQUIRE_FALSE(refused.ok());
   CHECK(refused.message.find("trust radius") != std::string::npos);
-  CHECK(given.prev_driver == 0.0);
-  CHECK(given.prev_jets[static_cast<std::size_t>(m.nodes[static_cast<std::size_t>(m.node_index("finger"))].first_variable)]
+  CHECK(kin::detail::state(given).prev_driver == 0.0);
+  CHECK(kin::detail::state(given).prev_jets[static_cast<std::size_t>(m.nodes[static_cast<std::size_t>(m.node_index("finger"))].first_variable)]
             .value() == at_start[static_cast<std::size_t>(m.nodes[static_cast<std::size_t>(m.node_index("finger"))].first_variable)]
                             .value());
   // the full solve from there takes the step (continuation) and lands where the whole did

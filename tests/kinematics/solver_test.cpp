@@ -1,7 +1,9 @@
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <string>
 
 #include "camopt/core/units.hpp"
+#include "camopt/io/design_file.hpp"
 #include "camopt/kinematics/mechanism.hpp"
 #include "camopt/kinematics/solver.hpp"
 #include "kinematics_test_support.hpp"
@@ -75,4 +77,29 @@ TEST_CASE("solve: a bad request or control count is an InputError naming the fie
   CHECK_THROWS_AS(ws.set_controls(one_control), InputError);
   CHECK_THROWS_WITH(ws.set_controls(one_control),
                     Catch::Contains("control position: 1 value(s) given, the mechanism has 0 control(s)"));
+}
+
+TEST_CASE("workspace: a copy continues exactly as the original and a moved-from one can be assigned to",
+          "[kinematics][solver]") {
+  // the CVVL: blocks solved simultaneously, whose warm starts and step history the copy carries
+  const auto mech = kin::compile(io::load_design(std::string(CAMOPT_SOURCE_DIR) + "/designs/cvvl_swing_cam.toml"));
+  const int out = mech.nodes[mech.output_node].first_variable;
+  kin::Workspace ws(mech);
+  for (int deg = 0; deg <= 150; deg += 2) REQUIRE(kin::solve(mech, ws, deg * camopt::rad_per_deg, {3, false}).ok());
+  // the next point from the copy is the original's to the bit
+  kin::Workspace copy = ws;
+  REQUIRE(kin::solve(mech, ws, 152 * camopt::rad_per_deg, {3, false}).ok());
+  REQUIRE(kin::solve(mech, copy, 152 * camopt::rad_per_deg, {3, false}).ok());
+  CHECK(copy.values() == ws.values());
+  for (int k = 0; k <= 3; ++k) CHECK(copy.vars[out].derivative(k) == ws.vars[out].derivative(k));
+  CHECK(copy.pivots() == ws.pivots());
+  // a workspace moved from takes an assignment and solves on, like the original
+  kin::Workspace moved = std::move(copy);
+  copy = ws;
+  REQUIRE(kin::solve(mech, ws, 154 * camopt::rad_per_deg, {3, false}).ok());
+  REQUIRE(kin::solve(mech, copy, 154 * camopt::rad_per_deg, {3, false}).ok());
+  REQUIRE(kin::solve(mech, moved, 154 * camopt::rad_per_deg, {3, false}).ok());
+  CHECK(copy.values() == ws.values());
+  CHECK(moved.values() == ws.values());
+  CHECK(ws.values()[out] == ws.vars[out].value());
 }

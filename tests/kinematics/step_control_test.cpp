@@ -67,7 +67,7 @@ std::vector<std::vector<double>> fine_reference(const kin::Mechanism& m, const s
   for (int i = 0; i <= points; ++i) {
     INFO("fine continuation at " << i * kFineStepDeg << " deg");
     REQUIRE(kin::solve(m, ws, i * kFineStepDeg * deg, {0, false}).ok());
-    if (i % kGridEvery == 0) grid.push_back(ws.values);
+    if (i % kGridEvery == 0) grid.push_back(ws.values());
   }
   CHECK(ws.stats.rejected_steps == 0);
   return grid;
@@ -76,7 +76,7 @@ std::vector<std::vector<double>> fine_reference(const kin::Mechanism& m, const s
 void check_same_point(const kin::Mechanism& m, const kin::Workspace& ws, const std::vector<double>& reference) {
   for (std::size_t v = 0; v < m.variables.size(); ++v) {
     INFO("variable " << m.variables[v].name);
-    CHECK_ABS(ws.values[v], reference[v], kSolverPathAbs);
+    CHECK_ABS(ws.values()[v], reference[v], kSolverPathAbs);
   }
 }
 
@@ -103,7 +103,7 @@ TEST_CASE("step control: coarse steps and first points follow the fine-step bran
           const Status st = kin::solve(m, ws, g * kGridDeg * deg, {3, true});
           INFO(st.str());
           REQUIRE(st.ok());
-          CHECK_ABS(ws.values[output], reference[g][output], kSolverPathAbs);
+          CHECK_ABS(ws.values()[output], reference[g][output], kSolverPathAbs);
           check_same_point(m, ws, reference[g]);
         }
         coarse_rejections += ws.stats.rejected_steps;
@@ -135,8 +135,8 @@ TEST_CASE("step control: the rocker arm at 7.5 and 15 deg steps (the reported ju
     for (std::size_t g = 0; g < reference.size(); g += every) {
       INFO("step " << step << " deg, cam " << g * kGridDeg << " deg");
       REQUIRE(kin::solve(m, ws, g * kGridDeg * deg, {3, true}).ok());
-      CHECK_ABS(ws.values[valve], reference[g][valve], kSolverPathAbs);
-      CHECK(std::abs(ws.values[rocker]) < 1.0);  // [rad]: never a wound-up rocker
+      CHECK_ABS(ws.values()[valve], reference[g][valve], kSolverPathAbs);
+      CHECK(std::abs(ws.values()[rocker]) < 1.0);  // [rad]: never a wound-up rocker
     }
     CHECK(ws.stats.rejected_steps > 0);
   }

@@ -179,7 +179,8 @@ namespace {
 struct ProfileRadii {
   double min_convex = INFINITY, sharpest_concave = -INFINITY;
 };
-ProfileRadii profile_radii(const kin::Mechanism& m, const kin::SweepResult& r, const std::string& contact) {
+ProfileRadii profile_radii(const DesignSpec& design, const kin::Mechanism& m, const kin::SweepResult& r,
+                          const std::string& contact) {
   std::size_t c = 0;
   while (m.connections[c].name != contact) ++c;
   const kin::Surface& sf = m.connections[c].surface_a;
@@ -192,7 +193,7 @@ ProfileRadii profile_radii(const kin::Mechanism& m, const kin::SweepResult& r, c
   }
   ProfileRadii out;
   // the profile's polar table as the design gives it, interpolated as the kernel does
-  const ProfileSpec& table = m.spec.profiles[static_cast<std::size_t>(sf.profile)];
+  const ProfileSpec& table = design.profiles[static_cast<std::size_t>(sf.profile)];
   REQUIRE(table.form == ProfileForm::polar);
   std::vector<double> angle;
   for (double a : table.angle_deg) angle.push_back(a * deg);
@@ -236,7 +237,8 @@ constexpr double kRadiusSampledRel = 1e-8;
 }  // namespace
 
 TEST_CASE("summary: the RFF's smallest cam radius is the lobe's, not the finger pad's", "[kinematics][summary]") {
-  const auto m = kin::compile(io::load_design(std::string(CAMOPT_SOURCE_DIR) + "/designs/roller_finger_follower.toml"));
+  const DesignSpec d = io::load_design(std::string(CAMOPT_SOURCE_DIR) + "/designs/roller_finger_follower.toml");
+  const auto m = kin::compile(d);
   const auto r = contact_sweep(m);
   const kin::PositionSummary s = kin::summarize(m, r, 0);
   REQUIRE(s.cam_surfaces.size() == 1);
@@ -245,7 +247,7 @@ TEST_CASE("summary: the RFF's smallest cam radius is the lobe's, not the finger 
   CHECK(lobe.body == "cam");
   CHECK(lobe.surface == "lobe");
   REQUIRE(lobe.convex);
-  const ProfileRadii exact = profile_radii(m, r, "cam_roller");
+  const ProfileRadii exact = profile_radii(d, m, r, "cam_roller");
   INFO("lobe: summary " << lobe.min_convex.value << " mm, profile " << exact.min_convex << " mm");
   CHECK(rel(lobe.min_convex.value, exact.min_convex, exact.min_convex) <= kRadiusSampledRel);
   CHECK(lobe.min_convex.value <= exact.min_convex);
@@ -262,14 +264,15 @@ TEST_CASE("summary: the RFF's smallest cam radius is the lobe's, not the finger 
 }
 
 TEST_CASE("summary: the CVVL swing cam's concave foot is reported with its surface", "[kinematics][summary]") {
-  const auto m = kin::compile(io::load_design(std::string(CAMOPT_SOURCE_DIR) + "/designs/cvvl_swing_cam.toml"));
+  const DesignSpec d = io::load_design(std::string(CAMOPT_SOURCE_DIR) + "/designs/cvvl_swing_cam.toml");
+  const auto m = kin::compile(d);
   const auto r = contact_sweep(m);
   const kin::PositionSummary s = kin::summarize(m, r, 0);
   CHECK(s.cam_surfaces.size() == 2);
   const auto& swing = find_surface(s.cam_surfaces, "swing_roller", "swing_cam");
   CHECK(swing.body == "swing");
   REQUIRE(swing.concave);
-  const ProfileRadii exact = profile_radii(m, r, "swing_roller");
+  const ProfileRadii exact = profile_radii(d, m, r, "swing_roller");
   INFO("swing cam: summary concave " << swing.sharpest_concave.value << " mm, profile " << exact.sharpest_concave
                                      << " mm; convex " << swing.min_convex.value << " / " << exact.min_convex);
   CHECK(rel(swing.sharpest_concave.value, exact.sharpest_concave, -exact.sharpest_concave) <= kRadiusSampledRel);

@@ -48,7 +48,7 @@ TEST_CASE("downstream loads from the valve motion match the rigid model case by 
     INFO(name);
     const DesignSpec d = frictionless(name);
     const kin::Mechanism mech = kin::compile(d);
-    const dynamics::Model model = dynamics::compile_dynamics(mech);
+    const dynamics::Model model = dynamics::compile_dynamics(d, mech);
     dynamics::RigidWorkspace rws(mech, model);
     opt::CamContactModel contact(d, {});
     auto cws = contact.make_workspace();

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <memory>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -16,6 +17,7 @@
 #include "camopt/opt/feasibility.hpp"
 #include "camopt/opt/problem.hpp"
 #include "camopt/opt/solve.hpp"
+#include "opt/opt_test_support.hpp"
 
 using namespace camopt;
 
@@ -81,7 +83,8 @@ std::optional<double>* limit_field(opt::LimitSpec& l, const std::string& key) {
 // slsqp on the set, without the feasibility phase: true when it ends at a design meeting
 // every row (a certificate), false when it reports the set infeasible
 bool solves_feasibly(const Fixture& f, const opt::OptimizationSpec& set) {
-  opt::CamProblem p(f.design, set, nullptr);
+  const std::unique_ptr<opt::CamProblem> made_p = opt_test::make_problem(f.design, set, nullptr);
+  opt::CamProblem& p = *made_p;
   opt::SolverOptions so;
   so.solver = opt::SolverKind::slsqp;
   so.feasibility_phase = false;
@@ -128,7 +131,8 @@ TEST_CASE("feasibility: 8.9 mm of peak lift, the same conflicting keys on ipopt,
   std::vector<std::vector<opt::ConflictingConstraint>> found;
   double coefficient_bound = 0.0;
   for (const opt::SolverKind solver : {opt::SolverKind::ipopt, opt::SolverKind::slsqp, opt::SolverKind::global}) {
-    opt::CamProblem p(f.design, f.set, nullptr);
+    const std::unique_ptr<opt::CamProblem> made_p = opt_test::make_problem(f.design, f.set, nullptr);
+    opt::CamProblem& p = *made_p;
     coefficient_bound = p.coefficients(std::vector<double>(static_cast<std::size_t>(p.variables()), 1.0))[0];
     opt::SolverOptions so;
     so.solver = solver;
@@ -191,7 +195,8 @@ TEST_CASE("feasibility: a feasible set gets no diagnosis, the phase on it names 
           "starts again from the phase's design",
           "[opt][feasibility]") {
   const Fixture f = rff_set("");
-  opt::CamProblem p(f.design, f.set, nullptr);
+  const std::unique_ptr<opt::CamProblem> made_p = opt_test::make_problem(f.design, f.set, nullptr);
+  opt::CamProblem& p = *made_p;
   opt::SolverOptions so;
   so.solver = opt::SolverKind::slsqp;
   const opt::SolveResult r = opt::optimize(p, so);
@@ -228,7 +233,8 @@ TEST_CASE("progress: every backend reports its phases, and a throwing callback n
           "[opt][progress]") {
   Fixture f = rff_set("");
   f.set.grid_step_deg = 2.0;
-  opt::CamProblem p(f.design, f.set, nullptr);
+  const std::unique_ptr<opt::CamProblem> made_p = opt_test::make_problem(f.design, f.set, nullptr);
+  opt::CamProblem& p = *made_p;
   auto run = [&](opt::SolverKind solver, Events& events) {
     opt::SolverOptions so;
     so.solver = solver;
@@ -280,7 +286,8 @@ TEST_CASE("progress: every backend reports its phases, and a throwing callback n
     opt::SolverOptions so;
     so.solver = solver;
     auto solve = [&] {
-      opt::CamProblem fresh(f.design, f.set, nullptr);
+      const std::unique_ptr<opt::CamProblem> made_fresh = opt_test::make_problem(f.design, f.set, nullptr);
+      opt::CamProblem& fresh = *made_fresh;
       return opt::optimize(fresh, so);
     };
     const opt::SolveResult quiet = solve();

@@ -5,12 +5,14 @@
 #include <catch2/catch.hpp>
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <string>
 
 #include "camopt/io/constraint_file.hpp"
 #include "camopt/io/design_file.hpp"
 #include "camopt/opt/problem.hpp"
 #include "camopt/opt/solve.hpp"
+#include "opt/opt_test_support.hpp"
 
 using namespace camopt;
 
@@ -59,13 +61,15 @@ void check_same_optimum(opt::CamProblem& p) {
 
 TEST_CASE("ipopt row screening: roller finger follower, the full-row optimum with every row met", "[opt][ipopt]") {
   const Bundled b = bundled("roller_finger_follower.toml", "passenger_car_intake.toml", 1.0);
-  opt::CamProblem p(b.design, b.set, nullptr);
+  const std::unique_ptr<opt::CamProblem> made_p = opt_test::make_problem(b.design, b.set, nullptr);
+  opt::CamProblem& p = *made_p;
   check_same_optimum(p);
 }
 
 TEST_CASE("ipopt row screening: bucket tappet with a peak-stress objective, the full-row optimum", "[opt][ipopt]") {
   const Bundled b = bundled("bucket_tappet.toml", "high_speed_bucket.toml", 1.0);
-  opt::CamProblem p(b.design, b.set, nullptr);
+  const std::unique_ptr<opt::CamProblem> made_p = opt_test::make_problem(b.design, b.set, nullptr);
+  opt::CamProblem& p = *made_p;
   check_same_optimum(p);
 }
 
@@ -73,7 +77,8 @@ TEST_CASE("ipopt row screening: swing cam at three control positions, SLSQP's op
   Bundled b = bundled("cvvl_swing_cam.toml", "cvvl_swing_cam.toml", 1.0);
   b.set.cam = "swing";
   b.set.swing.positions = {0.0, 8.0, 16.0};
-  opt::CamProblem p(b.design, b.set, nullptr);
+  const std::unique_ptr<opt::CamProblem> made_p = opt_test::make_problem(b.design, b.set, nullptr);
+  opt::CamProblem& p = *made_p;
   const opt::SolveResult screened = ipopt(p, true);
   opt::SolverOptions so;
   so.solver = opt::SolverKind::slsqp;
@@ -99,7 +104,8 @@ TEST_CASE("ipopt row screening: an infeasible set is reported at the full-row so
   b.set.limits.acc_max_mm_per_deg2 = 0.004;
   b.set.limits.max_lift_mm = 9.0;
   b.set.limits.min_max_lift_mm = 8.5;
-  opt::CamProblem p(b.design, b.set, nullptr);
+  const std::unique_ptr<opt::CamProblem> made_p = opt_test::make_problem(b.design, b.set, nullptr);
+  opt::CamProblem& p = *made_p;
   opt::SolverOptions so;
   so.solver = opt::SolverKind::ipopt;
   so.feasibility_phase = false;  // the solvers' own points and worst rows (feasibility_test.cpp: the keys)

@@ -6,6 +6,7 @@
 #include <catch2/catch.hpp>
 #include <Eigen/Dense>
 #include <cmath>
+#include <memory>
 #include <numbers>
 #include <set>
 
@@ -18,6 +19,7 @@
 #include "camopt/opt/problem.hpp"
 #include "camopt/opt/solve.hpp"
 #include "camopt/synthesis/envelope.hpp"
+#include "opt/opt_test_support.hpp"
 
 using namespace camopt;
 
@@ -96,7 +98,8 @@ TEST_CASE("durability rows: gradients against central differences (roller finger
   s.limits.max_cam_torque_Nm = 12;
   s.limits.min_film_thickness_um = 0.2;
   s.limits.min_lambda = 1.0;
-  opt::CamProblem p(rff_loaded(), s, nullptr);  // the design's [oil]
+  const std::unique_ptr<opt::CamProblem> made_p = opt_test::make_problem(rff_loaded(), s, nullptr);  // the design's [oil]
+  opt::CamProblem& p = *made_p;
   std::vector<double> u = p.start();
   for (int j = 0; j < p.spline_variables(); ++j) u[static_cast<std::size_t>(j)] += 0.01 * std::sin(1.0 + j);
   check_jacobian(p, u,
@@ -117,7 +120,8 @@ TEST_CASE("durability rows: gradients against central differences (CVVL swing ca
   s.limits.min_separation_speed_rpm = 7000;
   s.limits.min_contact_force_N = 50;
   s.limits.min_spring_margin = 0.2;
-  opt::CamProblem p(design("cvvl_swing_cam.toml"), s, nullptr);
+  const std::unique_ptr<opt::CamProblem> made_p = opt_test::make_problem(design("cvvl_swing_cam.toml"), s, nullptr);
+  opt::CamProblem& p = *made_p;
   std::vector<double> u = p.start();
   for (int j = 0; j < p.spline_variables(); ++j) u[static_cast<std::size_t>(j)] *= 1.0 + 0.02 * std::sin(1.0 + j);
   check_jacobian(p, u, {opt::ConstraintKind::separation, opt::ConstraintKind::contact_force, opt::ConstraintKind::spring_margin});
@@ -136,7 +140,8 @@ TEST_CASE("a separation limit active at the optimum holds by bisection on the rp
   s.limits.min_radius_of_curvature_mm = 4.0;
   s.limits.max_hertz_stress_MPa = 1300;
   s.limits.min_separation_speed_rpm = 7500;
-  opt::CamProblem p(d, s, nullptr);
+  const std::unique_ptr<opt::CamProblem> made_p = opt_test::make_problem(d, s, nullptr);
+  opt::CamProblem& p = *made_p;
   opt::SolverOptions so;
   so.solver = opt::SolverKind::slsqp;
   const opt::SolveResult r = opt::optimize(p, so);
@@ -163,7 +168,7 @@ TEST_CASE("a separation limit active at the optimum holds by bisection on the rp
   REQUIRE(synthesis::synthesize(d, lift, syn, res).ok());
   const DesignSpec made = synthesis::with_profile(d, res.profile);
   const kin::Mechanism mech = kin::compile(made);
-  const dynamics::Model model = dynamics::compile_dynamics(mech);
+  const dynamics::Model model = dynamics::compile_dynamics(made, mech);
   dynamics::RigidSweep sweep;
   REQUIRE(dynamics::rigid_sweep(mech, model, {}, 0.0, 360.0, 0.1, sweep).ok());
   int conn = -1;
@@ -233,7 +238,7 @@ area_weight = 1
   const DesignSpec d = design("roller_finger_follower.toml");
   const opt::OptimizationSpec s = io::parse_constraints(set, "set.toml", ".");
   try {
-    opt::CamProblem p(d, s, nullptr);
+    (void)opt_test::make_problem(d, s, nullptr);
     FAIL("no error");
   } catch (const InputError& e) {
     const std::string m = e.what();
@@ -248,10 +253,11 @@ area_weight = 1
   std::string agree = set;
   agree.replace(agree.find("230"), 3, "220");
   agree.replace(agree.find("moving_mass_kg = 0.08\n"), 22, "");
-  CHECK_NOTHROW(opt::CamProblem(d, io::parse_constraints(agree, "set.toml", "."), nullptr));
+  CHECK_NOTHROW(opt_test::make_problem(d, io::parse_constraints(agree, "set.toml", "."), nullptr));
   std::string over = set;
   over.replace(over.find("[load]\n"), 7, "[load]\noverride_design = true\n");
-  opt::CamProblem p(d, io::parse_constraints(over, "set.toml", "."), nullptr);
+  const std::unique_ptr<opt::CamProblem> made_p = opt_test::make_problem(d, io::parse_constraints(over, "set.toml", "."), nullptr);
+  opt::CamProblem& p = *made_p;
   CHECK(p.load_source().find("override_design") != std::string::npos);
   const auto o = p.load_overrides();
   REQUIRE(o.size() == 3);
@@ -262,6 +268,6 @@ area_weight = 1
   opt::OptimizationSpec film = rff_set();
   film.limits.min_film_thickness_um = 0.1;
   film.oil = opt::OilSetSpec{8.0, 15.8, 0.25, SourceRef{"set.toml", 30, 1, "oil"}};
-  CHECK_THROWS_WITH(opt::CamProblem(d, film, nullptr),
+  CHECK_THROWS_WITH(opt_test::make_problem(d, film, nullptr),
                     Catch::Contains("set.toml:30:1: oil: oil.viscosity_mPa_s disagrees with the design's [oil]"));
 }

@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 #include <Eigen/Dense>
 #include <cmath>
+#include <memory>
 #include <numbers>
 
 #include "camopt/io/constraint_file.hpp"
@@ -11,6 +12,7 @@
 #include "camopt/opt/problem.hpp"
 #include "camopt/opt/solve.hpp"
 #include "camopt/synthesis/lift_law_event.hpp"
+#include "opt/opt_test_support.hpp"
 
 using namespace camopt;
 
@@ -87,7 +89,8 @@ TEST_CASE("problem jacobian matches central finite differences", "[opt][problem]
   s.objective.area_weight = 1.0;
   s.objective.peak_weight = 0.5;
   s.objective.peak = opt::Quantity::hertz_stress;
-  opt::CamProblem p(d, s, nullptr);
+  const std::unique_ptr<opt::CamProblem> made_p = opt_test::make_problem(d, s, nullptr);
+  opt::CamProblem& p = *made_p;
   const int n = p.variables();
   std::vector<double> u = p.start();
   for (int j = 0; j < n - 1; ++j) u[static_cast<std::size_t>(j)] += 0.01 * std::sin(1.0 + j);
@@ -124,7 +127,8 @@ TEST_CASE("least squares to a target: every solver reaches the kkt solution of t
   s.objective.target_weight = 1.0;
   s.objective.target_file = "(in memory)";
   const PeriodicSpline target = target_lift();
-  opt::CamProblem p(d, s, &target);
+  const std::unique_ptr<opt::CamProblem> made_p = opt_test::make_problem(d, s, &target);
+  opt::CamProblem& p = *made_p;
   // the independent solution: equality-constrained least squares over the same grid
   const auto& m = p.lift_model();
   const int nv = m.variables();
@@ -190,16 +194,19 @@ TEST_CASE("maximum lift area under acceleration, curvature, pressure-angle and s
   for (int it = 0; it < 40; ++it) {
     opt::OptimizationSpec r = s;
     r.initial_max_lift_mm = 0.5 * (lo + hi);
-    opt::CamProblem ref(d, r, nullptr);
+    const std::unique_ptr<opt::CamProblem> made_ref = opt_test::make_problem(d, r, nullptr);
+    opt::CamProblem& ref = *made_ref;
     opt::Evaluation e;
     REQUIRE(ref.evaluate(ref.start(), e, false).ok());
     (e.g.maxCoeff() <= 0.0 ? lo : hi) = r.initial_max_lift_mm;
   }
   s.initial_max_lift_mm = 8.0;
-  opt::CamProblem p(d, s, nullptr);
+  const std::unique_ptr<opt::CamProblem> made_p = opt_test::make_problem(d, s, nullptr);
+  opt::CamProblem& p = *made_p;
   opt::OptimizationSpec r = s;
   r.initial_max_lift_mm = lo;
-  opt::CamProblem ref(d, r, nullptr);
+  const std::unique_ptr<opt::CamProblem> made_ref = opt_test::make_problem(d, r, nullptr);
+  opt::CamProblem& ref = *made_ref;
   const double ref_area = area_of(ref, ref.start());
   for (auto solver : {opt::SolverKind::ipopt, opt::SolverKind::slsqp, opt::SolverKind::cobyla, opt::SolverKind::global}) {
     INFO(opt::to_string(solver));
@@ -235,7 +242,8 @@ TEST_CASE("objective hessian of a target fit equals central differences of the g
   s.objective.target_file = "(in memory)";
   s.objective.area_weight = 0.5;  // linear: adds nothing to the hessian
   const PeriodicSpline target = target_lift();
-  opt::CamProblem p(rff(), s, &target);
+  const std::unique_ptr<opt::CamProblem> made_p = opt_test::make_problem(rff(), s, &target);
+  opt::CamProblem& p = *made_p;
   std::vector<double> u = p.start();
   opt::Evaluation e;
   REQUIRE(p.evaluate(u, e, true).ok());
@@ -264,7 +272,8 @@ TEST_CASE("flat-faced follower: the hertz row is smooth through R = 0 and agrees
   opt::OptimizationSpec s = io::load_constraints(std::string(CAMOPT_SOURCE_DIR) + "/constraints/high_speed_bucket.toml");
   s.cam = "rotational";
   s.grid_step_deg = 2.0;
-  opt::CamProblem p(d, s, nullptr);
+  const std::unique_ptr<opt::CamProblem> made_p = opt_test::make_problem(d, s, nullptr);
+  opt::CamProblem& p = *made_p;
   const double limit = *s.limits.max_hertz_stress_MPa, r_ref = *s.limits.min_radius_of_curvature_mm;
   opt::Evaluation e;
   REQUIRE(p.evaluate(p.start(), e, true).ok());
@@ -308,4 +317,29 @@ TEST_CASE("flat-faced follower: the hertz row is smooth through R = 0 and agrees
       CHECK(e.jacobian(k, j) == Approx((ep.g(k) - em.g(k)) / (2 * h)).epsilon(1e-6).margin(1e-7));
     }
   }
+}
+
+TEST_CASE("problem: create returns a failing solve of the initial design as its Status", "[opt][problem]") {
+  // a peak objective scales itself on the initial design: an 80 mm event on the RFF asks the
+  // finger for a valve lift its pad cannot reach, so the inversion fails while building
+  opt::OptimizationSpec s = base_spec();
+  s.limits.max_hertz_stress_MPa = 1500;
+  s.load = load();
+  s.objective.area_weight = 1.0;
+  s.objective.peak_weight = 0.5;
+  s.objective.peak = opt::Quantity::hertz_stress;
+  s.initial_max_lift_mm = 80.0;
+  std::unique_ptr<opt::CamProblem> p;
+  const Status st = opt::CamProblem::create(rff(), s, nullptr, p);
+  INFO(st.str());
+  REQUIRE_FALSE(st.ok());
+  CHECK(st.code == StatusCode::no_convergence);
+  CHECK_THAT(st.message, Catch::StartsWith("the initial design: inverting the valve lift") &&
+                             Catch::Contains("'pad_valve' did not converge: residual"));
+  CHECK_THAT(st.str(), Catch::Contains("driver"));  // the angle it failed at
+  CHECK(p == nullptr);                              // nothing half-built is handed out
+  // the same set at the design's own 8 mm lift builds
+  s.initial_max_lift_mm = 8.0;
+  REQUIRE(opt::CamProblem::create(rff(), s, nullptr, p).ok());
+  CHECK(p != nullptr);
 }

@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 #include <Eigen/Core>
 #include <cmath>
+#include <memory>
 #include <numbers>
 
 #include "camopt/io/constraint_file.hpp"
@@ -14,6 +15,7 @@
 #include "camopt/opt/solve.hpp"
 #include "camopt/synthesis/envelope.hpp"
 #include "camopt/synthesis/lift_law_event.hpp"
+#include "opt/opt_test_support.hpp"
 
 using namespace camopt;
 
@@ -88,7 +90,8 @@ TEST_CASE("swing problem jacobian matches central finite differences", "[opt][sw
   s.objective.target_weight = 0.5;  // least squares at full lift, one-sided where the target is shut
   s.objective.target_file = "(in memory)";
   const PeriodicSpline target = target_lift();
-  opt::CamProblem p(cvvl(), s, &target);
+  const std::unique_ptr<opt::CamProblem> made_p = opt_test::make_problem(cvvl(), s, &target);
+  opt::CamProblem& p = *made_p;
   REQUIRE(p.is_swing());
   REQUIRE(p.equality_matrix().rows() == 0);
   const int n = p.variables();
@@ -133,7 +136,8 @@ TEST_CASE("swing problem jacobian matches central finite differences", "[opt][sw
 
 TEST_CASE("swing problem: the optimised profile satisfies every constraint at all 17 positions", "[opt][swing]") {
   opt::OptimizationSpec s = swing_spec();
-  opt::CamProblem p(cvvl(), s, nullptr);
+  const std::unique_ptr<opt::CamProblem> made_p = opt_test::make_problem(cvvl(), s, nullptr);
+  opt::CamProblem& p = *made_p;
   REQUIRE(p.swing()->positions().size() == 17);
   opt::Evaluation e0;
   REQUIRE(p.evaluate(p.start(), e0, false).ok());
@@ -156,7 +160,8 @@ TEST_CASE("swing problem: the VVLD working curve optimised at 4 control position
   s.cam = "swing";
   s.grid_step_deg = 1.0;
   s.swing.positions = {0.0, 30.0, 70.0, 100.0};
-  opt::CamProblem p(d, s, nullptr);
+  const std::unique_ptr<opt::CamProblem> made_p = opt_test::make_problem(d, s, nullptr);
+  opt::CamProblem& p = *made_p;
   opt::Evaluation e0;
   REQUIRE(p.evaluate(p.start(), e0, false).ok());
   CHECK(e0.g.maxCoeff() > 0.5);  // the design's own arm breaks the set (acceleration by 67 %)

@@ -18,8 +18,8 @@
 namespace camopt::stress {
 namespace {
 
-kin::Mechanism bundled(const std::string& name) {
-  return kin::compile(io::load_design(std::string(CAMOPT_SOURCE_DIR) + "/designs/" + name + ".toml"));
+DesignSpec bundled(const std::string& name) {
+  return io::load_design(std::string(CAMOPT_SOURCE_DIR) + "/designs/" + name + ".toml");
 }
 
 std::vector<double> default_controls(const kin::Mechanism& mech) {
@@ -58,8 +58,9 @@ TEST_CASE("rigid dynamics from 1 to 100000 rpm: finite, and the split load cases
           "[stress][dynamics]") {
   for (const char* name : {"roller_finger_follower", "bucket_tappet", "rocker_arm", "cvvl_swing_cam"}) {
     INFO(name);
-    const kin::Mechanism mech = bundled(name);
-    const dynamics::Model model = dynamics::compile_dynamics(mech);
+    const DesignSpec spec = bundled(name);
+    const kin::Mechanism mech = kin::compile(spec);
+    const dynamics::Model model = dynamics::compile_dynamics(spec, mech);
     dynamics::RigidSweep sweep;
     const Status st = dynamics::rigid_sweep(mech, model, default_controls(mech), 0, 360, 1, sweep);
     INFO(st.str());
@@ -93,8 +94,9 @@ TEST_CASE("rigid dynamics from 1 to 100000 rpm: finite, and the split load cases
 
 TEST_CASE("compliant contacts at extreme speeds and stiffness ratios: a result or a clear stop",
           "[stress][dynamics]") {
-  const kin::Mechanism mech = bundled("roller_finger_follower");
-  const dynamics::Model model = dynamics::compile_dynamics(mech);
+  const DesignSpec spec = bundled("roller_finger_follower");
+  const kin::Mechanism mech = kin::compile(spec);
+  const dynamics::Model model = dynamics::compile_dynamics(spec, mech);
   dynamics::RigidSweep rigid;
   REQUIRE(dynamics::rigid_sweep(mech, model, {}, 0, 360, 1, rigid).ok());
   // each case's outcome (runs: a result; else a stop), measured: every case runs but 30000 rpm
@@ -180,7 +182,7 @@ TEST_CASE("flexible model at extreme stiffness ratios, speeds and time scales: a
       if (n.axial_stiffness_N_per_mm) *n.axial_stiffness_N_per_mm *= k.component_scale;
     }
     const kin::Mechanism mech = kin::compile(d);
-    const dynamics::Model model = dynamics::compile_dynamics(mech);
+    const dynamics::Model model = dynamics::compile_dynamics(d, mech);
     dynamics::FlexibleOptions options;
     options.revolutions = 1;
     options.contact_stiffness_scale = k.contact_scale;

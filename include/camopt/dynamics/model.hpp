@@ -1,8 +1,9 @@
 #pragma once
 // the dynamics data of a compiled mechanism, validated once: body inertias, springs, gas
 // forces, per-contact materials and force laws, component compliances and valve seats.
-// compile_dynamics(mech) reads mech.spec once; the dynamics models (rigid, compliant,
-// flexible, modes) read this Model and the Mechanism's compiled data, never the DesignSpec.
+// compile_dynamics(spec, mech) reads the design spec once; the dynamics models (rigid,
+// compliant, flexible, modes) read this Model and the Mechanism's compiled data, never the
+// DesignSpec.
 // Bad or missing data needed by the rigid model throws InputError naming the field; what
 // only the flexible model needs is kept with its source and checked when that model is built.
 //
@@ -13,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "camopt/core/design_spec.hpp"
 #include "camopt/kinematics/mechanism.hpp"
 
 namespace camopt::dynamics {
@@ -124,14 +126,15 @@ struct Model {
   double driver_start_deg = 0.0;       // the design's first driver angle [cam deg]
 };
 
-// validate the dynamics data of mech.spec for the rigid models and build the model (the
-// only place the dynamics read the DesignSpec).
+// validate the dynamics data of `spec` for the rigid models and build the model (the only
+// place the dynamics read the DesignSpec). `mech` is kin::compile(spec): InputError when its
+// name, nodes or connections are not the spec's.
 // Required: a rotational driver; every moving node (not the driver, not set by a control)
 // needs mass_kg (translational, floating, or rotational with cg_mm) and inertia_kg_mm2
 // (rotational, floating). Without cg_mm the centre of gravity is the pivot (rotational),
 // the origin (translational) or the centroid of the body's features, the kinematic
 // reference point (floating). Positive masses, inertias, rates, widths and moduli.
-Model compile_dynamics(const kin::Mechanism& mech);
+Model compile_dynamics(const DesignSpec& spec, const kin::Mechanism& mech);
 
 // contact modulus E* [N/mm^2] of two materials (Johnson, Contact Mechanics, 1985, eq. 4.22)
 double contact_modulus(double e_a, double nu_a, double e_b, double nu_b);

@@ -48,6 +48,7 @@ struct Surface {
   int node = -1;
   SurfaceKind kind = SurfaceKind::point;
   int profile = -1;                   // curve: index into Mechanism::profiles
+  int source_profile = -1;            // the profile it is made from (a curve or a disc), else -1
   Eigen::Vector2d origin{0, 0};       // curve: profile origin; point: centre; line: a point
   double cos_orient = 1.0, sin_orient = 0.0;  // curve: profile frame rotation
   double offset = 0.0;                // point: signed radius (< 0: concave) [mm]
@@ -83,7 +84,7 @@ enum class StepMethod {
 };
 
 // the most unknowns one plan step solves simultaneously (compile() rejects a larger coupled
-// cluster; Workspace::max_block)
+// cluster; WorkspaceState::max_block in src/kinematics)
 inline constexpr int max_block_unknowns = 16;
 
 struct SolveStep {
@@ -101,9 +102,20 @@ struct VariableInfo {
   bool is_angle = true;
 };
 
+// the driver's sweep and crank ratio as the design gives them (its [driver] table)
+struct DriverDefaults {
+  double start = 0.0;          // sweep start [driver deg, or mm for a translational driver]
+  double stop = 360.0;         // sweep stop [driver deg or mm]
+  double step = 1.0;           // default output step [driver deg or mm]
+  double crank_per_cam = 2.0;  // crank degrees per cam degree [-]
+};
+
+// the compiled model. It keeps no DesignSpec: a consumer that needs the source description
+// (the dynamics data, an edited recompile) is handed the spec beside the model.
 struct Mechanism {
-  std::string name;
-  DesignSpec spec;  // the source description (dynamics reads masses, springs, materials)
+  std::string name;  // the design's name
+  std::string file;  // the design file, for messages ("" when built in code)
+  DriverDefaults driver;
   std::vector<Control> controls;
   std::vector<Node> nodes;           // nodes[0] is "ground"
   std::vector<CamProfile> profiles;

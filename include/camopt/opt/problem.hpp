@@ -85,9 +85,13 @@ struct Evaluation {
 
 class CamProblem {
  public:
-  // target_lift: valve lift [mm] against driver angle [rad] (ObjectiveSpec::target_weight
-  // > 0 needs one), may be null. InputError for data the set needs and the design lacks.
-  CamProblem(const DesignSpec& design, const OptimizationSpec& spec, const PeriodicSpline* target_lift);
+  // the problem of `spec` on `design`. target_lift: valve lift [mm] against driver angle [rad]
+  // (ObjectiveSpec::target_weight > 0 needs one), may be null. InputError for a set that
+  // breaks its own rules or needs data the design lacks. A kinematic solve that fails while
+  // building (the swing cam's traces and drive; the initial design's rows, "the initial
+  // design: ...") is the returned Status, and `out` is left as it was.
+  [[nodiscard]] static Status create(const DesignSpec& design, const OptimizationSpec& spec,
+                                     const PeriodicSpline* target_lift, std::unique_ptr<CamProblem>& out);
   ~CamProblem();
   CamProblem(const CamProblem&) = delete;
   CamProblem& operator=(const CamProblem&) = delete;
@@ -141,15 +145,18 @@ class CamProblem {
   struct LiftProbe;  // the lift model between the grid points, for the scalar rows
   using Motions = std::vector<std::array<double, 4>>;  // per grid point: lift [mm], d^k/dtheta^k [mm/deg^k]
 
+  explicit CamProblem(const OptimizationSpec& spec);  // the steps below fill it (create)
+
   // ---- construction steps (problem.cpp) ----
-  void make_lift_model(const DesignSpec& design);
+  Status build(const DesignSpec& design, const PeriodicSpline* target_lift);
+  Status make_lift_model(const DesignSpec& design);
   void check_ramp_velocities() const;
   void make_contact_model(const DesignSpec& design);
   void make_swing_grid(const PeriodicSpline* target_lift);
   void make_event_grid(const PeriodicSpline* target_lift);
   void set_variables_and_closure();
   void build_rows();
-  void scale_objectives();
+  Status scale_objectives();
 
   // ---- evaluation steps ----
   // valve lift and derivatives at every grid point [mm/deg^k] (swing: also the rows)

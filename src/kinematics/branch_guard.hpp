@@ -1,17 +1,18 @@
 #pragma once
 // the branch guard of the continuation: a converged point is accepted only if it is the
-// continuation of the last accepted one. Besides the trust radius (Workspace::trust_radius),
+// continuation of the last accepted one. Besides the trust radius (WorkspaceState::trust_radius),
 //  - every variable solved simultaneously must agree with its taylor prediction within a
-//    bound tied to the prediction's own error estimate (Workspace::predicted_error): a
+//    bound tied to the prediction's own error estimate (WorkspaceState::predicted_error): a
 //    point on another assembly branch is farther from the prediction than the truncated
 //    terms can explain, even next to a toggle where the branches are close together;
 //  - the sign of each simultaneously solved block's jacobian determinant must not change:
 //    two assembly branches meeting at a toggle have determinants of opposite sign. A change
 //    is taken only at the smallest step, and only with the block near singular
-//    (Workspace::Block::margin below near_singular_margin) at one of the two points: the
+//    (WorkspaceState::Block::margin below near_singular_margin) at one of the two points: the
 //    path then passes through the singular configuration.
 // A point that fails is rejected like one outside the trust radius: the step is halved.
-#include "camopt/kinematics/solver.hpp"
+// private to src/kinematics
+#include "workspace_state.hpp"
 
 namespace camopt::kin::detail {
 
@@ -47,16 +48,16 @@ struct TrustOutcome {
 
 // toggle margin of a block's n x n jacobian j with inverse inv (Workspace::toggle_margin):
 // 1 / (|W J D|_1 |(W J D)^-1|_1). D measures every angle as arc length at
-// Mechanism::length_scale (Workspace::variable_scale on the unknowns' columns); W scales each
+// Mechanism::length_scale (WorkspaceState::variable_scale on the unknowns' columns); W scales each
 // equation by its whole gradient, over the unknowns (J D) and the driver (rates, r_1 =
 // d r / d driver with the unknowns held, an angle driver likewise as arc length), so that an
 // equation that is stiff in every variable alike does not count as ill-conditioned
 template <class Matrix>
-double scaled_margin(const Mechanism& m, const Workspace& ws, int n, const int* unknowns, const Matrix& j,
+double scaled_margin(const Mechanism& m, const WorkspaceState& ws, int n, const int* unknowns, const Matrix& j,
                      const Matrix& inv, const double* rates) {
   auto column_scale = [&](int c) { return ws.variable_scale[static_cast<std::size_t>(unknowns[c])]; };
   const double driver_scale = m.driver_is_angle() ? 1.0 / m.length_scale : 1.0;
-  double row_scale[Workspace::max_block];
+  double row_scale[WorkspaceState::max_block];
   for (int r = 0; r < n; ++r) {
     double gradient = std::abs(rates[r]) * driver_scale;
     for (int c = 0; c < n; ++c) gradient += std::abs(j(r, c)) * column_scale(c);
@@ -80,10 +81,10 @@ double scaled_margin(const Mechanism& m, const Workspace& ws, int n, const int* 
 // compare_prediction: the driver moved and the controls did not since the last accepted
 // point (the taylor prediction is then in the driver alone); smallest_step: the step from
 // it cannot be halved further
-void guard_branch(const Mechanism& m, const Workspace& ws, bool compare_prediction, bool smallest_step,
+void guard_branch(const Mechanism& m, const WorkspaceState& ws, bool compare_prediction, bool smallest_step,
                   TrustOutcome& trust);
 
 // the accepted point's block determinant signs and margins become the reference
-void accept_branch(Workspace& ws);
+void accept_branch(WorkspaceState& ws);
 
 }  // namespace camopt::kin::detail
