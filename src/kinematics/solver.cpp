@@ -258,24 +258,25 @@ Status solve_near(const Mechanism& mech, Workspace& ws, double near_driver, std:
   CAMOPT_THROW_UNLESS(near.size() == nv, "solve_near: near has " + std::to_string(near.size()) +
                                              " jet(s), the mechanism has " + std::to_string(nv) + " variable(s)");
   place_pivots(mech, ws);
+  WorkspaceState& ss = state(ws);
   // the solved point as the only history: its taylor series is the prediction
   for (std::size_t v = 0; v < nv; ++v) {
-    ws.prev_jets[v] = ws.prev2_jets[v] = near[v];
-    ws.values[v] = ws.prev_values[v] = ws.prev2_values[v] = near[v].value();
+    ss.prev_jets[v] = ss.prev2_jets[v] = near[v];
+    ss.values[v] = ss.prev_values[v] = ss.prev2_values[v] = near[v].value();
   }
-  ws.prev_driver = ws.prev2_driver = near_driver;
-  ws.history = 1;
-  ws.controls_moved = false;
+  ss.prev_driver = ss.prev2_driver = near_driver;
+  ss.history = 1;
+  ss.controls_moved = false;
   ws.path_margin = INFINITY;
   drop_block_warm_starts(ws);
   Status st = Kernel(mech, ws, request).run(driver);
   if (!st.ok()) return st;
   for (std::size_t v = 0; v < nv; ++v) {
-    const double moved = std::abs(ws.values[v] - ws.predicted[v]);
-    if (moved > ws.trust_radius[v])
+    const double moved = std::abs(ss.values[v] - ss.predicted[v]);
+    if (moved > ss.trust_radius[v])
       return {StatusCode::no_convergence,
               "solve_near: '" + mech.variables[v].name + "' moved " + fmt(moved) + " from its prediction, beyond the trust radius " +
-                  fmt(ws.trust_radius[v]) + " (another assembly branch, or the contact leaves the surface)",
+                  fmt(ss.trust_radius[v]) + " (another assembly branch, or the contact leaves the surface)",
               driver_text(mech, driver) + ", residual " + fmt(moved)};
   }
   return st;
