@@ -11,11 +11,14 @@
 #include <vector>
 
 #include "oracles/finite_difference.hpp"
+#include "support/compare.hpp"
 
 namespace {
 
 using namespace camopt::oracles;
 using Eigen::Vector2d;
+using camopt::test::Series;
+namespace tol = camopt::test::tol;
 
 constexpr double pi = std::numbers::pi;
 constexpr double deg = pi / 180.0;
@@ -24,9 +27,6 @@ constexpr double deg = pi / 180.0;
 // truncation (h^8) against round-off (eps / h^k) [rad or mm]
 constexpr int kHalfWidth[4] = {0, 4, 4, 5};
 constexpr double kStep[4] = {0.0, 1e-3, 1e-2, 2e-2};
-constexpr double kFdRelTolerance = 1e-7;      // relative to the peak of that derivative
-constexpr double kClosureTolerance = 1e-11;   // [mm] loop closure of a position solution
-constexpr double kIdentityRelTolerance = 1e-12;  // two exact forms of one quantity
 
 // the polar table cam of the kinematics tests: r = 18 + 3 (1 - cos phi)^2 / 4 [mm]
 void lobe_radius(double phi, double* r) {
@@ -55,58 +55,48 @@ void disc_radius(double R, double e, double phi, double* r) {
 // the steps are kStep * input_scale (10 for an input in mm on a ~50 mm mechanism)
 void check_derivatives(const std::string& name, const std::function<Motion(double)>& f, double t0, double t1,
                        int samples, bool angle = false, double input_scale = 1.0) {
-  std::vector<double> t(static_cast<std::size_t>(samples));
-  std::vector<Motion> exact(t.size());
-  double peak[4] = {0, 0, 0, 0};
-  for (std::size_t i = 0; i < t.size(); ++i) {
-    t[i] = t0 + (t1 - t0) * static_cast<double>(i) / samples;
-    exact[i] = f(t[i]);
-    for (int k = 1; k <= 3; ++k) peak[k] = std::max(peak[k], std::abs(exact[i][static_cast<std::size_t>(k)]));
-  }
-  for (std::size_t i = 0; i < t.size(); ++i) {
-    const double x0 = exact[i][0];
+  // d^k analytic against its finite difference, within kOracleFdRel of the peak |d^k|
+  std::vector<Series> derivative;
+  for (int k = 1; k <= 3; ++k) derivative.emplace_back(name + ": d^" + std::to_string(k), "t");
+  for (int i = 0; i < samples; ++i) {
+    const double t = t0 + (t1 - t0) * static_cast<double>(i) / samples;
+    const Motion exact = f(t);
+    const double x0 = exact[0];
     auto value = [&](double x) {
       const double v = f(x)[0];
       return angle ? x0 + wrap_angle(v - x0) : v;
     };
-    for (int k = 1; k <= 3; ++k) {
-      const double fd = central_difference(value, t[i], k, kHalfWidth[k], kStep[k] * input_scale);
-      const double an = exact[i][static_cast<std::size_t>(k)];
-      INFO(name << ": t = " << t[i] << ", d^" << k << " analytic " << an << ", finite difference " << fd
-                << ", peak " << peak[k]);
-      CHECK(std::abs(an - fd) <= kFdRelTolerance * peak[k]);
-    }
+    for (int k = 1; k <= 3; ++k)
+      derivative[static_cast<std::size_t>(k - 1)].add(
+          t, exact[static_cast<std::size_t>(k)], central_difference(value, t, k, kHalfWidth[k], kStep[k] * input_scale));
   }
-}
-
-bool close_rel(double a, double b, double scale, double tol = kIdentityRelTolerance) {
-  return std::abs(a - b) <= tol * std::max(1.0, scale);
+  for (const Series& d : derivative) CHECK_SERIES(d.compare({.rel = tol::kOracleFdRel}));
 }
 
 }  // namespace
 
 TEST_CASE("oracles: fornberg weights reproduce the classical stencils", "[oracles]") {
   const auto d1 = central_weights(1, 1);
-  CHECK(d1[0] == Approx(-0.5));
-  CHECK(d1[1] == Approx(0.0).margin(1e-15));
-  CHECK(d1[2] == Approx(0.5));
+  CHECK_REL(d1[0], -0.5, tol::kUlpRel);
+  CHECK_ABS(d1[1], 0.0, tol::kUlpAbs);
+  CHECK_REL(d1[2], 0.5, tol::kUlpRel);
   const auto d2 = central_weights(2, 1);
-  CHECK(d2[0] == Approx(1.0));
-  CHECK(d2[1] == Approx(-2.0));
-  CHECK(d2[2] == Approx(1.0));
+  CHECK_REL(d2[0], 1.0, tol::kUlpRel);
+  CHECK_REL(d2[1], -2.0, tol::kUlpRel);
+  CHECK_REL(d2[2], 1.0, tol::kUlpRel);
   // 8th-order first derivative: 1/280, -4/105, 1/5, -4/5, 0, ...
   const auto d8 = central_weights(1, 4);
-  CHECK(d8[0] == Approx(1.0 / 280));
-  CHECK(d8[1] == Approx(-4.0 / 105));
-  CHECK(d8[2] == Approx(1.0 / 5));
-  CHECK(d8[3] == Approx(-4.0 / 5));
-  CHECK(d8[5] == Approx(4.0 / 5));
-  CHECK(d8[8] == Approx(-1.0 / 280));
+  CHECK_REL(d8[0], 1.0 / 280, tol::kUlpRel);
+  CHECK_REL(d8[1], -4.0 / 105, tol::kUlpRel);
+  CHECK_REL(d8[2], 1.0 / 5, tol::kUlpRel);
+  CHECK_REL(d8[3], -4.0 / 5, tol::kUlpRel);
+  CHECK_REL(d8[5], 4.0 / 5, tol::kUlpRel);
+  CHECK_REL(d8[8], -1.0 / 280, tol::kUlpRel);
   // a 9th-degree polynomial is differentiated exactly by the 11-point third-derivative stencil
   auto p = [](double x) { return std::pow(x, 9) - 2 * std::pow(x, 5) + x; };
   const double x0 = 0.3, h = 0.05;
   const double exact = 504 * std::pow(x0, 6) - 120 * x0 * x0;
-  CHECK(central_difference(p, x0, 3, 5, h) == Approx(exact).epsilon(1e-8));
+  CHECK_REL(central_difference(p, x0, 3, 5, h), exact, tol::kExactStencilRel);
 }
 
 TEST_CASE("oracles: (a) eccentric disc + flat follower is simple harmonic", "[oracles]") {
@@ -115,8 +105,8 @@ TEST_CASE("oracles: (a) eccentric disc + flat follower is simple harmonic", "[or
     check_derivatives("flat phase " + std::to_string(phase), [&](double t) { return o.lift(t); }, 0, 2 * pi, 48);
     for (int i = 0; i < 24; ++i) {
       const double t = i * 15 * deg;
-      CHECK(o.lift(t)[0] == Approx(4.0 * (std::sin(t + phase) - std::sin(phase))).margin(1e-14));
-      CHECK(o.contact_x(t) == Approx(o.lift(t)[1]).margin(1e-14));
+      CHECK_ABS(o.lift(t)[0], 4.0 * (std::sin(t + phase) - std::sin(phase)), tol::kOracleRoundOffAbs);
+      CHECK_ABS(o.contact_x(t), o.lift(t)[1], tol::kOracleRoundOffAbs);
     }
   }
 }
@@ -131,15 +121,16 @@ TEST_CASE("oracles: (b) eccentric disc + offset translating roller", "[oracles]"
       const double t = i * 15 * deg, phi = t + o.phase;
       const Vector2d centre(offset, o.centre_height(t)[0]);
       const Vector2d disc = 3.0 * Vector2d(std::cos(phi), std::sin(phi));
-      CHECK(std::abs((centre - disc).norm() - 27.0) <= kClosureTolerance);
+      CHECK_ABS((centre - disc).norm(), 27.0, tol::kClosureAbs);
       // the same mechanism as the slider-crank {crank e, rod R + r, slide x = offset along +y}
       const SliderCrank sc{Vector2d(0, 0), 3.0, 27.0, Vector2d(offset, 0), Vector2d(0, 1), 1, 1};
       const auto s = sc.solve(phi).slider;
       const auto y = o.centre_height(t);
-      for (int k = 0; k <= 3; ++k) CHECK(close_rel(s[k], y[k], std::abs(y[k]) + 1.0));
+      for (std::size_t k = 0; k <= 3; ++k) CHECK_NEAR(s[k], y[k], tol::kOracleTwoFormsRel, tol::kOracleTwoFormsRel);
       // pressure angle: instant-centre form equals the angle of the normal to the follower axis
       const Vector2d n = (centre - disc).normalized();
-      CHECK(o.pressure_angle(t) == Approx(std::acos(std::abs(n.y()))).margin(1e-12));
+      // (atan2 rather than acos(|n.y|): acos near 1 would lose ~eps / angle)
+      CHECK_ABS(o.pressure_angle(t), std::atan2(std::abs(n.x()), std::abs(n.y())), tol::kOraclePressureAngleAbs);
     }
   }
 }
@@ -158,8 +149,9 @@ TEST_CASE("oracles: (d) four-bar position, derivatives and inversion, both branc
       const auto s = fb.solve(t);
       const Vector2d A = O2 + 20 * Vector2d(std::cos(t), std::sin(t));
       const Vector2d B = O4 + 45 * Vector2d(std::cos(s.rocker_angle[0]), std::sin(s.rocker_angle[0]));
-      CHECK(std::abs((B - A).norm() - 55) <= kClosureTolerance);
-      CHECK(std::abs(wrap_angle(std::atan2(B.y() - A.y(), B.x() - A.x()) - s.coupler_angle[0])) <= 1e-13);
+      CHECK_ABS((B - A).norm(), 55.0, tol::kClosureAbs);
+      CHECK_ABS(wrap_angle(std::atan2(B.y() - A.y(), B.x() - A.x()) - s.coupler_angle[0]), 0.0,
+                tol::kCouplerDirectionAbs);
       CHECK(fb.branch_through(t, s.rocker_angle[0]) == branch);
       // inversion: the rocker drives, the crank follows; derivatives of an inverse function
       // x(y): x' = 1/y', x'' = -y''/y'^3, x''' = (3 y''^2 - y' y''')/y'^5
@@ -167,13 +159,14 @@ TEST_CASE("oracles: (d) four-bar position, derivatives and inversion, both branc
       FourBar inv_b = inv;
       inv_b.branch = inv.branch_through(s.rocker_angle[0], t);
       const auto back = inv_b.solve(s.rocker_angle[0]).rocker_angle;
-      CHECK(std::abs(wrap_angle(back[0] - t)) <= 1e-12);
+      CHECK_ABS(wrap_angle(back[0] - t), 0.0, tol::kFourBarInverseAbs);
       const auto& y = s.rocker_angle;
       if (std::abs(y[1]) > 0.05) {  // away from the rocker's dead points
-        CHECK(close_rel(back[1], 1 / y[1], std::abs(1 / y[1]), 1e-10));
-        CHECK(close_rel(back[2], -y[2] / std::pow(y[1], 3), std::abs(y[2] / std::pow(y[1], 3)), 1e-10));
+        const double (&r)[4] = tol::kInverseRateRel;
+        CHECK_NEAR(back[1], 1 / y[1], r[1], r[1]);
+        CHECK_NEAR(back[2], -y[2] / std::pow(y[1], 3), r[2], r[2]);
         const double x3 = (3 * y[2] * y[2] - y[1] * y[3]) / std::pow(y[1], 5);
-        CHECK(close_rel(back[3], x3, std::abs(x3), 1e-9));
+        CHECK_NEAR(back[3], x3, r[3], r[3]);
       }
     }
   }
@@ -193,12 +186,13 @@ TEST_CASE("oracles: (c) eccentric disc + oscillating roller follower", "[oracles
       const double psi = o.arm_angle(t)[0];
       const Vector2d centre = o.arm_pivot + 36.0 * Vector2d(std::cos(psi), std::sin(psi));
       const Vector2d disc = 3.0 * Vector2d(std::cos(phi), std::sin(phi));
-      CHECK(std::abs((centre - disc).norm() - 27.0) <= kClosureTolerance);
+      CHECK_ABS((centre - disc).norm(), 27.0, tol::kClosureAbs);
       // pressure angle from the geometry: normal (disc -> roller) against the roller
       // centre's velocity (normal to the arm)
       const Vector2d n = (centre - disc).normalized();
       const Vector2d v = Vector2d(-(centre - o.arm_pivot).y(), (centre - o.arm_pivot).x()).normalized();
-      CHECK(o.pressure_angle(t) == Approx(std::acos(std::abs(n.dot(v)))).margin(1e-12));
+      CHECK_ABS(o.pressure_angle(t), std::atan2(std::abs(n.x() * v.y() - n.y() * v.x()), std::abs(n.dot(v))),
+                tol::kOraclePressureAngleAbs);
     }
   }
 }
@@ -215,13 +209,13 @@ TEST_CASE("oracles: (e) offset slider-crank and its inversion", "[oracles]") {
       const auto s = sc.solve(t);
       const Vector2d A = sc.crank_pivot + 20.0 * Vector2d(std::cos(t), std::sin(t));
       const Vector2d B = sc.slide_point + s.slider[0] * dir;
-      CHECK(std::abs((B - A).norm() - 70.0) <= kClosureTolerance);
+      CHECK_ABS((B - A).norm(), 70.0, tol::kClosureAbs);
       // inversion from the slider position gives the crank angle back
       SliderCrank inv = sc;
       inv.crank_branch = sc.crank_branch_through(s.slider[0], t);
       const auto back = inv.invert(s.slider[0]);
-      CHECK(std::abs(wrap_angle(back.slider[0] - t)) <= 1e-11);
-      CHECK(std::abs(wrap_angle(back.rod_angle[0] - s.rod_angle[0])) <= 1e-11);
+      CHECK_ABS(wrap_angle(back.slider[0] - t), 0.0, tol::kSliderCrankInverseAbs);
+      CHECK_ABS(wrap_angle(back.rod_angle[0] - s.rod_angle[0]), 0.0, tol::kSliderCrankInverseAbs);
     }
     // derivatives of the inversion over a stroke away from the dead centres
     // (mid-stroke: crank normal to the slide)
@@ -234,14 +228,14 @@ TEST_CASE("oracles: (e) offset slider-crank and its inversion", "[oracles]") {
 
 TEST_CASE("oracles: (f) gear pair and rack-pinion from either end", "[oracles]") {
   const GearPair g{-0.5};
-  CHECK(g.output(1.2)[0] == Approx(-0.6));
-  CHECK(g.output(1.2)[1] == Approx(-0.5));
-  CHECK(g.input(-0.6)[0] == Approx(1.2));
-  CHECK(g.input(0.0)[1] == Approx(-2.0));
+  CHECK_REL(g.output(1.2)[0], -0.6, tol::kUlpRel);
+  CHECK_REL(g.output(1.2)[1], -0.5, tol::kUlpRel);
+  CHECK_REL(g.input(-0.6)[0], 1.2, tol::kUlpRel);
+  CHECK_REL(g.input(0.0)[1], -2.0, tol::kUlpRel);
   const RackPinion rp{12.0};
-  CHECK(rp.rack(0.5)[0] == Approx(6.0));
-  CHECK(rp.pinion(6.0)[0] == Approx(0.5));
-  CHECK(rp.pinion(6.0)[1] == Approx(1.0 / 12.0));
+  CHECK_REL(rp.rack(0.5)[0], 6.0, tol::kUlpRel);
+  CHECK_REL(rp.pinion(6.0)[0], 0.5, tol::kUlpRel);
+  CHECK_REL(rp.pinion(6.0)[1], 1.0 / 12.0, tol::kUlpRel);
   for (int k = 2; k <= 3; ++k) {
     CHECK(g.output(0.3)[static_cast<std::size_t>(k)] == 0.0);
     CHECK(rp.pinion(0.3)[static_cast<std::size_t>(k)] == 0.0);
@@ -261,16 +255,16 @@ TEST_CASE("oracles: (g) flat tappet on a polar cam by its support function", "[o
       const Motion y = o.face_height(t);
       // the contact point (profile angle phi, turned by orientation + theta) lies on the face
       const double a = phi + orientation + t;
-      CHECK(r[0] * std::sin(a) == Approx(y[0]).epsilon(1e-14));
-      CHECK(r[0] * std::cos(a) == Approx(o.contact_x(t)).margin(1e-12));
+      CHECK_REL(r[0] * std::sin(a), y[0], tol::kSupportPointRel);
+      CHECK_ABS(r[0] * std::cos(a), o.contact_x(t), tol::kSupportContactAbs);
       // and it is the farthest point along the face normal
       for (int j = 0; j < 360; ++j) {
         double q[4];
         lobe_radius(j * deg, q);
-        CHECK(q[0] * std::cos(j * deg - psi) <= y[0] + 1e-12);
+        CHECK(q[0] * std::cos(j * deg - psi) <= y[0] + tol::kSupportContactAbs);
       }
       // radius of curvature = face height + its second derivative [norton]
-      CHECK(o.radius_of_curvature(t) == Approx(y[0] + y[2]).epsilon(1e-12));
+      CHECK_REL(o.radius_of_curvature(t), y[0] + y[2], tol::kOracleTwoFormsRel);
     }
   }
   // a disc as a polar curve has the support function of (a)
@@ -281,8 +275,8 @@ TEST_CASE("oracles: (g) flat tappet on a polar cam by its support function", "[o
     for (int i = 0; i < 24; ++i) {
       const double t = i * 15 * deg;
       const Motion g = o.face_height(t), h = a.face_height(t);
-      for (int k = 0; k <= 3; ++k) CHECK(close_rel(g[static_cast<std::size_t>(k)], h[static_cast<std::size_t>(k)], 20.0, 1e-12));
-      CHECK(o.radius_of_curvature(t) == Approx(R).epsilon(1e-12));
+      for (std::size_t k = 0; k <= 3; ++k) CHECK_ABS(g[k], h[k], tol::kOracleTwoFormsRel * R);
+      CHECK_REL(o.radius_of_curvature(t), R, tol::kOracleTwoFormsRel);
     }
   }
 }

@@ -8,20 +8,19 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <numbers>
+#include <string>
 #include <vector>
 
 #include "oracles/finite_difference.hpp"
+#include "support/compare.hpp"
 
 namespace {
 
 using namespace camopt::oracles;
+using camopt::test::Series;
+namespace tol = camopt::test::tol;
 
 constexpr double pi = std::numbers::pi;
-
-constexpr double kResidualRelTolerance = 1e-12;  // of the sum of |terms| of an equation
-constexpr double kFdRelTolerance = 1e-7;         // analytic derivative vs finite difference
-constexpr double kEigenRelTolerance = 1e-12;     // closed-form vs numerical eigenvalues
-constexpr double kMassRelTolerance = 1e-12;      // modal mass identities
 
 // a valve spring: 40 N/mm, 30 g, 250 N preload, top end moved by the 4 mm eccentric at
 // 4700 rpm (surge f_1 = 577 Hz against a cam at 78 Hz)
@@ -49,11 +48,11 @@ TEST_CASE("spring chain oracle: the modal solution satisfies the equations of mo
         const double residual = mi * u(j - 1, 2) - ki * (at(j + 1) - 2.0 * at(j) + at(j - 1));
         const double scale = mi * std::abs(u(j - 1, 2)) +
                              ki * (std::abs(at(j + 1)) + 2.0 * std::abs(at(j)) + std::abs(at(j - 1))) + force_scale;
-        INFO("N " << n << " t " << t << " j " << j << " residual " << residual << " N of " << scale);
-        CHECK(std::abs(residual) <= kResidualRelTolerance * scale);
+        INFO("N " << n << " t " << t << " j " << j << " scale " << scale << " N");
+        CHECK_ABS(residual, 0.0, tol::kResidualRel * scale);
       }
       // displacement() and displacements() are the same sums
-      CHECK(o.displacement(n / 2, t)[0] == Approx(u(n / 2 - 1, 0)).epsilon(1e-14));
+      CHECK_REL(o.displacement(n / 2, t)[0], u(n / 2 - 1, 0), tol::kModalSumTwoPathsRel);
     }
   }
   // the analytic derivatives against 8th-order differences (step 1/100 of the top mode)
@@ -61,18 +60,17 @@ TEST_CASE("spring chain oracle: the modal solution satisfies the equations of mo
     const SpringChainOracle o(valve_spring(n));
     const double h = 0.01 * 2.0 * pi / o.natural_frequency(n);
     for (const int j : {1, n / 2, n}) {
-      double peak[3] = {0, 0, 0};
-      std::vector<double> times;
-      for (int i = 0; i < 40; ++i) times.push_back(0.5e-3 + 3.1e-4 * i);
-      for (double t : times)
-        for (std::size_t k = 0; k < 3; ++k) peak[k] = std::max(peak[k], std::abs(o.displacement(j, t)[k]));
-      for (double t : times) {
+      // within kOracleFdRel of the peak over the samples
+      Series velocity("u' of node " + std::to_string(j) + " of " + std::to_string(n), "t [s]");
+      Series acceleration("u'' of node " + std::to_string(j) + " of " + std::to_string(n), "t [s]");
+      for (int i = 0; i < 40; ++i) {
+        const double t = 0.5e-3 + 3.1e-4 * i;
         const std::array<double, 3> u = o.displacement(j, t);
-        const double du = central_difference([&](double s) { return o.displacement(j, s)[0]; }, t, 1, 4, h);
-        const double ddu = central_difference([&](double s) { return o.displacement(j, s)[1]; }, t, 1, 4, h);
-        CHECK(std::abs(u[1] - du) <= kFdRelTolerance * peak[1]);
-        CHECK(std::abs(u[2] - ddu) <= kFdRelTolerance * peak[2]);
+        velocity.add(t, u[1], central_difference([&](double s) { return o.displacement(j, s)[0]; }, t, 1, 4, h));
+        acceleration.add(t, u[2], central_difference([&](double s) { return o.displacement(j, s)[1]; }, t, 1, 4, h));
       }
+      CHECK_SERIES(velocity.compare({.rel = tol::kOracleFdRel}));
+      CHECK_SERIES(acceleration.compare({.rel = tol::kOracleFdRel}));
     }
   }
 }
@@ -91,27 +89,27 @@ TEST_CASE("spring chain oracle: closed-form modes against an eigen-solver, ortho
     const Eigen::VectorXd lambda = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(k).eigenvalues();
     for (int r = 1; r <= n; ++r) {
       const double w = o.natural_frequency(r);
-      CHECK(w * w == Approx(lambda(r - 1)).epsilon(kEigenRelTolerance));
-      CHECK(o.natural_frequency_hz(r) == Approx(w / (2.0 * pi)).epsilon(1e-15));
+      CHECK_REL(w * w, lambda(r - 1), tol::kEigenSolverRel);
+      CHECK_REL(o.natural_frequency_hz(r), w / (2.0 * pi), tol::kUlpRel);
     }
     // phi_r^T M phi_s = delta_rs ms / 2
     for (int r = 1; r <= n; ++r)
       for (int s = 1; s <= n; ++s) {
         double m = 0.0;
         for (int j = 1; j <= n; ++j) m += mi * o.mode_shape(r, j) * o.mode_shape(s, j);
-        CHECK(std::abs(m - (r == s ? o.modal_mass(r) : 0.0)) <= kMassRelTolerance * o.modal_mass(r));
+        CHECK_ABS(m, r == s ? o.modal_mass(r) : 0.0, tol::kModalMassRel * o.modal_mass(r));
       }
-    CHECK(o.modal_mass(1) == Approx(0.5 * o.chain().mass).epsilon(kMassRelTolerance));
+    CHECK_REL(o.modal_mass(1), 0.5 * o.chain().mass, tol::kModalMassRel);
     // effective masses: sum_j sin(j z) = cot(z / 2) for odd r, 0 for even, z = r pi / (N + 1),
     // and summed over the modes they give the moving mass N m_i
     double sum = 0.0;
     for (int r = 1; r <= n; ++r) {
       const double cot = 1.0 / std::tan(r * pi / (2.0 * (n + 1)));
       const double expected = r % 2 == 1 ? mi * mi * cot * cot / o.modal_mass(r) : 0.0;
-      CHECK(std::abs(o.effective_mass(r) - expected) <= kMassRelTolerance * n * mi);
+      CHECK_ABS(o.effective_mass(r), expected, tol::kModalMassRel * n * mi);
       sum += o.effective_mass(r);
     }
-    CHECK(sum == Approx(n * mi).epsilon(kMassRelTolerance));
+    CHECK_REL(sum, n * mi, tol::kModalMassRel);
     // the first mode carries (8 / pi^2) (z cot z)^2 of the spring's mass ms, z = pi / (2 (N + 1)),
     // and z cot z = 1 - z^2/3 - z^4/45 - ...: 8 / pi^2 = 81 % (the continuum's) less under 2 z^2 / 3
     const double z = pi / (2.0 * (n + 1)), share = o.effective_mass(1) / o.chain().mass;
@@ -124,8 +122,6 @@ TEST_CASE("spring chain oracle: agrees with a fixed-step RK4 of the chain", "[or
   // RK4 at 1/400 of the top mode's period over one cam revolution (phase error per step
   // (w h)^5 / 120 = 8e-11 for the top mode, which carries little); measured 1e-13 m and
   // 2e-8 N (N = 4), 3e-14 m and 1.2e-8 N (N = 10)
-  constexpr double kRk4LiftTolerance = 1e-12;  // [m]
-  constexpr double kRk4ForceTolerance = 2e-7;  // [N]
   for (const int n : {4, 10}) {
     const SpringChainOracle o(valve_spring(n));
     const double mi = o.node_mass(), ki = o.segment_rate();
@@ -140,7 +136,8 @@ TEST_CASE("spring chain oracle: agrees with a fixed-step RK4 of the chain", "[or
       return a;
     };
     Eigen::VectorXd u = Eigen::VectorXd::Zero(n), v = Eigen::VectorXd::Zero(n);
-    double max_du = 0, max_df = 0;
+    Series lift("rk4 node displacements [m] of " + std::to_string(n), "t [s]");
+    Series force("rk4 end forces [N] of " + std::to_string(n), "t [s]");
     for (long i = 0; i < steps; ++i) {
       const double t = static_cast<double>(i) * h;
       const Eigen::VectorXd k1u = v, k1v = accel(t, u);
@@ -151,15 +148,14 @@ TEST_CASE("spring chain oracle: agrees with a fixed-step RK4 of the chain", "[or
       v += h / 6.0 * (k1v + 2.0 * k2v + 2.0 * k3v + k4v);
       if (i % 8 == 0) {
         const double t1 = t + h;
-        max_du = std::max(max_du, (u - o.displacements(t1).col(0)).cwiseAbs().maxCoeff());
-        const double f_top = o.chain().preload + ki * (o.top(t1)[0] - u(n - 1));
-        const double f_base = o.chain().preload + ki * u(0);
-        max_df = std::max({max_df, std::abs(f_top - o.top_force(t1)), std::abs(f_base - o.base_force(t1))});
+        const Eigen::VectorXd modal = o.displacements(t1).col(0);
+        for (int j = 0; j < n; ++j) lift.add(t1, u(j), modal(j));
+        force.add(t1, o.chain().preload + ki * (o.top(t1)[0] - u(n - 1)), o.top_force(t1));
+        force.add(t1, o.chain().preload + ki * u(0), o.base_force(t1));
       }
     }
-    INFO("N " << n << ": rk4 vs modal max |du| " << max_du << " m, max |dF| " << max_df << " N");
-    CHECK(max_du <= kRk4LiftTolerance);
-    CHECK(max_df <= kRk4ForceTolerance);
+    CHECK_SERIES(lift.compare({.abs = tol::kChainRk4LiftAbs}));
+    CHECK_SERIES(force.compare({.abs = tol::kChainRk4ForceAbs}));
   }
 }
 
@@ -170,7 +166,7 @@ TEST_CASE("spring chain oracle: end forces obey momentum balance and the quasi-s
     const double t = 4.3e-4 * i;
     const double momentum_rate = o.node_mass() * o.displacements(t).col(2).sum();
     const double scale = std::abs(o.top_force(t)) + std::abs(o.base_force(t));
-    CHECK(std::abs(o.top_force(t) - o.base_force(t) - momentum_rate) <= kResidualRelTolerance * scale * 12);
+    CHECK_ABS(o.top_force(t) - o.base_force(t), momentum_rate, tol::kResidualRel * scale * 12);
   }
   // a cam far below surge (w = w_1 / 100): the chain follows the top end's ramp shape and
   // both ends carry F0 + k X, up to the surge left by starting from rest, of order
@@ -182,9 +178,9 @@ TEST_CASE("spring chain oracle: end forces obey momentum balance and the quasi-s
   for (int i = 1; i <= 30; ++i) {
     const double t = 2.0 * pi / slow.cam_speed * i / 31.0;
     const double static_force = slow.preload + slow.rate * q.top(t)[0];
-    CHECK(std::abs(q.top_force(t) - static_force) <= 1e-3 * ke);
-    CHECK(std::abs(q.base_force(t) - static_force) <= 1e-3 * ke);
-    CHECK(std::abs(q.displacement(6, t)[0] - q.top(t)[0] * 6.0 / 13.0) <= 1e-3 * slow.eccentricity);
+    CHECK_ABS(q.top_force(t), static_force, tol::kSlowSurgeRel * ke);
+    CHECK_ABS(q.base_force(t), static_force, tol::kSlowSurgeRel * ke);
+    CHECK_ABS(q.displacement(6, t)[0], q.top(t)[0] * 6.0 / 13.0, tol::kSlowSurgeRel * slow.eccentricity);
   }
 }
 
@@ -192,7 +188,7 @@ TEST_CASE("spring chain oracle: frequencies tend to the continuum's (r/2) sqrt(k
   // w_r / (r pi sqrt(k/ms)) = sin(z) / z with z = r pi / (2 (N + 1)); the alternating series
   // of sin puts the relative error 1 - sin(z)/z in [z^2/6 (1 - z^2/20), z^2/6]
   const SpringChain s = valve_spring(1);
-  CHECK(continuum_frequency_hz(s.rate, s.mass, 1) == Approx(577.3502691896).epsilon(1e-12));
+  CHECK_REL(continuum_frequency_hz(s.rate, s.mass, 1), 577.3502691896, tol::kPrinted13DigitsRel);
   for (int r = 1; r <= 3; ++r) {
     double previous = 0.0;
     int previous_n = 0;

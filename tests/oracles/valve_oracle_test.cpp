@@ -8,23 +8,21 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <numbers>
+#include <string>
 #include <vector>
 
 #include "oracles/finite_difference.hpp"
+#include "support/compare.hpp"
 
 namespace {
 
 using namespace camopt::oracles;
+using camopt::test::Series;
+namespace tol = camopt::test::tol;
 
 constexpr double pi = std::numbers::pi;
 
-constexpr double kResidualRelTolerance = 1e-12;   // of the sum of |terms| of the equation
-constexpr double kFdRelTolerance = 1e-7;          // analytic derivative vs finite difference
-constexpr double kContinuityRelTolerance = 1e-12; // x, x' across a switch, of their peaks
 constexpr double kSideStep = 1e-11;               // [s] either side of a switch
-constexpr double kAccelJumpRelTolerance = 1e-9;   // jump of x'' at a switch, of c |d'| / m
-constexpr double kEnergyRelTolerance = 1e-12;     // of the gross cam work (measured 4e-16)
-constexpr double kHalvingRelTolerance = 1e-9;     // results under halving the scan step
 constexpr double kBallisticShare = 0.95;          // bounce height over its ballistic height
 
 // the lash case: 4700 rpm, e = 4 mm, lash 0.15 mm, 50 g valve, 250 N preload, 40 N/mm
@@ -83,7 +81,7 @@ Forces one_sided(const ValveParams& p, double t, double x, double v) {
 // largest deviation from the oracle and its contact events (at the end of the step in
 // which the one-sided laws change state)
 struct Rk4Run {
-  double max_dx = 0, max_dv = 0;  // [m, m/s]
+  Series x{"rk4 valve lift [m]", "t [s]"}, v{"rk4 valve speed [m/s]", "t [s]"};  // against the oracle
   std::vector<ValveEvent> events;
 };
 Rk4Run rk4_run(const ValveParams& p, const ValveTrajectory& tr, double h) {
@@ -111,8 +109,8 @@ Rk4Run rk4_run(const ValveParams& p, const ValveTrajectory& tr, double h) {
         run.events.push_back({t1, c == 0 ? ValveContact::cam : ValveContact::seat, next[c], x, v});
     mode = next;
     const ValveSample e = tr.at(t1);
-    run.max_dx = std::max(run.max_dx, std::abs(x - e.x));
-    run.max_dv = std::max(run.max_dv, std::abs(v - e.v));
+    run.x.add(t1, x, e.x);
+    run.v.add(t1, v, e.v);
   }
   return run;
 }
@@ -130,39 +128,38 @@ TEST_CASE("valve oracle: each mode's closed form satisfies its equation of motio
   // free and cam modes) and an over-damped one; start state off equilibrium
   const ValveParams critical{1.0, 0.01, 3.0, 0.4, 0.002, 2.0, 4.0, 4.0, 12.0, 4.0, 5.0, 0.0};
   const ValveParams over{1.0, 0.01, 3.0, -0.7, 0.0, 1.0, 4.0, 10.0, 1.0, 30.0, 50.0, 2.0};
-  int regimes[3] = {0, 0, 0};
+  int regimes[3] = {0, 0, 0}, set = 0;
   for (const ValveParams& p : {lash_case(), critical, over}) {
+    ++set;
     for (int m = 0; m < 4; ++m) {
       const ValveMode mode{(m & 1) != 0, (m & 2) != 0};
       const double t0 = 0.37 * 2.0 * pi / p.cam_speed, x0 = 1e-3, v0 = -0.2;
       const ValveSegment s = make_valve_segment(p, mode, t0, x0, v0);
       ++regimes[static_cast<int>(s.regime)];
-      CHECK(s.motion(t0)[0] == Approx(x0).epsilon(kResidualRelTolerance));
-      CHECK(s.motion(t0)[1] == Approx(v0).epsilon(kResidualRelTolerance));
+      CHECK_REL(s.motion(t0)[0], x0, tol::kResidualRel);
+      CHECK_REL(s.motion(t0)[1], v0, tol::kResidualRel);
       // over 20 periods of the fastest of the mode's frequency, its fastest decay rate and
       // the cam (the slow over-damped root reaches gamma tau > 1)
       const double period = 2.0 * pi / std::max({std::sqrt(s.K / s.m), s.C / s.m, p.cam_speed});
-      double peak[3] = {0, 0, 0};
-      for (int i = 0; i <= 400; ++i) {
-        const std::array<double, 3> y = s.motion(t0 + 0.05 * period * i);
-        for (int k = 0; k < 3; ++k) peak[k] = std::max(peak[k], std::abs(y[static_cast<std::size_t>(k)]));
-      }
+      // the analytic derivatives within kOracleFdRel of their peaks over the samples
+      const std::string of = " of set " + std::to_string(set) + " mode " + std::to_string(m);
+      Series velocity("x'" + of, "t [s]"), acceleration("x''" + of, "t [s]");
       for (int i = 0; i <= 400; ++i) {
         const double t = t0 + 0.05 * period * i;
         const std::array<double, 3> y = s.motion(t);
         const Forces f = forces(p, t, y[0], y[1], mode.cam, mode.seat);
-        INFO("mode " << m << " t " << t << " x " << y[0] << " residual " << p.mass * y[2] - f.total);
-        CHECK(std::abs(p.mass * y[2] - f.total) <= kResidualRelTolerance * (p.mass * std::abs(y[2]) + f.scale));
-        CHECK(std::abs(s.m * y[2] + s.C * y[1] + s.K * y[0] - s.forcing(t)) <=
-              kResidualRelTolerance * (s.m * std::abs(y[2]) + s.C * std::abs(y[1]) + s.K * std::abs(y[0]) +
+        INFO("mode " << m << " t " << t << " x " << y[0]);
+        CHECK_ABS(p.mass * y[2], f.total, tol::kResidualRel * (p.mass * std::abs(y[2]) + f.scale));
+        CHECK_ABS(s.m * y[2] + s.C * y[1] + s.K * y[0], s.forcing(t),
+                  tol::kResidualRel * (s.m * std::abs(y[2]) + s.C * std::abs(y[1]) + s.K * std::abs(y[0]) +
                                        std::abs(s.f0) + std::abs(s.a) + std::abs(s.b)));
         // the analytic derivatives against 8th-order differences of x and x'
         const double h = 0.01 * period;
-        const double dx = central_difference([&](double u) { return s.motion(u)[0]; }, t, 1, 4, h);
-        const double dv = central_difference([&](double u) { return s.motion(u)[1]; }, t, 1, 4, h);
-        CHECK(std::abs(y[1] - dx) <= kFdRelTolerance * peak[1]);
-        CHECK(std::abs(y[2] - dv) <= kFdRelTolerance * peak[2]);
+        velocity.add(t, y[1], central_difference([&](double u) { return s.motion(u)[0]; }, t, 1, 4, h));
+        acceleration.add(t, y[2], central_difference([&](double u) { return s.motion(u)[1]; }, t, 1, 4, h));
       }
+      CHECK_SERIES(velocity.compare({.rel = tol::kOracleFdRel}));
+      CHECK_SERIES(acceleration.compare({.rel = tol::kOracleFdRel}));
     }
   }
   CHECK(regimes[0] >= 1);  // under-damped
@@ -178,7 +175,7 @@ TEST_CASE("valve oracle: exact resonance of an undamped mode is refused", "[orac
   ValveParams q = p;
   q.cam_stiffness = 3.0 + 1e-6;
   const ValveSegment s = make_valve_segment(q, {true, false}, 0.0, 0.0, 0.0);
-  CHECK(s.P == Approx(-q.cam_stiffness * q.eccentricity / 1e-6).epsilon(1e-6));
+  CHECK_REL(s.P, -q.cam_stiffness * q.eccentricity / 1e-6, tol::kNearResonanceRel);
   CHECK_NOTHROW(make_valve_segment(p, {false, true}, 0.0, 0.0, 0.0));
 }
 
@@ -197,8 +194,8 @@ TEST_CASE("valve oracle: x, x' continuous and the contact indicator changing sig
     REQUIRE(after.t0 == e.t);
     const std::array<double, 3> y0 = before.motion(e.t), y1 = after.motion(e.t);
     INFO("event " << i << " at " << e.t);
-    CHECK(std::abs(y0[0] - y1[0]) <= kContinuityRelTolerance * peak_x);
-    CHECK(std::abs(y0[1] - y1[1]) <= kContinuityRelTolerance * peak_v);
+    CHECK_ABS(y1[0], y0[0], tol::kSwitchContinuityRel * peak_x);
+    CHECK_ABS(y1[1], y0[1], tol::kSwitchContinuityRel * peak_v);
     // along the mode before the switch: engaged state as the mode says just before, the
     // other just after (the one-sided laws of this test decide)
     const bool cam = e.contact == ValveContact::cam;
@@ -217,7 +214,7 @@ TEST_CASE("valve oracle: x, x' continuous and the contact indicator changing sig
     const double d_rate = cam ? p.eccentricity * p.cam_speed * std::sin(th) - e.v : -e.v;
     const double c = cam ? p.cam_damping : p.seat_damping;
     const double jump = e.engages && std::abs(d) < 1e-15 ? c * d_rate / p.mass : 0.0;
-    CHECK(std::abs((y1[2] - y0[2]) - jump) <= kAccelJumpRelTolerance * c * std::abs(d_rate) / p.mass);
+    CHECK_ABS(y1[2] - y0[2], jump, tol::kAccelJumpRel * c * std::abs(d_rate) / p.mass);
   }
 }
 
@@ -227,21 +224,17 @@ TEST_CASE("valve oracle: agrees with a fixed-step RK4 of the non-smooth equation
   // of the step it falls in, erratic in the step. measured at 10 ns: x within 4.4e-10 m, v
   // within 3.8e-5 m/s (20 ns: 4.2e-9 m, 3.6e-4 m/s; 2.5 ns: 2.6e-10 m, 1.4e-5 m/s)
   constexpr double kStep = 1e-8;               // [s]
-  constexpr double kEventSteps = 2.0;          // event time, in RK4 steps
-  constexpr double kRk4LiftTolerance = 1e-9;   // [m]
-  constexpr double kRk4SpeedTolerance = 1e-4;  // [m/s]
   const ValveParams p = lash_case();
   const ValveTrajectory tr = integrate_valve(p, seated(p), run_end(p));
   const Rk4Run coarse = rk4_run(p, tr, kStep);
-  INFO("rk4 vs exact: max |dx| " << coarse.max_dx << " m, max |dv| " << coarse.max_dv << " m/s");
-  CHECK(coarse.max_dx <= kRk4LiftTolerance);
-  CHECK(coarse.max_dv <= kRk4SpeedTolerance);
+  CHECK_SERIES(coarse.x.compare({.abs = tol::kValveRk4LiftAbs}));
+  CHECK_SERIES(coarse.v.compare({.abs = tol::kValveRk4SpeedAbs}));
   REQUIRE(coarse.events.size() == tr.events.size());
   for (std::size_t i = 0; i < coarse.events.size(); ++i) {
     INFO("event " << i << " exact " << tr.events[i].t << " rk4 " << coarse.events[i].t);
     CHECK(coarse.events[i].contact == tr.events[i].contact);
     CHECK(coarse.events[i].engages == tr.events[i].engages);
-    CHECK(std::abs(coarse.events[i].t - tr.events[i].t) <= kEventSteps * kStep);
+    CHECK_ABS(coarse.events[i].t, tr.events[i].t, tol::kRk4EventSteps * kStep);
   }
 }
 
@@ -292,9 +285,9 @@ TEST_CASE("valve oracle: the cam's work balances kinetic, spring, contact and di
   const double change = stored(tr.t_end, tr.segments.back().mode) - stored(tr.t_begin, tr.segments.front().mode);
   INFO("work " << work << " J, gross " << gross << " J, stored change " << change << " J, dissipated " << dissipated
                << " J, released " << released << " J, imbalance " << work - (change + dissipated + released) << " J");
-  CHECK(std::abs(work - (change + dissipated + released)) <= kEnergyRelTolerance * gross);
+  CHECK_ABS(work, change + dissipated + released, tol::kEnergyBalanceRel * gross);
   // the releases are not negligible here: each bounce's lift-off leaves k_s d^2 / 2 behind
-  CHECK(released > 1e3 * kEnergyRelTolerance * gross);
+  CHECK(released > 1e3 * tol::kEnergyBalanceRel * gross);
 }
 
 TEST_CASE("valve oracle: 4700 rpm with 0.15 mm lash bounces on the seat at closing", "[oracles]") {
@@ -310,12 +303,12 @@ TEST_CASE("valve oracle: 4700 rpm with 0.15 mm lash bounces on the seat at closi
   CHECK(fine.scan_step == 1e-6);
   REQUIRE(fine.events.size() == finer.events.size());
   for (std::size_t i = 0; i < fine.events.size(); ++i)
-    CHECK(std::abs(fine.events[i].t - finer.events[i].t) <= kHalvingRelTolerance * fine.events[i].t);
+    CHECK_REL(finer.events[i].t, fine.events[i].t, tol::kScanHalvingRel);
   const double ta = half_turn, tb = fine.t_end;  // the closing half of the run
   const double v_seat = fine.seating_velocity(ta, tb);
   const int bounces = fine.bounce_count(ta, tb);
   CHECK(finer.bounce_count(ta, tb) == bounces);
-  CHECK(std::abs(finer.seating_velocity(ta, tb) - v_seat) <= kHalvingRelTolerance * v_seat);
+  CHECK_REL(finer.seating_velocity(ta, tb), v_seat, tol::kScanHalvingRel);
   CHECK(bounces == 5);
   // landing speed: the cam face speed e w sin(theta) where x_c = lash + F / k_c, the cam
   // force F = F0 + m x_c'' being what the rigid follower would need there
@@ -325,8 +318,8 @@ TEST_CASE("valve oracle: 4700 rpm with 0.15 mm lash bounces on the seat at closi
     speed = p.eccentricity * p.cam_speed * s;
     xc = p.lash + (p.preload + p.mass * p.eccentricity * p.cam_speed * p.cam_speed * c) / p.cam_stiffness;
   }
-  CHECK(v_seat == Approx(speed).epsilon(5e-4));  // measured 1.4e-4
-  CHECK(v_seat == Approx(0.536589).epsilon(1e-5));
+  CHECK_REL(v_seat, speed, tol::kLandingSpeedRel);
+  CHECK_REL(v_seat, 0.536589, tol::kPrinted6DigitsRel);
   // bounce heights fall, each below the ballistic height of its lift-off state (x < 0, the
   // seat still compressed, and x') against the preload alone: the valve spring's damping
   // takes energy away, its rate adds at most k_v |x| (0.03 N) below the seat
@@ -343,11 +336,11 @@ TEST_CASE("valve oracle: 4700 rpm with 0.15 mm lash bounces on the seat at closi
     CHECK(heights[i] > kBallisticShare * ballistic);
     if (i > 0) CHECK(heights[i] < heights[i - 1]);
   }
-  CHECK(finer.bounce_heights(ta, tb)[0] == Approx(heights[0]).epsilon(kHalvingRelTolerance));
+  CHECK_REL(finer.bounce_heights(ta, tb)[0], heights[0], tol::kScanHalvingRel);
   // peak lift, quasi-static by then (the opening's skips decay at c / 2m = 5200 1/s): the
   // cam's 2 e - lash less the contact deflection under F0 + k_v x - m e w^2
   const double top = 2.0 * p.eccentricity - p.lash;
   const double deflection =
       (p.preload + p.spring_rate * top - p.mass * p.eccentricity * p.cam_speed * p.cam_speed) / p.cam_stiffness;
-  CHECK(std::abs(fine.max_lift(0.0, ta + 0.5 * half_turn) - (top - deflection)) <= 5e-4 * deflection);  // measured 8e-5
+  CHECK_ABS(fine.max_lift(0.0, ta + 0.5 * half_turn), top - deflection, tol::kQuasiStaticDeflectionRel * deflection);
 }

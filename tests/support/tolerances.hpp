@@ -87,6 +87,78 @@ inline constexpr double kConditionRel = 1e-6;        // a link's condition numbe
 inline constexpr double kSummaryOfSameRel = 1e-12;   // a summary's extreme against the extreme of the same per-point values
 inline constexpr double kRefinedExtremeRel = 1e-6;   // a refined extreme against the largest of a 0.5-deg grid's closed forms
 inline constexpr double kQuasiStaticForceRel = 1e-2; // compliant contact forces against rigid ones at <= 10 rpm: the deflection's share of the peak
+
+// oracles, synthesis and optimisation
+// the closed-form oracles against themselves (tests/oracles)
+inline constexpr double kOracleFdRel = 1e-7;           // a closed form's derivatives against 8th-order central differences of its own displacement, of the peak
+inline constexpr double kExactStencilRel = 1e-8;       // a stencil exact for the polynomial it differences: round-off eps f / h^3 only
+inline constexpr double kOracleRoundOffAbs = 1e-14;    // [mm] a closed form against the same closed form written out, |x| ~ 4 mm
+inline constexpr double kClosureAbs = 1e-11;           // [mm] loop closure of a closed-form position, links ~50 mm
+inline constexpr double kOracleTwoFormsRel = 1e-12;    // one mechanism by two closed forms (a roller as a slider-crank, a disc as a polar cam), of max(1, |x|)
+inline constexpr double kOraclePressureAngleAbs = 1e-12;  // [rad] a pressure angle against the angle of the contact normal
+inline constexpr double kCouplerDirectionAbs = 1e-13;  // [rad] the coupler's direction from its end points against its solved angle
+inline constexpr double kFourBarInverseAbs = 1e-12;    // [rad] the crank angle back through the inverted four-bar
+inline constexpr double kInverseRateRel[4] = {0.0, 1e-10, 1e-10, 1e-9};  // an inverse's derivatives (x' = 1/y', ...) with |y'| > 0.05, of max(1, |x^(k)|)
+inline constexpr double kSliderCrankInverseAbs = 1e-11;  // [rad] crank and rod angles back from the slider position
+inline constexpr double kSupportPointRel = 1e-14;      // the contact point's height against the support function: a few roundings
+inline constexpr double kSupportContactAbs = 1e-12;    // [mm] the contact point along the face, and the slack of "farthest along the normal"
+inline constexpr double kResidualRel = 1e-12;          // an equation of motion's residual (or its start state), of the sum of |terms|
+inline constexpr double kModalSumTwoPathsRel = 1e-14;  // one modal sum evaluated by two functions
+inline constexpr double kEigenSolverRel = 1e-12;       // closed-form eigenvalues against a numerical eigen-solver
+inline constexpr double kModalMassRel = 1e-12;         // modal and effective mass identities, of the mass
+inline constexpr double kChainRk4LiftAbs = 1e-12;      // [m] RK4 at 1/400 of the top mode's period against the modal solution (measured 1e-13)
+inline constexpr double kChainRk4ForceAbs = 2e-7;      // [N] its end forces (measured 2e-8)
+inline constexpr double kSlowSurgeRel = 1e-3;          // quasi-static chain at w = w_1 / 100: surge (w / w_1)^2 from the start, of k e
+inline constexpr double kPrinted13DigitsRel = 1e-12;   // a value against its 13 printed digits
+inline constexpr double kNearResonanceRel = 1e-6;      // the 1 / (K - m w^2) amplitude 1e-6 off resonance: cancellation in K - m w^2
+inline constexpr double kSwitchContinuityRel = 1e-12;  // x, x' across a contact switch, of their peaks
+inline constexpr double kAccelJumpRel = 1e-9;          // the jump of x'' at a switch, of c |d'| / m
+inline constexpr double kValveRk4LiftAbs = 1e-9;       // [m] RK4 at 10 ns through the contact switches (first order there; measured 4.4e-10)
+inline constexpr double kValveRk4SpeedAbs = 1e-4;      // [m/s] its speed (measured 3.8e-5)
+inline constexpr double kRk4EventSteps = 2.0;          // [steps] an RK4 contact event against the exact switch
+inline constexpr double kEnergyBalanceRel = 1e-12;     // the cam's work against the energy balance, of the gross work (measured 4e-16)
+inline constexpr double kScanHalvingRel = 1e-9;        // event times, landing speed and bounce height under halving the scan step
+inline constexpr double kLandingSpeedRel = 5e-4;       // the valve's landing speed against the cam face's (three fixed-point steps; measured 1.4e-4)
+inline constexpr double kPrinted6DigitsRel = 1e-5;     // a value against its 6 printed digits
+inline constexpr double kQuasiStaticDeflectionRel = 5e-4;  // peak lift against the quasi-static contact deflection, of it (measured 8e-5)
+
+// lift laws and envelope synthesis (tests/synthesis)
+inline constexpr double kLawClosedFormRel = 1e-12;   // a lift law against its published formula, of the peak |d^k|
+inline constexpr double kNortonDecimalsAbs = 1e-6;   // [unit rise] against Norton's 8-digit decimal coefficients
+inline constexpr double kPublishedCoefAbs = 6e-5;    // against a peak coefficient published to 4-5 digits
+inline constexpr double kPrinted3DecimalsAbs = 1e-3; // against a value published to 3 decimals
+inline constexpr double kSampledPeakRel = 1e-9;      // a peak sampled on a 2e5-point grid against its exact value
+inline constexpr double kLawFdRel = 1e-8;            // analytic against 8th-order central differences at 0.02 deg, of the peak
+inline constexpr double kLawIdentityRel = 1e-12;     // identities of a law that hold to rounding, of the stated scale
+inline constexpr double kCoefTwoFormsRel = 1e-14;    // a peak coefficient against its closed form written out again
+inline constexpr double kClosureChangeAbs = 1e-15;   // a B-spline shape that already closes needs no closure change
+inline constexpr double kClosureChange4567Abs = 1e-14;  // the same for the 4-5-6-7 shape (larger coefficients)
+inline constexpr double kClosureRatioRel = 1e-10;    // the closure change per weight, equal for every coefficient
+inline constexpr double kJoinSlopeSlackRel = 0.01;   // a continuous d^k across a join: 2 eps max|d^(k+1)|, 1 % slack
+inline constexpr double kJoinRoundOffRel = 1e-13;    // and round-off, of max |d^k|
+inline constexpr double kJerkJoinRel = 1e-6;         // a jerk that the laws make continuous (or zero) at a join, of the peak jerk
+inline constexpr double kRampEndLiftAbs = 1e-12;     // [mm] lift 1e-6 deg before the end of the closing ramp
+inline constexpr double kRampEndVelocityAbs = 1e-9;  // [mm/deg] its velocity there
+inline constexpr double kPeakLiftRel = 1e-14;        // the lift at the peak angle against the max lift
+inline constexpr double kPeakVelocityAbs = 1e-14;    // [mm/deg] the velocity there
+inline constexpr double kPeriodShiftAbs = 1e-12;     // the event one or two revolutions on (the angle rounds by ~1e-13 deg)
+inline constexpr double kNortonDurationAbs = 2e-4;   // [deg] a duration against a bisection on Norton's decimals (~1e-7 in lift)
+inline constexpr double kSummaryPeakAccRel = 1e-6;   // a summary's sampled peak acceleration against the laws' closed form
+inline constexpr double kDiscProfileAbs = 1e-8;      // [mm] a synthesized disc's radius against the exact disc
+inline constexpr double kDiscCurvatureRel = 1e-6;    // its smallest radius of curvature against R
+inline constexpr double kDiscExtremeRadiusRel = 1e-9;  // its base and max radius against R - e, R + e
+inline constexpr double kDiscRoundTripAbs = 1e-8;    // [mm] forward lift of the synthesized disc against the target
+inline constexpr double kRoundTripAbs = 1e-6;        // [mm or rad] forward motion of a synthesized cam against its target
+inline constexpr double kPrintedPressureAngleAbs = 1e-3;  // [deg] a peak pressure angle against its 4-decimal value
+inline constexpr double kFaceOffsetAbs = 1e-6;       // [mm] the contact's extreme offsets along a flat face
+inline constexpr double kOwnLobeAbs = 1e-5;          // [mm] a synthesized lobe against the 1-deg table it came from, via a 0.5-deg lift spline
+inline constexpr double kSwingInputLobeAbs = 1e-4;   // [mm] the CVVL's input lobe back from the swing-cam motion
+inline constexpr double kBridgedLobeAbs = 5e-3;      // [mm] the same where the lever leaves its rest (the lift barely moves)
+inline constexpr double kBaseCircleAbs = 1e-6;       // [mm] a synthesized base circle against the lobe's
+inline constexpr double kTabledEccentricAbs = 1e-8;  // [mm] an analytic against a 2-deg tabled eccentric (spline error 2e-10)
+inline constexpr double kGrindingLiftAbs = 1e-9;     // [mm] a grinding table against its closed form
+inline constexpr double kLeverPoseAbs = 1e-10;       // [mm or rad] the lever path's pose against whole solves (each to ~1e-12)
+inline constexpr double kLeverRateRel = 1e-8;        // its derivatives, of their peak
 }  // namespace tol
 
 }  // namespace camopt::test

@@ -31,9 +31,9 @@ TEST_CASE("synthesis: the lift of an eccentric disc under an offset roller gives
   check_disc(res, R, e);
   synthesis::RoundTrip rt;
   REQUIRE(synthesis::round_trip(synthesis::with_profile(d, res.profile), target, {}, res.connection, rt).ok());
-  CHECK(rt.max_error_mm < kRoundTripTolerance);
+  CHECK_ABS(rt.max_error_mm, 0.0, test::tol::kDiscRoundTripAbs);
   // pressure angle of an offset roller on a disc: tan a = |s' - offset| / Y (Norton), peak 14.48 deg here
-  CHECK(rt.max_pressure_angle_deg == Approx(14.4775).margin(1e-3));
+  CHECK_ABS(rt.max_pressure_angle_deg, 14.4775, test::tol::kPrintedPressureAngleAbs);
 }
 
 TEST_CASE("synthesis: the lift of an eccentric disc under a flat face gives back the disc", "[synthesis][envelope]") {
@@ -46,8 +46,8 @@ TEST_CASE("synthesis: the lift of an eccentric disc under a flat face gives back
   CHECK(res.follower_shape == "line");
   check_disc(res, R, e);
   // the contact moves along the face by s' = e cos(theta): offsets -e .. e [mm]
-  CHECK(res.face_offset_min_mm == Approx(-e).margin(1e-6));
-  CHECK(res.face_offset_max_mm == Approx(e).margin(1e-6));
+  CHECK_ABS(res.face_offset_min_mm, -e, test::tol::kFaceOffsetAbs);
+  CHECK_ABS(res.face_offset_max_mm, e, test::tol::kFaceOffsetAbs);
 }
 
 TEST_CASE("synthesis: a roller finger follower design gives back its own lobe", "[synthesis][envelope]") {
@@ -59,15 +59,11 @@ TEST_CASE("synthesis: a roller finger follower design gives back its own lobe", 
   synthesis::SynthesisResult res;
   REQUIRE(synthesis::synthesize(d, target, o, res).ok());
   const auto m = kin::compile(d);
-  double worst = 0.0;
-  for (std::size_t k = 0; k < res.angle_deg.size(); ++k)
-    worst = std::max(worst, std::abs(res.radius_mm[k] - m.profiles[0].radius_at(res.angle_deg[k] * deg)));
-  INFO("worst radius error " << worst << " mm");
   // the target is a 0.5 deg spline of the forward lift, the original lobe a 1 deg table
-  CHECK(worst < 1e-5);
+  CHECK_SERIES(compare_radius(res, [&](double a) { return m.profiles[0].radius_at(a); }, test::tol::kOwnLobeAbs));
   synthesis::RoundTrip rt;
   REQUIRE(synthesis::round_trip(synthesis::with_profile(d, res.profile), target, {}, res.connection, rt).ok());
-  CHECK(rt.max_error_mm < 1e-6);
+  CHECK_ABS(rt.max_error_mm, 0.0, test::tol::kRoundTripAbs);
 }
 
 TEST_CASE("synthesis: a lift too sharp for the roller is reported as an undercut with its angle",
@@ -119,18 +115,15 @@ TEST_CASE("synthesis: the CVVL rotational cam from the swing-cam motion gives ba
   REQUIRE(st.ok());
   CHECK(res.connection == "cam_roller");
   CHECK(res.follower_node == "swing");
-  double worst = 0.0;
   int lobe = -1;
   for (std::size_t i = 0; i < m.profiles.size(); ++i)
     if (m.profiles[i].name() == "input_lobe") lobe = static_cast<int>(i);
   REQUIRE(lobe >= 0);
-  for (std::size_t k = 0; k < res.angle_deg.size(); ++k)
-    worst = std::max(worst, std::abs(res.radius_mm[k] - m.profiles[lobe].radius_at(res.angle_deg[k] * deg)));
-  INFO("worst radius error " << worst << " mm");
-  CHECK(worst < 1e-4);
+  CHECK_SERIES(
+      compare_radius(res, [&](double a) { return m.profiles[lobe].radius_at(a); }, test::tol::kSwingInputLobeAbs));
   synthesis::RoundTrip rt;
   REQUIRE(synthesis::round_trip(synthesis::with_profile(d, res.profile), target, {}, res.connection, rt, "swing").ok());
-  CHECK(rt.max_error_mm < 1e-6);  // [rad] of swing angle
+  CHECK_ABS(rt.max_error_mm, 0.0, test::tol::kRoundTripAbs);  // [rad] of swing angle
 }
 
 TEST_CASE("synthesis: an eccentric disc under an oscillating roller gives back the disc", "[synthesis][envelope]") {
@@ -174,7 +167,7 @@ TEST_CASE("synthesis: real measured intake lifts (ICESym) on the finger follower
     REQUIRE(st.ok());
     synthesis::RoundTrip rt;
     REQUIRE(synthesis::round_trip(synthesis::with_profile(d, res.profile), target.lift, {}, res.connection, rt).ok());
-    CHECK(rt.max_error_mm < 1e-6);
+    CHECK_ABS(rt.max_error_mm, 0.0, test::tol::kRoundTripAbs);
     CHECK(res.min_radius_of_curvature_mm > 0.0);
   }
 }
@@ -195,7 +188,6 @@ TEST_CASE("synthesis: real measured intake lifts (ICESym) on the finger follower
 // at control 0 / 30 deg.
 TEST_CASE("synthesis: round trip within 1e-6 mm on every bundled design, across the control range",
           "[synthesis][envelope][designs]") {
-  constexpr double kBundledRoundTrip = 1e-6;  // [mm]
   struct Case {
     const char* design;
     const char* cam;
@@ -236,7 +228,7 @@ TEST_CASE("synthesis: round trip within 1e-6 mm on every bundled design, across 
     REQUIRE(synthesis::round_trip(synthesis::with_profile(d, res.profile), target, controls, res.connection, rt).ok());
     INFO("round trip max error " << rt.max_error_mm << " at cam " << rt.max_error_at_deg << " deg, "
                                  << res.angle_deg.size() << " profile points");
-    CHECK(rt.max_error_mm <= kBundledRoundTrip);
+    CHECK_ABS(rt.max_error_mm, 0.0, test::tol::kRoundTripAbs);
   }
 }
 

@@ -78,11 +78,11 @@ TEST_CASE("b-spline acceleration reproduces the polynomial laws exactly", "[synt
   const Polynomial345 p345(kH, kBeta);
   for (const std::vector<double>& controls : {std::vector<double>{0, 20, -20, 0}, std::vector<double>{0, 1, -1, 0}}) {
     const BSplineAcceleration law(kH, kBeta, controls, 3);
-    CHECK(law.closure_change() <= 1e-15);
+    CHECK_ABS(law.closure_change(), 0.0, kClosureChangeAbs);
     for (int i = 0; i <= 50; ++i) {
       const double theta = kBeta * i / 50.0;
       for (int k = 0; k <= 3; ++k)
-        check_close(law.evaluate(theta)[k], p345.evaluate(theta)[k], kExactRel, kH / std::pow(kBeta, k) * 60.0,
+        check_close(law.evaluate(theta)[k], p345.evaluate(theta)[k], kLawIdentityRel, kH / std::pow(kBeta, k) * 60.0,
                     "3-4-5 d^" + std::to_string(k) + " at " + std::to_string(theta));
     }
   }
@@ -90,11 +90,11 @@ TEST_CASE("b-spline acceleration reproduces the polynomial laws exactly", "[synt
   const std::vector<double> c4567 = bernstein({0, 0, 420, -1680, 2100, -840});
   const BSplineAcceleration law(kH, kBeta, c4567, 5);
   const Polynomial4567 p4567(kH, kBeta);
-  CHECK(law.closure_change() <= 1e-14);
+  CHECK_ABS(law.closure_change(), 0.0, kClosureChange4567Abs);
   for (int i = 0; i <= 50; ++i) {
     const double theta = kBeta * i / 50.0;
     for (int k = 0; k <= 3; ++k)
-      check_close(law.evaluate(theta)[k], p4567.evaluate(theta)[k], kExactRel, kH / std::pow(kBeta, k) * 60.0,
+      check_close(law.evaluate(theta)[k], p4567.evaluate(theta)[k], kLawIdentityRel, kH / std::pow(kBeta, k) * 60.0,
                   "4-5-6-7 d^" + std::to_string(k) + " at " + std::to_string(theta));
   }
 }
@@ -114,7 +114,7 @@ TEST_CASE("b-spline acceleration: exact double integral, closure by the least ch
     // acceleration is the b-spline of the closed, scaled controls (cox-de boor)
     for (int i = 0; i <= 100; ++i) {
       const double x = i / 100.0;
-      check_close(law.unit(x).acc, spline_by_basis(t, c, degree, x), kExactRel, 10.0, "acc at " + std::to_string(x));
+      check_close(law.unit(x).acc, spline_by_basis(t, c, degree, x), kLawIdentityRel, 10.0, "acc at " + std::to_string(x));
     }
     // velocity and lift are its exact first and second integrals
     for (int i = 1; i <= 40; ++i) {
@@ -122,14 +122,14 @@ TEST_CASE("b-spline acceleration: exact double integral, closure by the least ch
       const auto acc = [&](double s) { return spline_by_basis(t, c, degree, s); };
       const double vel = integrate_by_spans(t, x, acc);
       const double lift = integrate_by_spans(t, x, [&](double s) { return (x - s) * acc(s); });
-      check_close(law.unit(x).vel, vel, kExactRel, 10.0, "vel at " + std::to_string(x));
-      check_close(law.unit(x).lift, lift, kExactRel, 10.0, "lift at " + std::to_string(x));
+      check_close(law.unit(x).vel, vel, kLawIdentityRel, 10.0, "vel at " + std::to_string(x));
+      check_close(law.unit(x).lift, lift, kLawIdentityRel, 10.0, "lift at " + std::to_string(x));
     }
     // closure: zero acceleration at both ends, zero velocity and unit lift at the end
     CHECK(c.front() == 0.0);
     CHECK(c.back() == 0.0);
-    check_close(law.unit(1.0).vel, 0.0, kExactRel, 1.0, "y'(1)");
-    check_close(law.unit(1.0).lift, 1.0, kExactRel, 1.0, "y(1)");
+    check_close(law.unit(1.0).vel, 0.0, kLawIdentityRel, 1.0, "y'(1)");
+    check_close(law.unit(1.0).lift, 1.0, kLawIdentityRel, 1.0, "y(1)");
     // least change: the change lies in the span of the constraint rows e_0, e_{n-1}, w,
     // so inside the interior it is proportional to w_i = int N_i
     const std::size_t n = given.size();
@@ -138,7 +138,7 @@ TEST_CASE("b-spline acceleration: exact double integral, closure by the least ch
       const double w = (t[i + static_cast<std::size_t>(degree) + 1] - t[i]) / (degree + 1);
       ratio.push_back((c[i] / law.shape_scale() - given[i]) / w);
     }
-    for (double r : ratio) check_close(r, ratio.front(), 1e-10, std::abs(ratio.front()) + 1.0, "change / w_i");
+    for (double r : ratio) check_close(r, ratio.front(), kClosureRatioRel, std::abs(ratio.front()) + 1.0, "change / w_i");
     CHECK(law.closure_change() > 0.0);
   }
 }

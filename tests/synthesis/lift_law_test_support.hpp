@@ -19,20 +19,15 @@
 #include "camopt/synthesis/lift_law.hpp"
 #include "camopt/synthesis/lift_law_event.hpp"
 #include "oracles/finite_difference.hpp"
+#include "support/compare.hpp"
 
 namespace camopt::lift_law_test {
 
 using namespace camopt::synthesis;
 using camopt::InputError;
 using camopt::pi;
+using namespace camopt::test::tol;
 
-// named tolerances
-inline constexpr double kClosedFormRel = 1e-12;   // law vs exact published formula, relative to the peak of d^k
-inline constexpr double kNortonDecimalsAbs = 1e-6;  // vs norton's 8-digit decimal coefficients [unit rise]
-inline constexpr double kPublishedCoefAbs = 6e-5;   // vs 4-5 digit published peak coefficients
-inline constexpr double kExactCoefRel = 1e-9;       // sampled peak vs exact peak coefficient
-inline constexpr double kFdRel = 1e-8;              // analytic vs 8th-order central differences, relative to peak
-inline constexpr double kExactRel = 1e-12;          // identities that hold to rounding
 inline constexpr double kJoinEps = 1e-7;            // one-sided offset at a join [cam deg]
 inline constexpr std::uint32_t kSeed = 20240611;
 
@@ -122,10 +117,9 @@ inline std::vector<std::shared_ptr<const RiseLaw>> all_laws() {
           std::make_shared<BSplineAcceleration>(kH, kBeta, kBsplineShape, 3)};
 }
 
-// |a - b| <= tol * scale, reported with context
+// |a - b| <= tol * scale through the compare helper, the quantity named by `what`
 inline void check_close(double a, double b, double tol, double scale, const std::string& what) {
-  INFO(what << ": " << a << " vs " << b << " (|diff| " << std::abs(a - b) << ", allowed " << tol * scale << ")");
-  CHECK(std::abs(a - b) <= tol * scale);
+  CHECK_COMPARISON(camopt::test::compare_abs(what, a, b, tol * scale));
 }
 
 }  // namespace camopt::lift_law_test

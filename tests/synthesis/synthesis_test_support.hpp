@@ -11,13 +11,11 @@
 #include "camopt/kinematics/sweep.hpp"
 #include "camopt/synthesis/envelope.hpp"
 #include "kinematics/kinematics_test_support.hpp"
+#include "support/compare.hpp"
 
 namespace camopt::synthesis_test {
 
 using namespace camopt::kin_test;
-
-inline constexpr double kProfileTolerance = 1e-8;   // [mm] synthesized radius against the exact disc
-inline constexpr double kRoundTripTolerance = 1e-8; // [mm] forward lift of the synthesized cam against the target
 
 // polar radius of a disc (radius R, centre at distance e on the 0 deg axis) at polar angle a
 inline double disc_radius(double R, double e, double a) {
@@ -76,17 +74,22 @@ inline DesignSpec eccentric_design(bool flat, double R, double e, double roller,
   return d;
 }
 
+// a synthesized profile against the radius of a reference cam at its polar angles [mm]
+template <class Radius>
+test::Comparison compare_radius(const synthesis::SynthesisResult& res, Radius radius, double abs) {
+  std::vector<double> reference;
+  for (const double a : res.angle_deg) reference.push_back(radius(a * deg));
+  return test::compare_series("synthesized radius [mm]", res.radius_mm, reference, {.abs = abs}, res.angle_deg,
+                              "cam [deg]");
+}
+
 inline void check_disc(const synthesis::SynthesisResult& res, double R, double e) {
-  double worst = 0.0;
-  for (std::size_t k = 0; k < res.angle_deg.size(); ++k)
-    worst = std::max(worst, std::abs(res.radius_mm[k] - disc_radius(R, e, res.angle_deg[k] * deg)));
-  INFO("worst radius error " << worst << " mm");
-  CHECK(worst < kProfileTolerance);
+  CHECK_SERIES(compare_radius(res, [&](double a) { return disc_radius(R, e, a); }, test::tol::kDiscProfileAbs));
   // a disc's radius of curvature is R everywhere
-  CHECK(res.min_radius_of_curvature_mm == Approx(R).epsilon(1e-6));
+  CHECK_REL(res.min_radius_of_curvature_mm, R, test::tol::kDiscCurvatureRel);
   CHECK_FALSE(res.has_concave);
-  CHECK(res.base_radius_mm == Approx(R - e).epsilon(1e-9));
-  CHECK(res.max_radius_mm == Approx(R + e).epsilon(1e-9));
+  CHECK_REL(res.base_radius_mm, R - e, test::tol::kDiscExtremeRadiusRel);
+  CHECK_REL(res.max_radius_mm, R + e, test::tol::kDiscExtremeRadiusRel);
 }
 
 }  // namespace camopt::synthesis_test
