@@ -87,6 +87,80 @@ inline constexpr double kConditionRel = 1e-6;        // a link's condition numbe
 inline constexpr double kSummaryOfSameRel = 1e-12;   // a summary's extreme against the extreme of the same per-point values
 inline constexpr double kRefinedExtremeRel = 1e-6;   // a refined extreme against the largest of a 0.5-deg grid's closed forms
 inline constexpr double kQuasiStaticForceRel = 1e-2; // compliant contact forces against rigid ones at <= 10 rpm: the deflection's share of the peak
+
+// dynamics and CLI
+inline constexpr double kCompliantStiffForceAbs = 2e-5 * 563.0;  // [N] compliant (x10 stiffness) against rigid contact force: first order in 1/k, 2e-5 of the 563 N peak
+inline constexpr double kStiffLinkForceRel = 1e-2;  // a 1e6 N/mm link's force against the rigid one: the link's stretch, of the peak
+inline constexpr double kSeparationEventAbs = 3.0;  // [deg] a compliant contact opening against the rigid model's first tension on a 1-deg grid
+inline constexpr double kPrinted5DigitsRel = 1e-4;   // a value against its hand computation printed to 5 significant digits
+inline constexpr double kPrinted9DigitsRel = 1e-8;   // the same, printed to 9 significant digits
+inline constexpr double kPrinted10DigitsRel = 1e-9;  // the same, printed to 10 significant digits
+inline constexpr double kRearrangedLawRel = 1e-12;   // one law written two ways, in other units or inverted by a Newton solve to round-off
+inline constexpr double kPowerLawRel = 1e-13;        // a power-law formula (pow of products) evaluated along two paths
+inline constexpr double kHertzFixedPointRel = 1e-9;  // the Hertz line law by 22 fixed-point iterations (contraction < 0.1) from delta / 10
+inline constexpr double kCentral2Step1e6Rel = 1e-7;  // 2-point central difference at a relative step of 1e-6: round-off ~1e-10 through a solve
+inline constexpr double kRestitutionSecondOrder = 1.1;  // Hunt-Crossley rebound against e = 1 - alpha v: the remainder, in units of (alpha v)^2
+inline constexpr double kRigidForceRel = 1e-7;       // rigid forces and torques against a balance written in the test: kinematic derivatives (1e-7) and one LU solve, of the peak
+inline constexpr double kZeroReactionAbs = 1e-4;     // [N] a reaction that is zero by symmetry: round-off of forces ~1e3 N
+inline constexpr double kSeparationRpmRel = 1e-9;    // the separation speed against the smallest root written in the test on the same grid
+inline constexpr double kSeparationForceRel = 1e-9;  // the least contact force at the separation speed, of the preload (or the peak force)
+inline constexpr double kSpringMarginRel = 1e-12;    // the spring margin of one spring loading one contact against its contact force
+inline constexpr double kQuadraticInSpeedRel = 1e-12;  // a force at a third speed against A + B w^2 from two others: cancellation in B
+inline constexpr double kBaseCircleForceRel = 1e-9;  // a contact force on the base circle at two angles: solve round-off, no sliding
+inline constexpr double kCycleWorkRel = 1e-6;        // net work of a conservative cycle (trapezoidal at 0.25 deg), of the work of |torque|
+inline constexpr double kHeldEndSurgeRel = 2e-5;     // surge frequencies with the valve end held by a 1e3 x stiff contact against the fixed-fixed chain
+inline constexpr double kLumpedCoil40Rel = 3e-4;     // f1 of 40 lumped masses against the continuous coil's 1/2 sqrt(k/m): ~(pi/82)^2/6
+inline constexpr double kTwoMassLowModeRel = 1e-4;   // the train's lower mode against the two-mass model of the same data
+inline constexpr double kTwoMassHighModeRel = 1e-3;  // its higher mode, which the two-mass split of the pushrod mass moves more
+inline constexpr double kHandbookRoundedDataRel = 5e-3;  // a mode against the handbook's, recomputed from its rounded masses and stiffnesses
+inline constexpr double kTwoMassClosedFormRel = 1e-9;    // the train frequency against the two-mass closed form of the same stiffnesses
+inline constexpr double kRk4LiftRel = 1e-6;          // flexible lift (rtol 1e-10) against RK4 at 1.25e-7..2.5e-7 s through impacts, of the peak
+inline constexpr double kRk4ForceRel = 1e-4;         // its contact force, of the peak: the Hertz law's stiffness amplifies the lift error
+inline constexpr double kPowerBalanceRel = 1e-4;     // a flexible run's work in against energy change and losses (rtol 1e-9), of the largest drive work
+inline constexpr double kLowSpeedForceRel = 1e-2;    // flexible contact forces at 500-2000 rpm against mode (a): left-over vibration, of the peak
+inline constexpr double kQuasiStaticDeficitAbs = 1e-2;  // [N] flexible contact force at 10-50 rpm against mode (a) less k_s delta (measured 3 mN)
+inline constexpr double kDeficitPeakRel = 0.1;       // the largest |flexible - mode (a)| against the largest k_s delta: they peak at nearby angles
+inline constexpr double kPeriodicLiftAbs = 1e-6;     // [mm] a run stopped at its periodic steady state against the full run: its start-state tolerance
+inline constexpr double kPeriodicForceAbs = 0.3;     // [N] the same for the contact force: 1e-6 mm x contact stiffness ~3e5 N/mm
+inline constexpr double kLashKinkShiftAbs = 1.0;     // [deg] a lash transition against the path's kink: the static deflection over the take-up slope
+inline constexpr double kNewtonMatrixFdRel = 1e-6;   // Newton matrices K, D against central differences of the forces (~1e-8), of the largest entry
+inline constexpr double kJacobianPathRel = 1e-8;     // lift with CVODE's differenced Jacobian against the analytic one (rtol 1e-9), of the peak
+inline constexpr double kPathTableAbs = 1e-8;        // [mm] the kinematic path from its 0.25-deg Catmull-Rom table against the closed form (5e-9)
+inline constexpr double kValveEventAngleAbs = 0.01;  // [deg] a contact event against the exact piecewise-analytic valve
+inline constexpr double kSeatSpeedAbs = 1e-3;        // [m/s] a seat impact speed against the exact valve
+inline constexpr double kValveLiftExactAbs = 1e-3;   // [mm] the lift against the exact valve at default tolerances, through five bounces
+inline constexpr double kCoilForceAbs = 1e-2;        // [N] coil end forces against exact modal superposition (measured 3e-4 N at rtol 1e-8)
+inline constexpr double kOutputAngleAbs = 1e-9;      // [deg] an output angle against start + i step
+inline constexpr double kAtRestAbs = 1e-12;          // [mm/s] the speed of a body started at rest
+inline constexpr double kPeakLiftDeflectionAbs = 0.05;  // [mm] a flexible run's peak lift against the kinematic peak: the train's deflection
+inline constexpr double kLiftLossShareRel = 0.05;    // a dynamic run's peak lift against the kinematic one: the train's deflection, a few percent
+inline constexpr double kCsvVelocityFdRel = 2e-3;    // a velocity column against central differences of the lift column (0.02 deg), of the peak
+inline constexpr double kCsvAccelerationFdRel = 2e-2;  // an acceleration column against central differences of the velocity column, of the peak
+inline constexpr double kCsvInertiaFdRel = 1e-4;     // an inertia column against -m a by second differences of the lift at 1 deg (2.5e-5 of a harmonic)
+inline constexpr double kCsvContactRel = 1e-11;      // contact columns against closed forms of the CSV's kinematics (shortest round-trip), of the peak
+inline constexpr double kCsvDerivedRel = 1e-9;       // a column or summary value against the same quantity recomputed from other columns
+inline constexpr double kRevolutionClosureAbs = 1e-9;  // [deg or mm] an output back at its drawing value after a revolution
+inline constexpr double kPrintedAngleSineAbs = 1e-3;   // the sine of an angle given to 0.1 deg (cos x 0.05 deg <= 8.7e-4)
+inline constexpr double kRefinedSummaryRel = 1e-9;   // a refined summary value (peak, duration, span, area) against its closed form, of its scale
+inline constexpr double kRefinedExtremeAngleAbs = 1e-5;  // [deg] the refined angle of a velocity or acceleration extreme
+inline constexpr double kHermitePolyRel = 1e-12;     // the order-3 Hermite interpolant reproducing a degree-7 polynomial, of max(1, |p^(k)|)
+inline constexpr double kHermiteIntegralAbs = 1e-13;  // its exact integral against the antiderivative's difference
+inline constexpr double kHermiteStationaryAbs = 1e-12;  // [rad] the order-3 interpolant's stationary point of cos at pi (measured 5e-13)
+inline constexpr double kRadiusSampledRel = 1e-8;    // a refined radius of curvature against 200000 samples of the profile: rho'' (h / 2)^2 / 2 < 1e-9
+inline constexpr double kDocumentedRadiusAbs = 0.05;  // [mm] a radius against a design's documented figure given to 0.1 mm
+inline constexpr double kIntervalSumAbs = 360 * 1e-9;  // [deg] interval widths summed against their reported total
+inline constexpr double kChainEigenRel = 1e-10;      // a spring chain's frequencies from the eigen-solve against the chain's closed form
+inline constexpr double kModeOrthonormalAbs = 1e-8;  // M-products of two mode shapes read from the CSV against the identity
+inline constexpr double kTwoSolvePathsRel = 1e-9;    // a kinematic lift against a Newton iteration on the same geometry written in the test
+inline constexpr double kLawLiftRel = 1e-12;         // a lift law's peak against --lift: round-off of its normalisation
+inline constexpr double kLawLiftAnyRel = 1e-9;       // the same for every law (B-spline and polydyne laws are normalised through a solve)
+inline constexpr double kRampVelocityRel = 1e-10;    // a ramp's constant velocity against Hr / (Lr (1 - b/2))
+inline constexpr double kCrankBasisAbs = 1e-12;      // a crank-basis column against the cam-basis one scaled by 2^-k
+inline constexpr double kCrankBasisRel = 1e-12;      // the same, of the value
+inline constexpr double kVerifyPressureAngleAbs = 0.05;  // [deg] the verifying solver's max pressure angle against the optimiser's constraint value
+inline constexpr double kBestAchievableLiftAbs = 1e-3;   // [mm] the best peak lift an optimisation reaches against its measured value
+inline constexpr double kVerifyPeakLiftAbs = 5e-5;   // [mm] the flexible verification's 0.5-deg grid peak of the kinematic lift against the refined one (measured 2.1e-5)
+inline constexpr double kTwoMassTurnedRockerRel = 1e-3;  // the train's modes at 10 cam deg against the two-mass model of the drawing's geometry
 }  // namespace tol
 
 }  // namespace camopt::test
