@@ -20,6 +20,7 @@
 
 #include "camopt/core/units.hpp"
 #include "cli/cli_support.hpp"
+#include "support/compare.hpp"
 
 using namespace camopt::test;
 
@@ -83,7 +84,8 @@ TEST_CASE("camopt dynamics --model rigid: a flat tappet's entrainment and film a
   const double rb = 18.5, width = 7.2, sigma = 0.25;
   const double e_prime = 2 * 210e9 / (2 * (1 - 0.3 * 0.3));  // [Pa]
   const double deg = camopt::pi / 180;
-  double worst_u = 0, peak_u = 0, worst_h = 0, peak_h = 0;
+  Series entrainment("contact_cam_tappet_entrainment_m_per_s", "row"),
+      film_um("contact_cam_tappet_film_thickness_um", "row");
   int empty = 0, sign_changes = 0;
   std::vector<double> crossings;
   for (std::size_t row = 0; row < 2 * np; ++row) {
@@ -93,8 +95,7 @@ TEST_CASE("camopt dynamics --model rigid: a flat tappet's entrainment and film a
     const double L = kin["lift_mm"][i], L2 = kin["acc_mm_per_deg2"][i] / (deg * deg);  // [mm], [mm/rad^2]
     const double ue = w * (rb + L + 2 * L2) / 2 * 1e-3;                                   // [m/s]
     const double u_col = dyn["contact_cam_tappet_entrainment_m_per_s"][row];
-    worst_u = std::max(worst_u, std::abs(u_col - ue));
-    peak_u = std::max(peak_u, std::abs(ue));
+    entrainment.add(static_cast<double>(row), u_col, ue);
     if (row % np > 0 && u_col * dyn["contact_cam_tappet_entrainment_m_per_s"][row - 1] < 0) {
       ++sign_changes;
       if (row < np) crossings.push_back(dyn["cam_deg"][row]);
@@ -112,19 +113,17 @@ TEST_CASE("camopt dynamics --model rigid: a flat tappet's entrainment and film a
     const double rho = rb + L + L2;  // cam radius of curvature, the face flat [mm]
     REQUIRE(rho > 0);
     const double h = film_m(ue, force / (width * 1e-3), rho * 1e-3, 9.1e-3, 15.8e-9, e_prime) * 1e6;  // [um]
-    worst_h = std::max(worst_h, std::abs(h_col - h));
-    peak_h = std::max(peak_h, h);
-    CHECK(lambda == Approx(h_col / sigma).epsilon(1e-9));
+    film_um.add(static_cast<double>(row), h_col, h);
+    CHECK_REL(lambda, h_col / sigma, tol::kCsvDerivedRel);
   }
-  INFO("entrainment error " << worst_u << " of " << peak_u << " m/s; film error " << worst_h << " of " << peak_h
-                            << " um; " << empty << " separated points; u_e changes sign at 2000 rpm near cam "
-                            << (crossings.empty() ? -1.0 : crossings.front()) << " and "
-                            << (crossings.size() > 1 ? crossings[1] : -1.0) << " deg");
+  INFO(empty << " separated points; u_e changes sign at 2000 rpm near cam "
+             << (crossings.empty() ? -1.0 : crossings.front()) << " and "
+             << (crossings.size() > 1 ? crossings[1] : -1.0) << " deg");
   // the kinematic solver's contact geometry against the lift's own exact derivatives, both
   // read from CSVs of shortest round-trip numbers: 3.0e-11 of 40.5 m/s (7.5e-13) measured
-  CHECK(worst_u < 1e-11 * peak_u);
+  CHECK_SERIES(entrainment.compare({.rel = tol::kCsvContactRel}));
   // the formula on the closed-form kinematics: 2.4e-12 of 2.36 um (1.0e-12) measured
-  CHECK(worst_h < 1e-11 * peak_h);
+  CHECK_SERIES(film_um.compare({.rel = tol::kCsvContactRel}));
   // the contact opens over the nose at 13000 rpm, never at 2000 rpm
   CHECK(empty > 0);
   for (std::size_t i = 0; i < np; ++i) CHECK(dyn["contact_cam_tappet_force_N"][i] > 0);
@@ -143,9 +142,9 @@ TEST_CASE("camopt dynamics --model rigid: a flat tappet's entrainment and film a
       if (h < thinnest) thinnest = h, at = dyn["cam_deg"][run * np + i];
     }
     const auto& c = j["results"][run]["connections"]["cam_tappet"];
-    CHECK(c["min_film_thickness_um"].get<double>() == Approx(thinnest).epsilon(1e-9));
+    CHECK_REL(c["min_film_thickness_um"].get<double>(), thinnest, tol::kCsvDerivedRel);
     CHECK(c["min_film_thickness_at_cam_deg"].get<double>() == at);
-    CHECK(c["min_lambda"].get<double>() == Approx(thinnest / sigma).epsilon(1e-9));
+    CHECK_REL(c["min_lambda"].get<double>(), thinnest / sigma, tol::kCsvDerivedRel);
     CHECK(c["min_lambda_at_cam_deg"].get<double>() == at);
   }
   const auto& film = j["film"][0]["contacts"]["cam_tappet"];
@@ -153,7 +152,7 @@ TEST_CASE("camopt dynamics --model rigid: a flat tappet's entrainment and film a
   const double f13000 = j["results"][1]["connections"]["cam_tappet"]["min_film_thickness_um"].get<double>();
   CHECK(film["min_film_thickness_um"].get<double>() == std::min(f2000, f13000));
   CHECK(film["at_rpm"].get<double>() == (f2000 <= f13000 ? 2000.0 : 13000.0));
-  CHECK(film["min_lambda"].get<double>() == Approx(std::min(f2000, f13000) / sigma).epsilon(1e-12));
+  CHECK_REL(film["min_lambda"].get<double>(), std::min(f2000, f13000) / sigma, tol::kSummaryOfSameRel);
 }
 
 TEST_CASE("camopt dynamics --model rigid: film columns for every Hertz contact with [oil], none without it",

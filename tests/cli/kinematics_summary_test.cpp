@@ -10,13 +10,13 @@
 
 #include "camopt/core/units.hpp"
 #include "cli/cli_support.hpp"
+#include "support/compare.hpp"
 
 using namespace camopt::test;
 
 namespace {
 
 constexpr double kE = 5.0;  // eccentricity of eccentric_flat.toml [mm]: lift 5 sin(theta)
-constexpr double kRefinedRel = 1e-9;
 
 std::string flat_design() { return (source_dir() / "tests" / "data" / "cli" / "eccentric_flat.toml").string(); }
 std::string bundled(const std::string& name) { return (source_dir() / "designs" / name).string(); }
@@ -54,9 +54,9 @@ TEST_CASE("kinematics summary: durations at 1 and 0.1 mm by default, refined to 
   REQUIRE(j.contains("duration_at_1mm_cam_deg"));
   REQUIRE(j.contains("duration_at_0.1mm_cam_deg"));
   CHECK_FALSE(j.contains("duration_at_1mm_deg"));
-  CHECK(std::abs(j["duration_at_1mm_cam_deg"].get<double>() - duration(1.0)) <= kRefinedRel * duration(1.0));
-  CHECK(std::abs(j["duration_at_0.1mm_cam_deg"].get<double>() - duration(0.1)) <= kRefinedRel * duration(0.1));
-  CHECK(std::abs(j["max_lift_mm"].get<double>() - kE) <= kRefinedRel * kE);
+  CHECK_REL(j["duration_at_1mm_cam_deg"].get<double>(), duration(1.0), tol::kRefinedSummaryRel);
+  CHECK_REL(j["duration_at_0.1mm_cam_deg"].get<double>(), duration(0.1), tol::kRefinedSummaryRel);
+  CHECK_REL(j["max_lift_mm"].get<double>(), kE, tol::kRefinedSummaryRel);
   // every lift value is refined; nothing here is a grid value but the solver's conditioning
   CHECK(j["grid_values"].size() == 2);
   CHECK(j["grid_values"][0] == "max_condition_number");
@@ -76,7 +76,7 @@ TEST_CASE("kinematics summary: --duration-at heights in mm and inches name their
                                                                           {"duration_at_0.5mm_cam_deg", 0.5}}) {
     INFO(key);
     REQUIRE(j.contains(key));
-    CHECK(std::abs(j[key].get<double>() - duration(h)) <= kRefinedRel * duration(h));
+    CHECK_REL(j[key].get<double>(), duration(h), tol::kRefinedSummaryRel);
   }
   CHECK_FALSE(j.contains("duration_at_1mm_cam_deg"));
   // the terminal line carries the same numbers
@@ -144,7 +144,7 @@ TEST_CASE("kinematics summary: the CVVL swing cam's concave foot and the lash op
   INFO(j.dump(1));
   const auto& swing = surface(j["cam_surfaces"], "swing_roller", "swing_cam");
   CHECK(swing["body"] == "swing");
-  CHECK(swing["sharpest_concave_radius_mm"].get<double>() == Approx(-14.701).margin(0.001));
+  CHECK_ABS(swing["sharpest_concave_radius_mm"].get<double>(), -14.701, tol::kPrintedRadiusAbs);
   const auto& grid = j["grid_values"];
   CHECK(std::find(grid.begin(), grid.end(), "cam_surfaces") == grid.end());
   CHECK(contains(err, "sharpest concave cam radius"));
@@ -155,6 +155,6 @@ TEST_CASE("kinematics summary: the CVVL swing cam's concave foot and the lash op
   CHECK(sep["contact"] == "pad_valve");
   double total = 0.0;
   for (const auto& iv : sep["open_intervals_deg"]) total += iv[1].get<double>() - iv[0].get<double>();
-  CHECK(std::abs(total - sep["open_span_deg"].get<double>()) <= 1e-9 * 360.0);
+  CHECK_ABS(total, sep["open_span_deg"].get<double>(), tol::kIntervalSumAbs);
   CHECK(sep["open_span_deg"].get<double>() > 0.0);
 }

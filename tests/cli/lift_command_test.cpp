@@ -12,6 +12,7 @@
 #include "camopt/core/units.hpp"
 #include "cli/cli_support.hpp"
 #include "cli/command_test_support.hpp"
+#include "support/compare.hpp"
 
 #if __has_include(<nlohmann/json.hpp>)
 #include <nlohmann/json.hpp>
@@ -80,17 +81,17 @@ TEST_CASE("lift writes one cycle of a unit-labelled lift table and a summary", "
   // one full cycle, 0 .. 360 - step, without repeating 360
   REQUIRE(t.rows.size() == 720);
   CHECK(t.rows.front()[0] == 0.0);
-  CHECK(t.rows.back()[0] == Approx(359.5));
+  CHECK_ABS(t.rows.back()[0], 359.5, tol::kOutputAngleAbs);
   // max lift at --peak-at, the base circle at zero, no negative lift
-  CHECK(column_max(t, 1) == Approx(9.5).epsilon(1e-12));
-  CHECK(t.rows[220][0] == Approx(110.0));
-  CHECK(t.rows[220][1] == Approx(9.5).epsilon(1e-12));
+  CHECK_REL(column_max(t, 1), 9.5, tol::kLawLiftRel);
+  CHECK_ABS(t.rows[220][0], 110.0, tol::kOutputAngleAbs);
+  CHECK_REL(t.rows[220][1], 9.5, tol::kLawLiftRel);
   CHECK(t.rows[0][1] == 0.0);
   for (const auto& row : t.rows) CHECK(row[1] >= -1e-12);
   // the opening ramp: constant velocity Hr / (Lr (1 - b/2)) with the default blend 0.5
   // (event from 110 - 3 - 72 = 35 cam deg; constant part from 46 to 57 cam deg)
-  CHECK(t.rows[100][0] == Approx(50.0));
-  CHECK(t.rows[100][2] == Approx(0.25 / (22.0 * 0.75)).epsilon(1e-10));
+  CHECK_ABS(t.rows[100][0], 50.0, tol::kOutputAngleAbs);
+  CHECK_REL(t.rows[100][2], 0.25 / (22.0 * 0.75), tol::kRampVelocityRel);
   CHECK(t.rows[100][3] == 0.0);
 
   // summary on stderr: max lift, durations at 1 mm and 0.1 mm, acceleration extremes
@@ -123,13 +124,13 @@ TEST_CASE("lift --basis crank writes crank degrees and derivatives per crank deg
   CHECK(crank.header[0] == "crank_deg");
   REQUIRE(crank.rows.size() == 360);
   REQUIRE(cam.rows.size() == 360);
-  CHECK(crank.rows.back()[0] == Approx(718.0));
+  CHECK_ABS(crank.rows.back()[0], 718.0, tol::kOutputAngleAbs);
   for (std::size_t i = 0; i < cam.rows.size(); i += 7) {
-    CHECK(crank.rows[i][0] == Approx(2.0 * cam.rows[i][0]));
-    CHECK(crank.rows[i][1] == Approx(cam.rows[i][1]).margin(1e-12));
-    CHECK(crank.rows[i][2] == Approx(cam.rows[i][2] / 2.0).margin(1e-12));
-    CHECK(crank.rows[i][3] == Approx(cam.rows[i][3] / 4.0).margin(1e-12));
-    CHECK(crank.rows[i][4] == Approx(cam.rows[i][4] / 8.0).margin(1e-12));
+    CHECK_ABS(crank.rows[i][0], 2.0 * cam.rows[i][0], tol::kOutputAngleAbs);
+    CHECK_NEAR(crank.rows[i][1], cam.rows[i][1], tol::kCrankBasisAbs, tol::kCrankBasisRel);
+    CHECK_NEAR(crank.rows[i][2], cam.rows[i][2] / 2.0, tol::kCrankBasisAbs, tol::kCrankBasisRel);
+    CHECK_NEAR(crank.rows[i][3], cam.rows[i][3] / 4.0, tol::kCrankBasisAbs, tol::kCrankBasisRel);
+    CHECK_NEAR(crank.rows[i][4], cam.rows[i][4] / 8.0, tol::kCrankBasisAbs, tol::kCrankBasisRel);
   }
 }
 
@@ -156,7 +157,7 @@ TEST_CASE("lift runs every law, symmetric and asymmetric", "[cli][lift]") {
     REQUIRE(r.exit_code == cli_ok);
     const Table t = read_table(out);
     CHECK(t.rows.size() == 720);
-    CHECK(column_max(t, 1) == Approx(10.5).epsilon(1e-9));
+    CHECK_REL(column_max(t, 1), 10.5, tol::kLawLiftAnyRel);
   }
 }
 

@@ -15,6 +15,7 @@
 #include "camopt/core/units.hpp"
 #include "camopt/io/csv.hpp"
 #include "cli/cli_support.hpp"
+#include "support/compare.hpp"
 
 using namespace camopt::test;
 
@@ -240,7 +241,7 @@ TEST_CASE("camopt dynamics --model modes: spring alone, mass-normalised shapes (
   REQUIRE(j["results"].size() == 1);
   const auto& res = j["results"][0];
   CHECK(res["cam_deg"].get<double>() == 90.0);
-  CHECK(res["lift_kinematic_mm"].get<double>() == Approx(kEccentricity * (1 - std::cos(camopt::pi / 2))).margin(1e-9));
+  CHECK_ABS(res["lift_kinematic_mm"].get<double>(), kEccentricity * (1 - std::cos(camopt::pi / 2)), tol::kEccentricSolveAbs);
   const std::vector<double> f = numbers(res["frequencies_Hz"]);
   REQUIRE(f.size() == static_cast<std::size_t>(n + 1));
   CHECK(res["first_frequency_Hz"].get<double>() == f[0]);
@@ -251,18 +252,18 @@ TEST_CASE("camopt dynamics --model modes: spring alone, mass-normalised shapes (
   const auto& spring = j["springs_alone"]["valve_spring"];
   CHECK(spring["surge_masses"] == n);
   const double k = kRate * 1e3, m_i = kSpringMass / (n + 1), seg = (n + 1) * k;  // [N/m], [kg]
-  CHECK(spring["coil_mass_kg"].get<double>() == Approx(m_i).epsilon(1e-15));
-  CHECK(spring["segment_stiffness_N_per_mm"].get<double>() == Approx(seg * 1e-3).epsilon(1e-15));
+  CHECK_REL(spring["coil_mass_kg"].get<double>(), m_i, tol::kUlpRel);
+  CHECK_REL(spring["segment_stiffness_N_per_mm"].get<double>(), seg * 1e-3, tol::kUlpRel);
   const std::vector<double> lumped = numbers(spring["surge_frequencies_Hz"]);
   REQUIRE(lumped.size() == static_cast<std::size_t>(n));
   for (int jm = 1; jm <= n; ++jm) {
     const double w = 2 * std::sqrt(seg / m_i) * std::sin(jm * camopt::pi / (2.0 * (n + 1)));
-    CHECK(lumped[jm - 1] == Approx(w / (2 * camopt::pi)).epsilon(1e-10));
+    CHECK_REL(lumped[jm - 1], w / (2 * camopt::pi), tol::kChainEigenRel);
   }
   const std::vector<double> continuum = numbers(spring["continuum_frequencies_Hz"]);
   REQUIRE(continuum.size() == 5u);
   for (int jm = 1; jm <= 5; ++jm)
-    CHECK(continuum[jm - 1] == Approx(0.5 * jm * std::sqrt(k / kSpringMass)).epsilon(1e-10));
+    CHECK_REL(continuum[jm - 1], 0.5 * jm * std::sqrt(k / kSpringMass), tol::kRearrangedLawRel);
 
   // modes.csv: one row per mode, a shape column per coordinate with its unit
   const camopt::io::CsvTable csv = camopt::io::parse_csv(read_file(out / "modes.csv"), "modes.csv");
@@ -285,7 +286,7 @@ TEST_CASE("camopt dynamics --model modes: spring alone, mass-normalised shapes (
       double p = 0.0;
       for (std::size_t i = 0; i < coords; ++i) p += csv.values[4 + i][a] * mass[i] * csv.values[4 + i][b];
       INFO("modes " << a + 1 << ", " << b + 1);
-      CHECK(p == Approx(a == b ? 1.0 : 0.0).margin(1e-8));
+      CHECK_ABS(p, a == b ? 1.0 : 0.0, tol::kModeOrthonormalAbs);
     }
 }
 
@@ -312,7 +313,7 @@ TEST_CASE("camopt dynamics --model modes --release-cam: the valve hangs on its s
     REQUIRE(f.size() == expected.size());
     for (std::size_t m = 0; m < f.size(); ++m) {
       INFO("cam " << res["cam_deg"].get<double>() << " deg, mode " << m + 1);
-      CHECK(f[m] == Approx(expected[m]).epsilon(1e-9));
+      CHECK_REL(f[m], expected[m], tol::kChainEigenRel);
     }
   }
   CHECK(split_lines(read_file(out / "modes.csv")).size() == 1 + 2 * expected.size());
@@ -331,10 +332,10 @@ TEST_CASE("camopt dynamics --model modes: default cam angles are the driver star
   // the eccentric's lift e (1 - cos theta): at rest at 0 deg, 2 e at 180 deg
   CHECK(j["results"][0]["cam_deg"].get<double>() == 0.0);
   CHECK(j["results"][0]["cam_angle_from"] == "driver start");
-  CHECK(j["results"][0]["lift_kinematic_mm"].get<double>() == Approx(0.0).margin(1e-9));
+  CHECK_ABS(j["results"][0]["lift_kinematic_mm"].get<double>(), 0.0, tol::kEccentricSolveAbs);
   CHECK(j["results"][1]["cam_deg"].get<double>() == 180.0);
   CHECK(j["results"][1]["cam_angle_from"] == "peak lift");
-  CHECK(j["results"][1]["lift_kinematic_mm"].get<double>() == Approx(2 * kEccentricity).epsilon(1e-9));
+  CHECK_ABS(j["results"][1]["lift_kinematic_mm"].get<double>(), 2 * kEccentricity, tol::kEccentricSolveAbs);
   // the valve and 2 coil masses at each angle
   CHECK(split_lines(read_file(out / "modes.csv")).size() == 1 + 2 * 3);
 }
@@ -364,7 +365,7 @@ TEST_CASE("camopt dynamics --model modes --release-cam: the Cam Design Handbook 
     phi -= (3 - (3 + d.l_pr * std::sin(phi)) / std::cos(phi) - y) /
            (-(d.l_pr + 3 * std::sin(phi)) / (std::cos(phi) * std::cos(phi)));
   const double lift = 10 - d.l_vs * std::sin(phi) - 10 * std::cos(phi);
-  CHECK(res["lift_kinematic_mm"].get<double>() == Approx(lift).epsilon(1e-9));
+  CHECK_REL(res["lift_kinematic_mm"].get<double>(), lift, tol::kTwoSolvePathsRel);
   CHECK(lift > 0.07);
   const std::vector<double> f = numbers(res["frequencies_Hz"]);
   // lifter, pushrod (both ends), rocker, valve
@@ -382,11 +383,11 @@ TEST_CASE("camopt dynamics --model modes --release-cam: the Cam Design Handbook 
   const double a = m1 * m2, b = -(k1 * m2 + (k1 + k2) * m1), c = k1 * k2;
   const double w_lo = std::sqrt((-b - std::sqrt(b * b - 4 * a * c)) / (2 * a)),
                w_hi = std::sqrt((-b + std::sqrt(b * b - 4 * a * c)) / (2 * a));
-  CHECK(f[0] == Approx(w_lo / (2 * camopt::pi)).epsilon(1e-3));
-  CHECK(f[1] == Approx(w_hi / (2 * camopt::pi)).epsilon(1e-3));
+  CHECK_REL(f[0], w_lo / (2 * camopt::pi), tol::kTwoMassTurnedRockerRel);
+  CHECK_REL(f[1], w_hi / (2 * camopt::pi), tol::kTwoMassTurnedRockerRel);
   // the book: 67 and 3400 Hz (recomputed from its rounded m1, m2, K: 67.2, 3411)
-  CHECK(f[0] == Approx(67.2).epsilon(0.005));
-  CHECK(f[1] == Approx(3411).epsilon(0.005));
+  CHECK_REL(f[0], 67.2, tol::kHandbookRoundedDataRel);
+  CHECK_REL(f[1], 3411, tol::kHandbookRoundedDataRel);
 }
 
 namespace {

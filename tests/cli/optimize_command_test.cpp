@@ -9,6 +9,7 @@
 
 #include "camopt/io/csv.hpp"
 #include "cli_support.hpp"
+#include "support/compare.hpp"
 
 using namespace camopt::test;
 
@@ -47,8 +48,8 @@ TEST_CASE("optimize: the passenger-car intake set converges, every constraint ho
   // the kinematic solver on the delivered design: same lift, same pressure angle and radius
   const auto& k = report["verify"]["kinematics"];
   CHECK(k["lift_error_max_mm"].get<double>() < 1e-7);
-  CHECK(k["max_pressure_angle_deg"].get<double>() ==
-        Approx(report["constraints"]["pressure_angle_max"]["worst"].get<double>()).margin(0.05));
+  CHECK_ABS(k["max_pressure_angle_deg"].get<double>(), report["constraints"]["pressure_angle_max"]["worst"].get<double>(),
+            tol::kVerifyPressureAngleAbs);
   CHECK(k["max_acceleration_mm_per_deg2"].get<double>() <= 0.020 * (1 + 1e-6));
   CHECK(k["min_acceleration_mm_per_deg2"].get<double>() >= -0.011 * (1 + 1e-6));
   // rigid dynamics of the delivered design (friction included) at the set's 6500 rpm: every
@@ -136,7 +137,7 @@ TEST_CASE("optimize: an infeasible set exits 4, and names the conflicting limits
     // the best peak lift the other limits allow on this grid (measured 6.48635 mm; on the set's
     // 0.5 deg grid 6.4402 mm, the bundled set's optimum peak; tests/opt/feasibility_test.cpp
     // checks such values by solving again)
-    CHECK(c["best_achievable"].get<double>() == Approx(6.4864).margin(1e-3));
+    CHECK_ABS(c["best_achievable"].get<double>(), 6.4864, tol::kBestAchievableLiftAbs);
   }
   CHECK(lift);
   // stderr is not a terminal: one progress line per phase, as each ends: the ipopt rounds, then

@@ -7,6 +7,7 @@
 #include <regex>
 
 #include "cli_support.hpp"
+#include "support/compare.hpp"
 
 using namespace camopt::test;
 
@@ -37,8 +38,10 @@ TEST_CASE("optimize --verify: the high-speed bucket set is verified at 9000 rpm"
   const auto& flex = report["verify"]["flexible_dynamics"];
   CHECK(flex["rpm"].get<double>() == 9000.0);
   CHECK(flex["connections"]["cam_tappet"]["separations_while_driven"] == 0);
-  CHECK(flex["max_lift_kinematic_mm"].get<double>() ==
-        Approx(report["verify"]["kinematics"]["max_lift_mm"].get<double>()).margin(1e-9));
+  // the flexible run's kinematic lift is its path on the 0.5 deg output grid; the kinematic
+  // verification's peak is refined between the grid points
+  CHECK_ABS(flex["max_lift_kinematic_mm"].get<double>(), report["verify"]["kinematics"]["max_lift_mm"].get<double>(),
+            tol::kVerifyPeakLiftAbs);
   CHECK(report["loads"]["source"].get<std::string>().find("the design's rigid model") == 0);
 }
 

@@ -1,10 +1,13 @@
 #pragma once
 // shared designs of the dynamics tests (built in code, like the kinematics tests)
 #include <cmath>
+#include <vector>
 
 #include "camopt/core/design_spec.hpp"
 #include "camopt/core/units.hpp"
+#include "camopt/dynamics/flexible.hpp"
 #include "kinematics/kinematics_test_support.hpp"
+#include "support/compare.hpp"
 
 namespace camopt::dyn_test {
 
@@ -57,6 +60,22 @@ inline double hertz_force_fixed_point(double delta, double length, double e_star
   double a = delta / 10;
   for (int i = 0; i < 22; ++i) a = delta / (std::log(4 * radius / a) - 1);
   return camopt::pi * length * e_star * a;
+}
+
+// the power balance of a flexible run, point by point from its start: the work put in (drive
+// and gas) against the energy stored and lost (viscous, friction) [N mm], within `rel` of the
+// largest drive work
+inline camopt::test::Comparison power_balance(const dynamics::FlexibleResult& r, double rel) {
+  std::vector<double> work_in(r.cam_deg.size()), work_out(r.cam_deg.size());
+  double drive = 0.0;  // the largest |drive work| [N mm]
+  for (std::size_t i = 0; i < r.cam_deg.size(); ++i) {
+    work_in[i] = (r.drive_work[i] - r.drive_work[0]) + (r.gas_work[i] - r.gas_work[0]);
+    work_out[i] = (r.viscous_loss[i] - r.viscous_loss[0]) + (r.friction_loss[i] - r.friction_loss[0]) +
+                  (r.energy[i] - r.energy[0]);
+    drive = std::max(drive, std::abs(r.drive_work[i] - r.drive_work[0]));
+  }
+  return camopt::test::compare_series("work in - energy change - losses [N mm]", work_in, work_out,
+                                      {.abs = rel * drive}, r.cam_deg, "cam [deg]");
 }
 
 }  // namespace camopt::dyn_test

@@ -17,17 +17,13 @@
 #include "camopt/dynamics/model.hpp"
 #include "camopt/core/dual.hpp"
 #include "oracles/finite_difference.hpp"
+#include "support/compare.hpp"
 
 using namespace camopt;
 using camopt::Dual;
+namespace tol = camopt::test::tol;
 
 namespace {
-
-// a formula evaluated twice in double: round-off only
-constexpr double kRoundOff = 1e-13;
-// 8th-order central differences (half-width 4) at a relative step of 1e-3: truncation
-// ~(1e-3)^8, round-off ~1e-16 / 1e-3
-constexpr double kDifference = 1e-10;
 
 // steel on steel (E 210 GPa, nu 0.3) and a warm oil (9.1 mPa s, 15.8 /GPa)
 OilSpec oil() {
@@ -52,10 +48,10 @@ double film(double u, double w, double r) { return dynamics::dowson_higginson_fi
 
 TEST_CASE("ehl: the oil and the contact modulus in SI, E' = 2 E*", "[dynamics][ehl]") {
   // 1/E* = 2 (1 - 0.09) / 210 GPa
-  CHECK(kEStar == Approx(210e3 / (2 * 0.91)).epsilon(1e-15));
-  CHECK(kProps.viscosity_Pa_s == Approx(9.1e-3).epsilon(1e-15));
-  CHECK(kProps.pressure_viscosity_per_Pa == Approx(15.8e-9).epsilon(1e-15));
-  CHECK(kProps.reduced_modulus_Pa == Approx(2 * 210e9 / (2 * 0.91)).epsilon(1e-15));
+  CHECK_REL(kEStar, 210e3 / (2 * 0.91), tol::kUlpRel);
+  CHECK_REL(kProps.viscosity_Pa_s, 9.1e-3, tol::kUlpRel);
+  CHECK_REL(kProps.pressure_viscosity_per_Pa, 15.8e-9, tol::kUlpRel);
+  CHECK_REL(kProps.reduced_modulus_Pa, 2 * 210e9 / (2 * 0.91), tol::kUlpRel);
 }
 
 TEST_CASE("ehl: Dowson-Higginson against its dimensional form", "[dynamics][ehl]") {
@@ -63,36 +59,36 @@ TEST_CASE("ehl: Dowson-Higginson against its dimensional form", "[dynamics][ehl]
   // (1e5 N/m), R 8 mm: U = 1.9717e-11, G = 3646.2, W = 5.4167e-5, h_min = 0.2045 um
   const double u = 4.0, w = 1e5, r = 8e-3;
   const double expected = reference_film_m(u, w, r, 9.1e-3, 15.8e-9, 2 * 210e9 / (2 * 0.91));
-  CHECK(expected == Approx(0.20451e-6).epsilon(1e-4));
-  CHECK(film(u, w, r) == Approx(expected).epsilon(kRoundOff));
+  CHECK_REL(expected, 0.20451e-6, tol::kPrinted5DigitsRel);
+  CHECK_REL(film(u, w, r), expected, tol::kPowerLawRel);
   // the film depends on the entrainment's size, not its sense; none without entrainment
   CHECK(film(-u, w, r) == film(u, w, r));
   CHECK(film(0.0, w, r) == 0.0);
   // lambda = h / sigma, sigma = sqrt(Rq_a^2 + Rq_b^2)
-  CHECK(dynamics::composite_roughness(0.3, 0.4) == Approx(0.5).epsilon(1e-15));
-  CHECK(dynamics::film_lambda(expected * 1e6, 0.25) == Approx(expected * 1e6 / 0.25).epsilon(1e-15));
+  CHECK_REL(dynamics::composite_roughness(0.3, 0.4), 0.5, tol::kUlpRel);
+  CHECK_REL(dynamics::film_lambda(expected * 1e6, 0.25), expected * 1e6 / 0.25, tol::kUlpRel);
 }
 
 TEST_CASE("ehl: exact power laws in speed, viscosity, pressure-viscosity, load, radius and modulus",
           "[dynamics][ehl]") {
   const double u = 3.0, w = 2e5, r = 12e-3, k = 2.0;
   const double h = film(u, w, r);
-  CHECK(film(k * u, w, r) / h == Approx(std::pow(k, 0.70)).epsilon(kRoundOff));
-  CHECK(film(u, k * w, r) / h == Approx(std::pow(k, -0.13)).epsilon(kRoundOff));
-  CHECK(film(u, w, k * r) / h == Approx(std::pow(k, 0.43)).epsilon(kRoundOff));
+  CHECK_REL(film(k * u, w, r) / h, std::pow(k, 0.70), tol::kPowerLawRel);
+  CHECK_REL(film(u, k * w, r) / h, std::pow(k, -0.13), tol::kPowerLawRel);
+  CHECK_REL(film(u, w, k * r) / h, std::pow(k, 0.43), tol::kPowerLawRel);
   auto with = [&](double eta, double alpha, double e_prime) {
     return dynamics::dowson_higginson_film_m(u, w, r, dynamics::EhlProperties{eta, alpha, e_prime});
   };
   const auto& p = kProps;
-  CHECK(with(k * p.viscosity_Pa_s, p.pressure_viscosity_per_Pa, p.reduced_modulus_Pa) / h ==
-        Approx(std::pow(k, 0.70)).epsilon(kRoundOff));
-  CHECK(with(p.viscosity_Pa_s, k * p.pressure_viscosity_per_Pa, p.reduced_modulus_Pa) / h ==
-        Approx(std::pow(k, 0.54)).epsilon(kRoundOff));
-  CHECK(with(p.viscosity_Pa_s, p.pressure_viscosity_per_Pa, k * p.reduced_modulus_Pa) / h ==
-        Approx(std::pow(k, -0.03)).epsilon(kRoundOff));
+  CHECK_REL(with(k * p.viscosity_Pa_s, p.pressure_viscosity_per_Pa, p.reduced_modulus_Pa) / h, std::pow(k, 0.70),
+            tol::kPowerLawRel);
+  CHECK_REL(with(p.viscosity_Pa_s, k * p.pressure_viscosity_per_Pa, p.reduced_modulus_Pa) / h, std::pow(k, 0.54),
+            tol::kPowerLawRel);
+  CHECK_REL(with(p.viscosity_Pa_s, p.pressure_viscosity_per_Pa, k * p.reduced_modulus_Pa) / h, std::pow(k, -0.03),
+            tol::kPowerLawRel);
   // h^(1/0.70) is proportional to |u_e| (the optimiser's smooth row)
   const double inv = 1.0 / dynamics::kDowsonHigginsonSpeedExponent;
-  CHECK(std::pow(film(5 * u, w, r), inv) / std::pow(h, inv) == Approx(5.0).epsilon(kRoundOff));
+  CHECK_REL(std::pow(film(5 * u, w, r), inv) / std::pow(h, inv), 5.0, tol::kPowerLawRel);
 }
 
 TEST_CASE("ehl: Dual derivatives of the film against central differences", "[dynamics][ehl]") {
@@ -104,19 +100,19 @@ TEST_CASE("ehl: Dual derivatives of the film against central differences", "[dyn
     dw.d = {0, 1, 0};
     dr.d = {0, 0, 1};
     const Dual<3> h = dynamics::dowson_higginson_film_m(du, dw, dr, kProps);
-    CHECK(h.v == Approx(film(u, w, r)).epsilon(kRoundOff));
+    CHECK_REL(h.v, film(u, w, r), tol::kPowerLawRel);
     const double hu = 1e-3 * std::abs(u);
     const double dh_du = oracles::central_difference([&](double x) { return film(x, w, r); }, u, 1, 4, hu);
     const double dh_dw = oracles::central_difference([&](double x) { return film(u, x, r); }, w, 1, 4, 1e-3 * w);
     const double dh_dr = oracles::central_difference([&](double x) { return film(u, w, x); }, r, 1, 4, 1e-3 * r);
     INFO("u_e " << u);
-    CHECK(h.d[0] == Approx(dh_du).epsilon(kDifference));
-    CHECK(h.d[1] == Approx(dh_dw).epsilon(kDifference));
-    CHECK(h.d[2] == Approx(dh_dr).epsilon(kDifference));
+    CHECK_REL(h.d[0], dh_du, tol::kCentral8Step1e3Rel);
+    CHECK_REL(h.d[1], dh_dw, tol::kCentral8Step1e3Rel);
+    CHECK_REL(h.d[2], dh_dr, tol::kCentral8Step1e3Rel);
     // and in closed form: d ln h = 0.70 du/u - 0.13 dw/w + 0.43 dr/r
-    CHECK(h.d[0] == Approx(0.70 * h.v / u).epsilon(kRoundOff));
-    CHECK(h.d[1] == Approx(-0.13 * h.v / w).epsilon(kRoundOff));
-    CHECK(h.d[2] == Approx(0.43 * h.v / r).epsilon(kRoundOff));
+    CHECK_REL(h.d[0], 0.70 * h.v / u, tol::kPowerLawRel);
+    CHECK_REL(h.d[1], -0.13 * h.v / w, tol::kPowerLawRel);
+    CHECK_REL(h.d[2], 0.43 * h.v / r, tol::kPowerLawRel);
   }
   // no entrainment: zero film, its unbounded derivative reported as 0
   Dual<1> zero(0.0);
@@ -131,7 +127,8 @@ TEST_CASE("ehl: a rigid-model contact in its units: N over mm, 1/mm curvature, m
   const OilSpec o = oil();
   const auto h = dynamics::line_contact_film_um(900, 9, kEStar, 1.0 / 8, 40, 100, o);
   REQUIRE(h);
-  CHECK(*h == Approx(reference_film_m(4.0, 1e5, 8e-3, 9.1e-3, 15.8e-9, 2 * 210e9 / (2 * 0.91)) * 1e6).epsilon(1e-12));
+  CHECK_REL(*h, reference_film_m(4.0, 1e5, 8e-3, 9.1e-3, 15.8e-9, 2 * 210e9 / (2 * 0.91)) * 1e6,
+            tol::kRearrangedLawRel);
   // no film: a separated or tensile contact, conforming surfaces
   CHECK_FALSE(dynamics::line_contact_film_um(0, 9, kEStar, 1.0 / 8, 40, 100, o));
   CHECK_FALSE(dynamics::line_contact_film_um(-5, 9, kEStar, 1.0 / 8, 40, 100, o));

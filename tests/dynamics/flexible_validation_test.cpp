@@ -16,10 +16,13 @@
 #include "kinematics/kinematics_test_support.hpp"
 #include "oracles/spring_chain_oracle.hpp"
 #include "oracles/valve_oracle.hpp"
+#include "support/compare.hpp"
 
 using namespace camopt;
 using camopt::dyn_test::direct_valve;
 using camopt::pi;
+using camopt::test::Series;
+namespace tol = camopt::test::tol;
 
 namespace {
 
@@ -88,12 +91,12 @@ TEST_CASE("flexible: a single-mass valve with linear contacts, lash and a damped
   const double w = dynamics::cam_speed_rad_per_s(engine_rpm, 2.0);
   // the kinematic path is the eccentric's lift less the lash (to the Catmull-Rom
   // interpolation of its 0.25 deg table: 5e-9 mm measured)
-  double path_error = 0.0;
+  Series path("kinematic lift [mm]", "cam [deg]");
   for (std::size_t i = 0; i < r.cam_deg.size(); ++i) {
     const double th = r.cam_deg[i] * kin_test::deg;
-    path_error = std::max(path_error, std::abs(r.lift_kinematic[i] - std::max(0.0, kEccentricity * (1 - std::cos(th)) - 0.15)));
+    path.add(r.cam_deg[i], r.lift_kinematic[i], std::max(0.0, kEccentricity * (1 - std::cos(th)) - 0.15));
   }
-  CHECK(path_error < 1e-8);
+  CHECK_SERIES(path.compare({.abs = tol::kPathTableAbs}));
   // the exact solution from camopt's start (the valve on its seat, at rest)
   const oracles::ValveParams p = linear_valve_oracle(w);
   const double n = r.layout.size();
@@ -104,7 +107,7 @@ TEST_CASE("flexible: a single-mass valve with linear contacts, lash and a damped
   for (const auto& e : exact.events)
     if (e.t > 1e-9) expected.push_back(e);
   REQUIRE(r.events.size() == expected.size());
-  double worst_deg = 0.0, worst_speed = 0.0;
+  Series angle("event cam angle [deg]", "event"), speed("seat impact speed [m/s]", "event");
   for (std::size_t k = 0; k < expected.size(); ++k) {
     const auto& e = expected[k];
     const auto& c = r.events[k];
@@ -113,12 +116,14 @@ TEST_CASE("flexible: a single-mass valve with linear contacts, lash and a damped
                   << (e.engages ? " closes" : " opens") << " at " << e.t * w / kin_test::deg << " deg");
     CHECK(c.what == (e.contact == oracles::ValveContact::cam ? "cam_tappet" : "tappet seat"));
     CHECK(c.opens == !e.engages);
-    worst_deg = std::max(worst_deg, std::abs(c.cam_deg - e.t * w / kin_test::deg));
-    if (e.contact == oracles::ValveContact::seat) worst_speed = std::max(worst_speed, std::abs(c.speed_m_per_s - std::abs(e.v)));
+    angle.add(static_cast<double>(k), c.cam_deg, e.t * w / kin_test::deg);
+    if (e.contact == oracles::ValveContact::seat) speed.add(static_cast<double>(k), c.speed_m_per_s, std::abs(e.v));
   }
-  WARN("worst event angle error " << worst_deg << " deg, worst seat speed error " << worst_speed << " m/s");
-  CHECK(worst_deg < 0.01);
-  CHECK(worst_speed < 1e-3);
+  const camopt::test::Comparison angles = angle.compare({.abs = tol::kValveEventAngleAbs}),
+                                 speeds = speed.compare({.abs = tol::kSeatSpeedAbs});
+  WARN(angles.describe() << "\n" << speeds.describe());
+  CHECK_COMPARISON(angles);
+  CHECK_COMPARISON(speeds);
   // the seating velocity and a bounce shorter than 0.1 ms
   double seating = -1, shortest = 1e9, opened = -1;
   for (const auto& e : r.events) {
@@ -127,14 +132,15 @@ TEST_CASE("flexible: a single-mass valve with linear contacts, lash and a damped
     if (e.opens) opened = e.cam_deg;
     else if (opened >= 0) shortest = std::min(shortest, (e.cam_deg - opened) * kin_test::deg / w), opened = -1;
   }
-  CHECK(seating == Approx(exact.seating_velocity(0, 2 * pi / w)).margin(1e-3));
+  CHECK_ABS(seating, exact.seating_velocity(0, 2 * pi / w), tol::kSeatSpeedAbs);
   CHECK(shortest < 1e-4);
   // the lift at every output point [mm]
-  double worst_lift = 0.0;
+  Series lift("lift [mm]", "cam [deg]");
   for (std::size_t i = 0; i < r.cam_deg.size(); ++i)
-    worst_lift = std::max(worst_lift, std::abs(r.lift[i] - 1e3 * exact.at(r.cam_deg[i] * kin_test::deg / w).x));
-  WARN("worst lift error " << worst_lift << " mm");
-  CHECK(worst_lift < 1e-3);
+    lift.add(r.cam_deg[i], r.lift[i], 1e3 * exact.at(r.cam_deg[i] * kin_test::deg / w).x);
+  const camopt::test::Comparison lifts = lift.compare({.abs = tol::kValveLiftExactAbs});
+  WARN(lifts.describe());
+  CHECK_COMPARISON(lifts);
 }
 
 TEST_CASE("flexible: a multi-mass spring driven from rest equals exact modal superposition", "[dynamics][flexible]") {
@@ -171,17 +177,18 @@ TEST_CASE("flexible: a multi-mass spring driven from rest equals exact modal sup
   chain.eccentricity = kEccentricity * 1e-3;
   chain.cam_speed = w;
   const oracles::SpringChainOracle exact(chain);
-  double worst_top = 0, worst_base = 0, surge = 0;
+  Series top("coil force at the top [N]", "cam [deg]"), base("coil force at the base [N]", "cam [deg]");
+  double surge = 0;
   for (std::size_t i = 0; i < r.cam_deg.size(); ++i) {
     const double t = r.cam_deg[i] * kin_test::deg / w;
-    worst_top = std::max(worst_top, std::abs(r.coil_force_top[i] - exact.top_force(t)));
-    worst_base = std::max(worst_base, std::abs(r.coil_force_base[i] - exact.base_force(t)));
+    top.add(r.cam_deg[i], r.coil_force_top[i], exact.top_force(t));
+    base.add(r.cam_deg[i], r.coil_force_base[i], exact.base_force(t));
     surge = std::max(surge, std::abs(exact.base_force(t) - (250 + 40 * r.lift_kinematic[i])));
   }
-  INFO("worst top force error " << worst_top << " N, base " << worst_base << " N; surge amplitude " << surge << " N");
+  INFO("surge amplitude " << surge << " N");
   CHECK(surge > 1.0);  // the surge is there to be matched
-  CHECK(worst_top < 0.01);
-  CHECK(worst_base < 0.01);
+  CHECK_SERIES(top.compare({.abs = tol::kCoilForceAbs}));
+  CHECK_SERIES(base.compare({.abs = tol::kCoilForceAbs}));
 }
 
 TEST_CASE("flexible: power balance with every contact law and damper, lash and seat events", "[dynamics][flexible]") {
@@ -217,21 +224,12 @@ TEST_CASE("flexible: power balance with every contact law and damper, lash and s
     INFO(k.name << ": " << run.status.str());
     REQUIRE(run.status.ok());
     const dynamics::FlexibleResult& r = run.res;
-    double scale = 0, worst = 0;
-    for (std::size_t i = 0; i < r.cam_deg.size(); ++i) {
-      const double drive = r.drive_work[i] - r.drive_work[0];
-      const double balance = drive + (r.gas_work[i] - r.gas_work[0]) - (r.viscous_loss[i] - r.viscous_loss[0]) -
-                             (r.friction_loss[i] - r.friction_loss[0]) - (r.energy[i] - r.energy[0]);
-      scale = std::max(scale, std::abs(drive));
-      worst = std::max(worst, std::abs(balance));
-    }
     int seat_events = 0;
     for (const auto& e : r.events) seat_events += e.what == "tappet seat";
-    INFO(k.name << ": worst imbalance " << worst << " N mm of drive work " << scale << ", viscous loss "
-                << r.viscous_loss.back() << " N mm, seat events " << seat_events);
+    INFO(k.name << ": viscous loss " << r.viscous_loss.back() << " N mm, seat events " << seat_events);
     CHECK(seat_events >= 2);
     CHECK(r.viscous_loss.back() - r.viscous_loss.front() > 1.0);
-    CHECK(worst < 1e-4 * scale);
+    CHECK_COMPARISON(dyn_test::power_balance(r, tol::kPowerBalanceRel));
   }
 }
 
@@ -248,14 +246,14 @@ TEST_CASE("flexible: started from rest, every body is still at the start and eve
   REQUIRE(run.status.ok());
   const dynamics::FlexibleResult& r = run.res;
   REQUIRE(r.cam_deg.size() == 720);
-  CHECK(r.cam_deg.back() == Approx(719));
-  CHECK(std::abs(r.velocity[0]) < 1e-12);
+  CHECK_ABS(r.cam_deg.back(), 719, tol::kOutputAngleAbs);
+  CHECK_ABS(r.velocity[0], 0.0, tol::kAtRestAbs);
   CHECK(r.lift[0] < 0.0);  // on its seat, pressed in by the preload
   for (std::size_t i = 1; i < r.cam_deg.size(); ++i) REQUIRE(r.cam_deg[i] > r.cam_deg[i - 1]);
   // the valve opens to its peak (8 mm less the 0.1 mm lash) in each revolution
   for (int rev = 0; rev < 2; ++rev) {
     const auto first = r.lift.begin() + rev * 360;
-    CHECK(*std::max_element(first, first + 360) == Approx(7.9).margin(0.05));
+    CHECK_ABS(*std::max_element(first, first + 360), 7.9, tol::kPeakLiftDeflectionAbs);
   }
 }
 

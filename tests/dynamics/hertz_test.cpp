@@ -9,9 +9,11 @@
 #include "camopt/dynamics/hertz.hpp"
 #include "camopt/dynamics/model.hpp"
 #include "dynamics/dynamics_test_support.hpp"
+#include "support/compare.hpp"
 
 using namespace camopt;
 using camopt::dyn_test::hertz_force_fixed_point;
+namespace tol = camopt::test::tol;
 
 namespace {
 
@@ -43,15 +45,15 @@ TEST_CASE("rigid (a): Hertz line contact against a hand computation", "[dynamics
   // R 20 mm on a flat: p0 = sqrt(100 * 115384.6 / (pi 20)) = 428.533 MPa,
   // b = sqrt(4 * 100 * 20 / (pi 115384.6)) = 0.148558 mm (Johnson 1985, eqs. 4.43-4.45)
   const double e_star = dynamics::contact_modulus(210000, 0.3, 210000, 0.3);
-  CHECK(e_star == Approx(115384.615).epsilon(1e-8));
+  CHECK_REL(e_star, 115384.615, tol::kPrinted9DigitsRel);
   const auto h = dynamics::hertz_line(1000, 10, e_star, 1.0 / 20);
-  CHECK(h.max_pressure == Approx(428.5327513).epsilon(1e-9));
-  CHECK(h.half_width == Approx(0.1485580205).epsilon(1e-9));
+  CHECK_REL(h.max_pressure, 428.5327513, tol::kPrinted10DigitsRel);
+  CHECK_REL(h.half_width, 0.1485580205, tol::kPrinted10DigitsRel);
   // the elliptical pressure carries the load: F / L = pi p0 b / 2
-  CHECK(camopt::pi * h.max_pressure * h.half_width / 2 == Approx(100.0).epsilon(1e-12));
+  CHECK_REL(camopt::pi * h.max_pressure * h.half_width / 2, 100.0, tol::kRearrangedLawRel);
   // a convex roller r 8 on a concave flank of radius 20: 1/R* = 1/8 - 1/20
   const auto k = dynamics::hertz_line(1000, 10, e_star, 1.0 / 8 - 1.0 / 20);
-  CHECK(k.max_pressure == Approx(std::sqrt(100 * e_star * (1.0 / 8 - 1.0 / 20) / camopt::pi)).epsilon(1e-12));
+  CHECK_REL(k.max_pressure, std::sqrt(100 * e_star * (1.0 / 8 - 1.0 / 20) / camopt::pi), tol::kRearrangedLawRel);
   // tension or conforming surfaces: no Hertz pressure
   CHECK(dynamics::hertz_line(-5, 10, e_star, 0.1).max_pressure == 0.0);
   CHECK(dynamics::hertz_line(5, 10, e_star, -0.01).max_pressure == 0.0);
@@ -61,24 +63,24 @@ TEST_CASE("Hertz line law: force and approach are inverse, stiffness and energy 
   const double e_star = dynamics::contact_modulus(210e3, 0.3, 210e3, 0.3);
   for (double f : {1.0, 100.0, 1000.0, 20000.0}) {
     const double d = dynamics::line_contact_approach(f, 8, e_star, 12);
-    CHECK(dynamics::line_contact_force(d, 8, e_star, 12) == Approx(f).epsilon(1e-12));
-    CHECK(hertz_force_fixed_point(d, 8, e_star, 12) == Approx(f).epsilon(1e-9));
+    CHECK_REL(dynamics::line_contact_force(d, 8, e_star, 12), f, tol::kRearrangedLawRel);
+    CHECK_REL(hertz_force_fixed_point(d, 8, e_star, 12), f, tol::kHertzFixedPointRel);
     const double h = 1e-6 * f;
     const double kd = 2 * h / (dynamics::line_contact_approach(f + h, 8, e_star, 12) -
                                dynamics::line_contact_approach(f - h, 8, e_star, 12));
-    CHECK(dynamics::line_contact_tangent_stiffness(f, 8, e_star, 12) == Approx(kd).epsilon(1e-7));
+    CHECK_REL(dynamics::line_contact_tangent_stiffness(f, 8, e_star, 12), kd, tol::kCentral2Step1e6Rel);
     // dU/dF = F d(delta)/dF
     const double du = (dynamics::line_contact_energy(f + h, 8, e_star, 12) -
                        dynamics::line_contact_energy(f - h, 8, e_star, 12)) / (2 * h);
-    CHECK(du == Approx(f / kd).epsilon(1e-7));
+    CHECK_REL(du, f / kd, tol::kCentral2Step1e6Rel);
     // a warm start (the load length a = F / (pi L E*) of a nearby or far-off solution) gives
     // the cold start's force; a returns the solution
     const double a = f / (camopt::pi * 8 * e_star);
     for (double start : {a, a * (1 + 1e-6), a * 0.9, a * 3, a * 1e-6, a * 1e3, 1e9}) {
       double warm = start;
       INFO("F " << f << " N, start " << start / a << " a");
-      CHECK(dynamics::line_contact_force(d, 8, e_star, 12, warm) == Approx(f).epsilon(1e-12));
-      CHECK(warm == Approx(a).epsilon(1e-12));
+      CHECK_REL(dynamics::line_contact_force(d, 8, e_star, 12, warm), f, tol::kRearrangedLawRel);
+      CHECK_REL(warm, a, tol::kRearrangedLawRel);
     }
   }
   double none = 1e-3;
@@ -91,12 +93,12 @@ TEST_CASE("Hunt-Crossley contact damping: no force jump at touch-down, restituti
   // the damping force vanishes with the elastic one (the linear c v law jumped by c v at touch-down)
   CHECK(dynamics::hunt_crossley_force(0.0, 1000.0, 1e-3) == 0.0);
   CHECK(dynamics::hunt_crossley_force(100.0, -1e4, 1e-3) == 0.0);  // no tension while parting fast
-  CHECK(dynamics::hunt_crossley_alpha(0.8, 500.0) == Approx(4e-4).epsilon(1e-15));
+  CHECK_REL(dynamics::hunt_crossley_alpha(0.8, 500.0), 4e-4, tol::kUlpRel);
   // Hunt & Crossley 1975: e = 1 - alpha v to first order; the remainder is second order in alpha v
   for (const double alpha_v : {0.01, 0.05}) {
     const double v = 500.0;
     const double e = hunt_crossley_rebound(0.05, v, alpha_v / v, e_star);
-    CHECK(std::abs(e - (1 - alpha_v)) <= 1.1 * alpha_v * alpha_v);
+    CHECK_ABS(e, 1 - alpha_v, tol::kRestitutionSecondOrder * alpha_v * alpha_v);
     CHECK(std::abs(e - (1 - alpha_v)) >= 0.5 * alpha_v * alpha_v);  // and it is there: not a kinematic identity
   }
 }

@@ -17,17 +17,16 @@
 #include "camopt/kinematics/pose.hpp"
 #include "camopt/io/design_file.hpp"
 #include "kinematics/kinematics_test_support.hpp"
+#include "support/compare.hpp"
 
 using namespace camopt;
 using namespace camopt::kin_test;
 using camopt::dyn_test::steel;
 using camopt::oracles::wrap_angle;
+namespace tol = camopt::test::tol;
 
 namespace {
 
-// forces and torques from the balance are exact up to the kinematic derivatives (1e-7 of
-// peak acceleration) and one LU solve
-constexpr double kForceRel = 1e-7;
 constexpr double kRpm = 6000.0;
 
 Vector2d polar(double r, double a) { return {r * std::cos(a), r * std::sin(a)}; }
@@ -123,10 +122,10 @@ TEST_CASE("rigid (a): direct-acting valve against F = m a + k (x + x0) + gas, to
         guide.add(t, s.reaction_at(i, 2, 0, w), mu * f);
         axial.add(t, s.reaction_at(i, 2, 1, w), 0.0);
       }
-      CHECK_SERIES(force.compare(kForceRel));
-      CHECK_SERIES(torque.compare(kForceRel));
-      CHECK_SERIES(guide.compare(kForceRel));
-      CHECK_SERIES(axial.compare(0.0, kForceRel * 1000));
+      CHECK_SERIES(force.compare(tol::kRigidForceRel));
+      CHECK_SERIES(torque.compare(tol::kRigidForceRel));
+      CHECK_SERIES(guide.compare(tol::kRigidForceRel));
+      CHECK_SERIES(axial.compare(0.0, tol::kZeroReactionAbs));
     }
 }
 
@@ -149,7 +148,7 @@ TEST_CASE("rigid (a): progressive spring table, piecewise linear and extrapolate
     const double spring = x <= 2 ? 200 + 30 * x : 260 + (400 - 260) / 3.0 * (x - 2);
     force.add(t, s.force_at(i, 0, w), 1e-3 * (c.mass + c.spring_mass / 3) * w * w * y[2] + spring);
   }
-  CHECK_SERIES(force.compare(kForceRel));
+  CHECK_SERIES(force.compare(tol::kRigidForceRel));
 }
 
 TEST_CASE("rigid (a): separation speed is exact from the rpm^2 split", "[dynamics][rigid]") {
@@ -168,7 +167,7 @@ TEST_CASE("rigid (a): separation speed is exact from the rpm^2 split", "[dynamic
   }
   const auto sep = dynamics::separation_speed(s, m.model, 0);
   const double rpm = dynamics::engine_rpm(w_min, 2.0);
-  CHECK(sep.engine_rpm == Approx(rpm).epsilon(1e-7));
+  CHECK_REL(sep.engine_rpm, rpm, tol::kSeparationRpmRel);
   // the force is positive everywhere just below it and reaches zero at it
   const double w = dynamics::cam_speed_rad_per_s(sep.engine_rpm, 2.0);
   double min_below = INFINITY, min_at = INFINITY;
@@ -177,22 +176,22 @@ TEST_CASE("rigid (a): separation speed is exact from the rpm^2 split", "[dynamic
     min_at = std::min(min_at, s.force_at(i, 0, w));
   }
   CHECK(min_below > 0.0);
-  CHECK(std::abs(min_at) < 1e-9 * c.preload);
+  CHECK_ABS(min_at, 0.0, tol::kSeparationForceRel * c.preload);
   // spring margin: one spring loading one contact fully, so the margin is the contact force
   // (the spring load that could go before the tappet lifts off); zero at the separation speed
   double min_margin = INFINITY;
   for (std::size_t i = 0; i < s.points(); ++i) {
     const double margin = dynamics::spring_margin(s, m.model, i, 0, w);
-    CHECK(margin == Approx(s.force_at(i, 0, w)).margin(1e-9 * c.preload));
+    CHECK_NEAR(margin, s.force_at(i, 0, w), tol::kSeparationForceRel * c.preload, tol::kSpringMarginRel);
     min_margin = std::min(min_margin, margin);
   }
-  CHECK(std::abs(min_margin) < 1e-9 * c.preload);
+  CHECK_ABS(min_margin, 0.0, tol::kSeparationForceRel * c.preload);
   // a quantity at two speeds is A + B w^2 exactly
   const std::size_t i = s.points() / 3;
   const double w1 = 100, w2 = 400, w3 = 250;
   const double f1 = s.force_at(i, 0, w1), f2 = s.force_at(i, 0, w2);
   const double b = (f2 - f1) / (w2 * w2 - w1 * w1);
-  CHECK(s.force_at(i, 0, w3) == Approx(f1 + b * (w3 * w3 - w1 * w1)).epsilon(1e-12));
+  CHECK_REL(s.force_at(i, 0, w3), f1 + b * (w3 * w3 - w1 * w1), tol::kQuadraticInSpeedRel);
 }
 
 TEST_CASE("rigid (a): a damped valve spring: F = m a + k (x + x0) + c v, separation at the quadratic's root",
@@ -221,9 +220,9 @@ TEST_CASE("rigid (a): a damped valve spring: F = m a + k (x + x0) + c v, separat
     for (double root : {(-qb + std::sqrt(disc)) / (2 * qa), (-qb - std::sqrt(disc)) / (2 * qa)})
       if (root > 0) w_min = std::min(w_min, root);
   }
-  CHECK_SERIES(force.compare(kForceRel));
+  CHECK_SERIES(force.compare(tol::kRigidForceRel));
   const auto sep = dynamics::separation_speed(s, m.model, 0);
-  CHECK(sep.engine_rpm == Approx(dynamics::engine_rpm(w_min, 2.0)).epsilon(1e-9));
+  CHECK_REL(sep.engine_rpm, dynamics::engine_rpm(w_min, 2.0), tol::kSeparationRpmRel);
   // the undamped separation speed differs: the damper matters here
   ValveCase u = c;
   const Compiled mu(valve_design(u, o.face_height(0)[0]));
@@ -238,7 +237,7 @@ TEST_CASE("rigid (a): a damped valve spring: F = m a + k (x + x0) + c v, separat
     min_at = std::min(min_at, s.force_at(i, 0, w));
   }
   CHECK(min_below > 0.0);
-  CHECK(std::abs(min_at) < 1e-9 * c.preload);
+  CHECK_ABS(min_at, 0.0, tol::kSeparationForceRel * c.preload);
 }
 
 TEST_CASE("rigid (a): separation speed with the gas force acting where the valve decelerates",
@@ -292,7 +291,7 @@ TEST_CASE("rigid (a): separation speed with the gas force acting where the valve
     // the gas force acts where the contact separates, and moves the separation speed
     REQUIRE(gas_force(2 * at) == 300.0);
     REQUIRE(rpm > 1.02 * no_gas);
-    CHECK(sep.engine_rpm == Approx(rpm).epsilon(1e-9));
+    CHECK_REL(sep.engine_rpm, rpm, tol::kSeparationRpmRel);
     CHECK(sep.cam_deg == at);
   }
 }
@@ -325,7 +324,7 @@ TEST_CASE("rigid (a): spring margin is the load a spring can lose before a conta
     peak = std::max(peak, std::abs(s.force_at(at, c, w)));
   }
   INFO("min margin fraction " << fraction << " at cam " << s.cam_deg[at] << " deg");
-  CHECK(std::abs(min_force) < 1e-9 * peak);
+  CHECK_ABS(min_force, 0.0, tol::kSeparationForceRel * peak);
 }
 
 TEST_CASE("rigid (a): a follower at rest on the base circle feels no friction", "[dynamics][rigid]") {
@@ -335,7 +334,7 @@ TEST_CASE("rigid (a): a follower at rest on the base circle feels no friction", 
   const auto s = sweep_of(m, 1.0);
   const double w = dynamics::cam_speed_rad_per_s(6000, 2.0);
   for (int c = 0; c < s.connections; ++c)
-    for (std::size_t i = 1; i <= 80; ++i) CHECK(s.force_at(i, c, w) == Approx(s.force_at(0, c, w)).epsilon(1e-9));
+    for (std::size_t i = 1; i <= 80; ++i) CHECK_REL(s.force_at(i, c, w), s.force_at(0, c, w), tol::kBaseCircleForceRel);
 }
 
 TEST_CASE("rigid (a): four-bar with a massive rocker against a Newton-Euler balance", "[dynamics][rigid]") {
@@ -391,11 +390,11 @@ TEST_CASE("rigid (a): four-bar with a massive rocker against a Newton-Euler bala
     ry.add(th, s.reaction_at(i, rocker, 1, w), ma.y() - lambda * u.y());
     cx.add(th, s.reaction_at(i, 1, 0, w), lambda * u.x());
   }
-  CHECK_SERIES(link_force.compare(kForceRel));
-  CHECK_SERIES(torque.compare(kForceRel));
-  CHECK_SERIES(rx.compare(kForceRel));
-  CHECK_SERIES(ry.compare(kForceRel));
-  CHECK_SERIES(cx.compare(kForceRel));
+  CHECK_SERIES(link_force.compare(tol::kRigidForceRel));
+  CHECK_SERIES(torque.compare(tol::kRigidForceRel));
+  CHECK_SERIES(rx.compare(tol::kRigidForceRel));
+  CHECK_SERIES(ry.compare(tol::kRigidForceRel));
+  CHECK_SERIES(cx.compare(tol::kRigidForceRel));
 }
 
 TEST_CASE("rigid (a): offset slider-crank with a massive slider against a Newton-Euler balance",
@@ -430,9 +429,9 @@ TEST_CASE("rigid (a): offset slider-crank with a massive slider against a Newton
     torque.add(th, s.torque_at(i, w), cross2(A, lambda * u));
     guide.add(th, s.reaction_at(i, 2, 0, w), -lambda * u.x());
   }
-  CHECK_SERIES(rod_force.compare(kForceRel));
-  CHECK_SERIES(torque.compare(kForceRel));
-  CHECK_SERIES(guide.compare(kForceRel));
+  CHECK_SERIES(rod_force.compare(tol::kRigidForceRel));
+  CHECK_SERIES(torque.compare(tol::kRigidForceRel));
+  CHECK_SERIES(guide.compare(tol::kRigidForceRel));
 }
 
 TEST_CASE("rigid (a): gear and rack-pinion transmit the spring loads, torque by virtual work",
@@ -482,9 +481,9 @@ TEST_CASE("rigid (a): gear and rack-pinion transmit the spring loads, torque by 
     rack_force.add(t, s.force_at(i, 1, w), rack);
     torque.add(t, s.torque_at(i, w), -0.5 * wheel + 12 * rack);
   }
-  CHECK_SERIES(gear_torque.compare(kForceRel));
-  CHECK_SERIES(rack_force.compare(kForceRel));
-  CHECK_SERIES(torque.compare(kForceRel));
+  CHECK_SERIES(gear_torque.compare(tol::kRigidForceRel));
+  CHECK_SERIES(rack_force.compare(tol::kRigidForceRel));
+  CHECK_SERIES(torque.compare(tol::kRigidForceRel));
 }
 
 TEST_CASE("rigid (a): power balance, drive power = d(kinetic + spring energy)/dt + friction loss",
@@ -554,7 +553,7 @@ TEST_CASE("rigid (a): power balance, drive power = d(kinetic + spring energy)/dt
       }
       prev = torque;
     }
-    CHECK_SERIES(power.compare(kForceRel));
+    CHECK_SERIES(power.compare(tol::kRigidForceRel));
     if (zero_lash && std::string(file) == "cvvl_swing_cam.toml") {
       // friction (pad on the valve tip, mu 0.08) is the only net work over a closed cycle
       INFO("net work " << work << " N mm rad of " << abs_work);
@@ -579,7 +578,7 @@ TEST_CASE("rigid (a): conservative cycle does zero net work", "[dynamics][rigid]
     abs_work += 0.5 * (std::abs(a) + std::abs(b)) * 0.25 * deg;
   }
   INFO("net work " << work << " of " << abs_work << " N mm");
-  CHECK(std::abs(work) < 1e-6 * abs_work);
+  CHECK_ABS(work, 0.0, tol::kCycleWorkRel * abs_work);
 }
 
 TEST_CASE("rigid (a): every bundled design runs at 6000 rpm", "[dynamics][rigid]") {

@@ -13,17 +13,18 @@
 #include "camopt/kinematics/grid_refine.hpp"
 #include "camopt/kinematics/sweep.hpp"
 #include "kinematics/kinematics_test_support.hpp"
+#include "support/compare.hpp"
 
 using namespace camopt;
 using namespace camopt::kin_test;
+namespace tol = camopt::test::tol;
 
 namespace {
 
 constexpr double kR = 20.0, kE = 5.0;  // disc radius, eccentricity [mm]
 constexpr double kDelta = 1.2345 * deg;  // the lift's phase: its peak at 180 deg + kDelta, off every grid
 constexpr double kPerDeg = deg;          // d theta [rad] per cam deg
-// the refined summary against the closed forms, relative to each quantity's scale
-constexpr double kRefinedRel = 1e-9;
+// the refined summary against the closed forms: tol::kRefinedSummaryRel of each quantity's scale;
 // the grid values miss the closed forms by more than this (relative): the refinement matters
 constexpr double kGridMissRel = 1e-6;
 
@@ -71,8 +72,8 @@ TEST_CASE("summary: refined lift extremes, durations and area of a disc on a fla
     CHECK(s.refined);
     CHECK_FALSE(grid.refined);
     // the peak lift and where it is
-    CHECK(rel(s.max_lift, lift_peak, lift_peak) <= kRefinedRel);
-    CHECK(std::abs(s.max_lift_at - (180.0 + kDelta / deg)) <= 1e-6);
+    CHECK_REL(s.max_lift, lift_peak, tol::kRefinedSummaryRel);
+    CHECK_ABS(s.max_lift_at, 180.0 + kDelta / deg, tol::kPeakAngleAbs);
     CHECK(rel(grid.max_lift, lift_peak, lift_peak) >= kGridMissRel);
     // durations above each height
     for (std::size_t k = 0; k < options.duration_heights.size(); ++k) {
@@ -80,21 +81,21 @@ TEST_CASE("summary: refined lift extremes, durations and area of a disc on a fla
       INFO("height " << h << " mm: closed form " << exact << " deg, refined " << s.durations[k].span << ", grid "
                      << grid.durations[k].span);
       CHECK(s.durations[k].height == h);
-      CHECK(rel(s.durations[k].span, exact, exact) <= kRefinedRel);
+      CHECK_REL(s.durations[k].span, exact, tol::kRefinedSummaryRel);
       CHECK(rel(grid.durations[k].span, exact, exact) >= kGridMissRel);
     }
     CHECK(s.duration_at(1.0) == s.durations[0].span);
     // the lift area over a whole revolution: 360 e cos d [mm deg]
-    CHECK(rel(s.lift_area, 360.0 * kE * std::cos(kDelta), 360.0 * kE) <= kRefinedRel);
+    CHECK_ABS(s.lift_area, 360.0 * kE * std::cos(kDelta), tol::kRefinedSummaryRel * 360.0 * kE);
     // velocity e sin(theta - d), acceleration e cos(theta - d), jerk -e sin(theta - d) (per cam deg^k)
-    CHECK(rel(s.max_velocity, v, v) <= kRefinedRel);
-    CHECK(rel(s.min_velocity, -v, v) <= kRefinedRel);
-    CHECK(std::abs(s.max_velocity_at - (90.0 + kDelta / deg)) <= 1e-5);
-    CHECK(std::abs(s.min_velocity_at - (270.0 + kDelta / deg)) <= 1e-5);
-    CHECK(rel(s.max_acceleration, a, a) <= kRefinedRel);
-    CHECK(rel(s.min_acceleration, -a, a) <= kRefinedRel);
-    CHECK(std::abs(s.min_acceleration_at - (180.0 + kDelta / deg)) <= 1e-5);
-    CHECK(rel(s.max_jerk_abs, j, j) <= kRefinedRel);
+    CHECK_REL(s.max_velocity, v, tol::kRefinedSummaryRel);
+    CHECK_REL(s.min_velocity, -v, tol::kRefinedSummaryRel);
+    CHECK_ABS(s.max_velocity_at, 90.0 + kDelta / deg, tol::kRefinedExtremeAngleAbs);
+    CHECK_ABS(s.min_velocity_at, 270.0 + kDelta / deg, tol::kRefinedExtremeAngleAbs);
+    CHECK_REL(s.max_acceleration, a, tol::kRefinedSummaryRel);
+    CHECK_REL(s.min_acceleration, -a, tol::kRefinedSummaryRel);
+    CHECK_ABS(s.min_acceleration_at, 180.0 + kDelta / deg, tol::kRefinedExtremeAngleAbs);
+    CHECK_REL(s.max_jerk_abs, j, tol::kRefinedSummaryRel);
   }
 }
 
@@ -115,11 +116,11 @@ TEST_CASE("summary: the hermite interpolant reproduces a polynomial of its degre
   const double x0 = 0.4, x1 = 1.3;
   const auto p = kin::HermiteInterval::fit(x0, x1, jet(x0), jet(x1), 3);
   for (double x : {0.4, 0.55, 0.8, 1.1, 1.3, 1.6})
-    for (int k = 0; k <= 3; ++k) CHECK(std::abs(p.derivative(k, x) - jet(x)[k]) <= 1e-12 * (1 + std::abs(jet(x)[k])));
+    for (int k = 0; k <= 3; ++k) CHECK_NEAR(p.derivative(k, x), jet(x)[k], tol::kHermitePolyRel, tol::kHermitePolyRel);
   // its integral: the antiderivative's difference
   double exact = 0.0;
   for (int j = 0; j < 8; ++j) exact += c[j] * (std::pow(x1, j + 1) - std::pow(x0, j + 1)) / (j + 1);
-  CHECK(std::abs(p.integral() - exact) <= 1e-13);
+  CHECK_ABS(p.integral(), exact, tol::kHermiteIntegralAbs);
   // the stationary point of cos at pi on [3.05, 3.2] (an 8.6 deg step): each order more accurate,
   // order 3 to 1e-12 (measured: 1.5e-5, 4.0e-9 and 5.0e-13 for orders 1, 2, 3)
   auto cosine = [](double x) { return kin::GridJet{std::cos(x), -std::sin(x), -std::cos(x), std::sin(x)}; };
@@ -129,12 +130,13 @@ TEST_CASE("summary: the hermite interpolant reproduces a polynomial of its degre
     std::vector<double> at;
     q.stationary(0, at);
     REQUIRE(at.size() == 1);
-    const double err = std::abs(at[0] - std::numbers::pi);
-    INFO("order " << order << ": stationary point off by " << err);
-    CHECK(err < last);
-    last = err;
+    const camopt::test::Comparison point = camopt::test::compare_abs(
+        "stationary point of order " + std::to_string(order), at[0], std::numbers::pi, tol::kHermiteStationaryAbs);
+    INFO("order " << order << ": stationary point off by " << point.error);
+    CHECK(point.error < last);
+    last = point.error;
+    if (order == 3) CHECK_COMPARISON(point);
   }
-  CHECK(last <= 1e-12);
 }
 
 TEST_CASE("summary: the lash open span of a flat tappet on an eccentric disc is refined to its closed form",
@@ -157,18 +159,18 @@ TEST_CASE("summary: the lash open span of a flat tappet on an eccentric disc is 
     const kin::PositionSummary grid = kin::summarize(m, sweep(m, step, 0), 0);
     REQUIRE(s.separations.size() == 1);
     CHECK(s.separations[0].contact == "cam_tappet");
-    CHECK(rel(s.separations[0].open_span, 2 * half, 2 * half) <= kRefinedRel);
+    CHECK_REL(s.separations[0].open_span, 2 * half, tol::kRefinedSummaryRel);
     REQUIRE(s.separations[0].intervals.size() == 2);
     CHECK(s.separations[0].intervals[0].first == 0.0);
-    CHECK(std::abs(s.separations[0].intervals[0].second - half) <= kRefinedRel * half);
-    CHECK(std::abs(s.separations[0].intervals[1].first - (360.0 - half)) <= kRefinedRel * half);
+    CHECK_REL(s.separations[0].intervals[0].second, half, tol::kRefinedSummaryRel);
+    CHECK_ABS(s.separations[0].intervals[1].first, 360.0 - half, tol::kRefinedSummaryRel * half);
     CHECK(s.separations[0].intervals[1].second == 360.0);
     REQUIRE(grid.separations.size() == 1);
     CHECK(rel(grid.separations[0].open_span, 2 * half, 2 * half) >= kGridMissRel);
     // the peak 2e - L, and the duration at 1 mm: e (1 - cos theta) - L > 1
-    CHECK(rel(s.max_lift, 2 * kE - kLash, kE) <= kRefinedRel);
+    CHECK_ABS(s.max_lift, 2 * kE - kLash, tol::kRefinedSummaryRel * kE);
     const double exact = 360.0 - 2.0 * std::acos(1.0 - (1.0 + kLash) / kE) / deg;
-    CHECK(rel(s.duration_at(1.0), exact, exact) <= kRefinedRel);
+    CHECK_REL(s.duration_at(1.0), exact, tol::kRefinedSummaryRel);
   }
 }
 
@@ -228,11 +230,10 @@ kin::SweepResult contact_sweep(const kin::Mechanism& m) {
   return r;
 }
 
-// the summary's refined radius against the profile's sampled one (relative): 200000 samples
-// over the touched arc (spacing below 3e-5 rad) miss the smooth extreme by about
+// the summary's refined radius against the profile's sampled one (tol::kRadiusSampledRel):
+// 200000 samples over the touched arc (spacing below 3e-5 rad) miss the smooth extreme by about
 // rho'' (spacing / 2)^2 / 2, below 1e-9 rho here; the refined one is the true extreme
 // itself, so it is at or beyond the sampled one
-constexpr double kRadiusSampledRel = 1e-8;
 
 }  // namespace
 
@@ -249,7 +250,7 @@ TEST_CASE("summary: the RFF's smallest cam radius is the lobe's, not the finger 
   REQUIRE(lobe.convex);
   const ProfileRadii exact = profile_radii(d, m, r, "cam_roller");
   INFO("lobe: summary " << lobe.min_convex.value << " mm, profile " << exact.min_convex << " mm");
-  CHECK(rel(lobe.min_convex.value, exact.min_convex, exact.min_convex) <= kRadiusSampledRel);
+  CHECK_REL(lobe.min_convex.value, exact.min_convex, tol::kRadiusSampledRel);
   CHECK(lobe.min_convex.value <= exact.min_convex);
   CHECK(lobe.concave == (exact.sharpest_concave > -INFINITY));
   // the old key's value, over cam surfaces only
@@ -259,8 +260,8 @@ TEST_CASE("summary: the RFF's smallest cam radius is the lobe's, not the finger 
   // the follower surfaces: the pad (12 mm) and the roller (8.5 mm), never a cam
   const auto& pad = find_surface(s.follower_surfaces, "pad_valve", "circle");
   CHECK(pad.body == "finger");
-  CHECK(pad.min_convex.value == Approx(12.0).epsilon(1e-12));
-  CHECK(find_surface(s.follower_surfaces, "cam_roller", "roller").min_convex.value == Approx(8.5).epsilon(1e-12));
+  CHECK_REL(pad.min_convex.value, 12.0, tol::kUlpRel);
+  CHECK_REL(find_surface(s.follower_surfaces, "cam_roller", "roller").min_convex.value, 8.5, tol::kUlpRel);
 }
 
 TEST_CASE("summary: the CVVL swing cam's concave foot is reported with its surface", "[kinematics][summary]") {
@@ -275,10 +276,10 @@ TEST_CASE("summary: the CVVL swing cam's concave foot is reported with its surfa
   const ProfileRadii exact = profile_radii(d, m, r, "swing_roller");
   INFO("swing cam: summary concave " << swing.sharpest_concave.value << " mm, profile " << exact.sharpest_concave
                                      << " mm; convex " << swing.min_convex.value << " / " << exact.min_convex);
-  CHECK(rel(swing.sharpest_concave.value, exact.sharpest_concave, -exact.sharpest_concave) <= kRadiusSampledRel);
+  CHECK_REL(swing.sharpest_concave.value, exact.sharpest_concave, tol::kRadiusSampledRel);
   CHECK(swing.sharpest_concave.value >= exact.sharpest_concave);
   // the design's own figure: the foot keeps a concave radius >= 14.7 mm
-  CHECK(swing.sharpest_concave.value == Approx(-14.7).margin(0.05));
+  CHECK_ABS(swing.sharpest_concave.value, -14.7, tol::kDocumentedRadiusAbs);
   const auto& input = find_surface(s.cam_surfaces, "cam_roller", "input_lobe");
   CHECK(input.body == "cam");
   CHECK(input.convex);
