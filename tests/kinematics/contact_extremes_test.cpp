@@ -18,6 +18,7 @@
 
 using namespace camopt;
 using namespace camopt::kin_test;
+namespace tol = camopt::test::tol;
 
 namespace {
 
@@ -29,11 +30,6 @@ constexpr double kDeg = kPi / 180.0;  // rad per deg (the oracles' own constant)
 constexpr double kR = 20.0, kE = 5.0, kRoller = 8.0, kL = kR + kRoller;
 constexpr double kPhaseDeg = -1.2345;
 
-// the refined extremes against the closed forms, relative to each quantity
-constexpr double kRefinedRel = 1e-11;
-// where each extreme lies [deg]: Brent's method alone resolves it to about 3e-6 deg
-// (sqrt(2 round-off / |f''|)), the newton polish on five-point differences to ~1e-10
-constexpr double kLocationDeg = 1e-9;
 // the grid values miss the closed forms by more than this (relative): the refinement matters
 constexpr double kGridMissRel = 1e-5;
 
@@ -96,21 +92,22 @@ TEST_CASE("contact extremes: the pressure angle and roller speed of an eccentric
     CHECK(s.contacts_refined);
     INFO("pressure angle: refined " << s.max_pressure_angle_deg << " deg at " << s.max_pressure_angle_at
                                     << ", closed form " << alpha_max);
-    CHECK(rel(s.max_pressure_angle_deg, alpha_max) <= kRefinedRel);
-    CHECK(std::min(angle_between(s.max_pressure_angle_at, -kPhaseDeg),
-                   angle_between(s.max_pressure_angle_at, 180.0 - kPhaseDeg)) <= kLocationDeg);
+    CHECK_REL(s.max_pressure_angle_deg, alpha_max, tol::kRefinedContactRel);
+    CHECK_ABS(std::min(angle_between(s.max_pressure_angle_at, -kPhaseDeg),
+                       angle_between(s.max_pressure_angle_at, 180.0 - kPhaseDeg)),
+              0.0, tol::kRefinedLocationDeg);
     CHECK(s.max_pressure_angle_contact == "cam_roller");
     const double grid_alpha = grid_max(r, [](const kin::ContactState& c) { return c.pressure_angle; }) / kDeg;
     CHECK(rel(grid_alpha, alpha_max) >= kGridMissRel);
     INFO("roller speed: refined " << s.max_roller_speed << " rad/deg at " << s.max_roller_speed_at
                                   << ", closed form " << spin_max << " at " << spin_at);
-    CHECK(rel(s.max_roller_speed, spin_max) <= kRefinedRel);
-    CHECK(angle_between(s.max_roller_speed_at, spin_at) <= kLocationDeg);
+    CHECK_REL(s.max_roller_speed, spin_max, tol::kRefinedContactRel);
+    CHECK_ABS(angle_between(s.max_roller_speed_at, spin_at), 0.0, tol::kRefinedLocationDeg);
     const double grid_spin = grid_max(r, [](const kin::ContactState& c) { return std::abs(c.roller_speed); }) * kDeg;
     CHECK(rel(grid_spin, spin_max) >= kGridMissRel);
     // the disc's curvature is 1 / R everywhere
     REQUIRE(s.cam_surfaces.size() == 1);
-    CHECK(s.cam_surfaces[0].min_convex.value == Approx(kR).epsilon(1e-12));
+    CHECK_REL(s.cam_surfaces[0].min_convex.value, kR, tol::kCircleRadiusRel);
   }
 }
 
@@ -174,7 +171,7 @@ TEST_CASE("contact extremes: the smallest convex radius under a flat-faced follo
     const kin::SurfaceRadii& lobe = s.cam_surfaces[0];
     REQUIRE(lobe.convex);
     INFO("refined " << lobe.min_convex.value << " mm at " << lobe.min_convex.at << " deg, spline " << exact);
-    CHECK(rel(lobe.min_convex.value, exact) <= kRefinedRel);
+    CHECK_REL(lobe.min_convex.value, exact, tol::kRefinedContactRel);
     CHECK(s.min_convex_cam_radius_mm == lobe.min_convex.value);
     const double grid_k = grid_max(r, [](const kin::ContactState& c) { return c.curvature_a; });
     CHECK(rel(1.0 / grid_k, exact) >= kGridMissRel);
@@ -221,7 +218,7 @@ TEST_CASE("contact extremes: the CVVL swing cam's concave foot at a 1 deg step a
   // never short of a grid value, within the fine grid's error of it, far from the coarse grid
   CHECK(refined >= fine_radius);
   CHECK(refined - fine_radius <= fine_error);
-  CHECK(std::abs(fine.driver[best] - at) <= 0.01);
+  CHECK_ABS(fine.driver[best], at, tol::kFineGridStepDeg);
   CHECK(refined - coarse_radius >= 100 * fine_error);
-  CHECK(refined == Approx(-14.7).margin(0.05));
+  CHECK_ABS(refined, -14.7, tol::kPrintedFootRadiusAbs);
 }

@@ -88,6 +88,13 @@ inline constexpr double kSummaryOfSameRel = 1e-12;   // a summary's extreme agai
 inline constexpr double kRefinedExtremeRel = 1e-6;   // a refined extreme against the largest of a 0.5-deg grid's closed forms
 inline constexpr double kQuasiStaticForceRel = 1e-2; // compliant contact forces against rigid ones at <= 10 rpm: the deflection's share of the peak
 
+// contact extremes refined between grid points (tests/kinematics/contact_extremes_test.cpp)
+inline constexpr double kRefinedContactRel = 1e-11;    // a refined pressure angle, roller speed or radius against its closed form: a solve's round-off
+inline constexpr double kRefinedLocationDeg = 1e-9;    // [deg] where it lies: Brent's method alone gives ~3e-6 deg (sqrt(2 eps / |f''|)), the newton polish ~1e-10
+inline constexpr double kCircleRadiusRel = 1e-12;      // a disc's radius from the refined curvature of its surface: round-off of 1 / (1 / R)
+inline constexpr double kFineGridStepDeg = 0.01;       // [deg] a refined extreme's location against the best point of a 0.01 deg grid: one step
+inline constexpr double kPrintedFootRadiusAbs = 0.05;  // [mm] the CVVL swing cam's concave foot against the -14.7 mm quoted in the docs
+
 // oracles, synthesis and optimisation
 // the closed-form oracles against themselves (tests/oracles)
 inline constexpr double kOracleFdRel = 1e-7;           // a closed form's derivatives against 8th-order central differences of its own displacement, of the peak
