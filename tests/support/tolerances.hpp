@@ -159,6 +159,48 @@ inline constexpr double kTabledEccentricAbs = 1e-8;  // [mm] an analytic against
 inline constexpr double kGrindingLiftAbs = 1e-9;     // [mm] a grinding table against its closed form
 inline constexpr double kLeverPoseAbs = 1e-10;       // [mm or rad] the lever path's pose against whole solves (each to ~1e-12)
 inline constexpr double kLeverRateRel = 1e-8;        // its derivatives, of their peak
+
+// the optimiser's models (tests/opt)
+inline constexpr double kOptPressureAngleAbs = 1e-8;  // [rad] the optimiser's closed-form pressure angle against the kinematic solver's
+inline constexpr double kOptRollerSpeedAbs = 1e-8;    // [mm/rad] its roller speed, the same
+inline constexpr double kOptContactRel = 1e-7;        // its sliding [mm/rad], entrainment and cam curvature [1/mm], of max(1, |reference|)
+inline constexpr double kOptContactFdRel = 1e-5;      // its gradients against central differences at 1e-4: truncation h^2 f''' / 6
+inline constexpr double kOptContactFdAbs = 1e-7;      // the same for a gradient of ~0, times 1 + |the quantity|
+inline constexpr double kOptLoadRel = 1e-9;           // [N] its loads by virtual work against the rigid model's multipliers, of max(1, |the first spring's force|)
+inline constexpr double kOptStaticsFdAbs = 1e-6;      // [N per unit] their gradients against central differences (h = 1e-5 mm, 1e-4, 1e-3): static load
+inline constexpr double kOptDampingFdAbs = 1e-9;      // the same: damping load (linear in the velocity)
+inline constexpr double kOptInertiaFdAbs = 1e-10;     // the same: inertia load (linear in the acceleration)
+inline constexpr double kSameDiagnosisRel = 1e-6;     // a best achievable value after different solvers: the same solves from the same start, up to the warm-started inversions' round-off
+inline constexpr double kSameOptimumRel = 1e-7;       // the objective of two solves of one problem, of max(1, |objective|): both reach the KKT point to 1e-9, room for the active set's conditioning
+inline constexpr double kSameInfeasiblePointRel = 1e-9;  // the worst violation of two solves that end at the same full-row point
+inline constexpr double kOptLiftJoinAbs[3] = {1e-9, 1e-9, 1e-7};  // [mm, mm/deg, mm/deg^2] the b-spline lift 1e-9 deg either side of a c2 join
+inline constexpr double kOptOpeningRampAbs = 1e-12;   // [mm] the opening ramp's height, set directly
+inline constexpr double kOptClosingRampAbs = 1e-10;   // [mm] the closing ramp's height, reached through the closure solve
+inline constexpr double kOptLiftFdAbs = 1e-8;         // [per deg] a b-spline lift's derivative against central differences at 1e-4 deg
+inline constexpr double kOptLiftFitAbs = 1e-10;       // a least-squares fit of a lift in the model space against its coefficients: solve round-off
+inline constexpr double kOptRowFdRel = 1e-5;          // a constraint row's jacobian against central differences at 1e-6 (warm-started inversions in the rows)
+inline constexpr double kOptRowFdAbs = 1e-6;          // the same for an entry of ~0
+inline constexpr double kOptLoadRowFdAbs = 2e-6;      // the same for the load rows (spring margin, separation, film: one more solve each)
+inline constexpr double kOptObjectiveFdRel = 1e-6;    // the objective's gradient against central differences at 1e-6
+inline constexpr double kOptObjectiveFdAbs = 1e-8;    // the same for a gradient of ~0
+inline constexpr double kOptHertzFdRel = 1e-6;        // the flat-face hertz row's jacobian against central differences at 1e-6
+inline constexpr double kOptHertzFdAbs = 1e-7;        // the same for an entry of ~0
+inline constexpr double kOptHessianFdRel = 1e-8;      // a target fit's hessian against central differences of its gradient at 1e-4 (exact: the lift is linear), of the largest entry
+inline constexpr double kOptHertzRowRel = 1e-9;       // the hertz row against (p0^2 - s^2) R / (s^2 R_ref) from its own p0 and R, of max(1, |g|)
+inline constexpr double kOptActiveRowAbs = 1e-6;      // a normalised row active at the optimum: the solvers' feasibility tolerance
+inline constexpr double kOptActiveLimitRel = 1e-5;    // a linear limit the optimum presses on, of the limit
+inline constexpr double kOptClosureAbs = 1e-8;        // [mm, mm/deg, ...] the closure equalities at the optimum
+inline constexpr double kFitOptimumLiftAbs = 1e-6;    // [mm] a target fit's optimum against its kkt solution (mma stops 6e-7 to 8.3e-7 mm from it)
+inline constexpr double kSynthesizedSeparationRel = 5e-3;  // the rigid model's separation speed of the synthesized cam against the active limit: rows on a 0.5-deg grid, the force dips between
+inline constexpr double kSynthesizedHertzRel = 2e-3;  // the hertz row against p0 of the synthesized cam (a quintic spline through the lift every 0.25 deg)
+inline constexpr double kSwingTableLiftAbs = 2e-6;    // [mm] the swing-cam lift model against the kinematic solver on its 7200-point profile table
+inline constexpr double kSwingTableAccAbs = 1e-6;     // [mm/deg^2] its acceleration, the same
+inline constexpr double kDrawnDwellRadiusRel = 1e-6;  // a dwell radius against |Q - Rr| of the drawing
+inline constexpr double kSwingSensitivityFdRel = 1e-7;  // the swing lift's coefficient sensitivities against central differences at 1e-5 mm, of the largest
+inline constexpr double kSwingEnvelopeRel = 1e-6;     // the swing model's contact quantities against the envelope model's away from the reversal
+inline constexpr double kSwingEnvelopePressureAngleAbs = 1e-7;  // [rad] its pressure angle, the same
+inline constexpr double kSwingObjectiveFdAbs = 5e-5;  // the swing objective's gradient against central differences at 1e-4: 2 x its ~3e-9 noise / 1e-4
+inline constexpr double kActiveLiftCapAbs = 1e-6;     // [mm] the peak lift against a lift cap active at the optimum
 }  // namespace tol
 
 }  // namespace camopt::test
