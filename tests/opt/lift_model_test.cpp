@@ -74,7 +74,7 @@ TEST_CASE("fit reproduces a lift of the model space exactly", "[opt][lift]") {
   const auto m = opt::AccelerationSplineLift::compile(rff_event());
   const auto x = closed_random(m, 3);
   const auto y = m.fit([&](double deg) { return m.evaluate(x, deg).lift; }, 0.5);
-  CHECK_SERIES(test::compare_series("fitted coefficient", y, x, {.abs = tol::kOptLiftFitAbs}));
+  CHECK_SERIES(test::compare_series("fitted coefficient", y, x, {.abs = tol::kSplineSpaceFitAbs}));
 }
 
 TEST_CASE("event validation names the field", "[opt][lift]") {
