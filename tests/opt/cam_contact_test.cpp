@@ -10,8 +10,10 @@
 #include "camopt/kinematics/mechanism.hpp"
 #include "camopt/kinematics/solver.hpp"
 #include "camopt/opt/cam_contact.hpp"
+#include "support/compare.hpp"
 
 using namespace camopt;
+namespace tol = camopt::test::tol;
 
 namespace {
 
@@ -54,18 +56,18 @@ TEST_CASE("cam contact quantities from the valve motion match the kinematic solv
       REQUIRE(model.evaluate(th, lift, mws, q).ok());
       const kin::ContactState& cs = ws.contacts[conn];
       INFO("cam " << deg << " deg");
-      CHECK(q.pressure_angle.v == Approx(cs.pressure_angle).margin(1e-8));
+      CHECK_ABS(q.pressure_angle.v, cs.pressure_angle, tol::kOptPressureAngleAbs);
       const double cam_curv = profile_on_a ? cs.curvature_a : cs.curvature_b;
       // radius of curvature of the cam: compare curvatures (flat parts give 1/rho ~ 0)
-      CHECK(1.0 / q.cam_radius.v == Approx(cam_curv).margin(1e-7 * std::max(1.0, std::abs(cam_curv))));
+      CHECK_NEAR(1.0 / q.cam_radius.v, cam_curv, tol::kOptContactRel, tol::kOptContactRel);
       if (model.follower_shape() == opt::FollowerShape::roller) {
-        CHECK(q.roller_speed.v == Approx(cs.roller_speed).margin(1e-8));
+        CHECK_ABS(q.roller_speed.v, cs.roller_speed, tol::kOptRollerSpeedAbs);
       } else {
-        CHECK(std::abs(q.sliding.v) == Approx(std::abs(cs.sliding)).margin(1e-7));
+        CHECK_ABS(std::abs(q.sliding.v), std::abs(cs.sliding), tol::kOptContactRel);
       }
       // the solver's entrainment is measured along its own tangent: compare magnitudes, and
       // the sign relative to the sliding speed (pads, flat faces)
-      CHECK(std::abs(q.entrainment.v) == Approx(std::abs(cs.entrainment)).margin(1e-7 * std::max(1.0, std::abs(cs.entrainment))));
+      CHECK_NEAR(std::abs(q.entrainment.v), std::abs(cs.entrainment), tol::kOptContactRel, tol::kOptContactRel);
       if (model.follower_shape() != opt::FollowerShape::roller && std::abs(cs.sliding) > 1e-6 && std::abs(cs.entrainment) > 1e-6)
         CHECK((q.entrainment.v * q.sliding.v > 0) == ((profile_on_a ? 1.0 : -1.0) * cs.entrainment * cs.sliding > 0));
       ++checked;
@@ -104,7 +106,7 @@ TEST_CASE("cam contact gradients match central finite differences", "[opt][conta
                            &opt::ContactQuantities::inverse_radius_sum, &opt::ContactQuantities::roller_speed,
                            &opt::ContactQuantities::sliding, &opt::ContactQuantities::force_ratio}) {
           const double exact = (q.*field).d[k];
-          CHECK(exact == Approx(fd(field)).epsilon(1e-5).margin(1e-7 * (1.0 + std::abs((q.*field).v))));
+          CHECK_NEAR(exact, fd(field), tol::kOptContactFdAbs * (1.0 + std::abs((q.*field).v)), tol::kOptContactFdRel);
         }
       }
     }

@@ -13,8 +13,10 @@
 #include "camopt/kinematics/solver.hpp"
 #include "camopt/opt/cam_contact.hpp"
 #include "camopt/opt/downstream_loads.hpp"
+#include "support/compare.hpp"
 
 using namespace camopt;
+namespace tol = camopt::test::tol;
 
 namespace {
 
@@ -77,14 +79,14 @@ TEST_CASE("downstream loads from the valve motion match the rigid model case by 
         // it on a flat valve tip normal to the valve: its normal force is the valve's load
         const double ratio = k == 0 ? q.force_ratio.v : 1.0;
         const double scale = std::max(1.0, std::abs(rws.force(c, 2)));
-        CHECK(ratio * out[k].inertia.v == Approx(rws.force(c, 0)).margin(1e-9 * scale));
-        CHECK(ratio * out[k].damping.v == Approx(rws.force(c, rws.damping_case())).margin(1e-9 * scale));
+        CHECK_ABS(ratio * out[k].inertia.v, rws.force(c, 0), tol::kOptLoadRel * scale);
+        CHECK_ABS(ratio * out[k].damping.v, rws.force(c, rws.damping_case()), tol::kOptLoadRel * scale);
         double springs = 0;
         for (std::size_t s = 0; s < out[k].spring.size(); ++s) {
-          CHECK(ratio * out[k].spring[s].v == Approx(rws.force(c, 2 + static_cast<int>(s))).margin(1e-9 * scale));
+          CHECK_ABS(ratio * out[k].spring[s].v, rws.force(c, 2 + static_cast<int>(s)), tol::kOptLoadRel * scale);
           springs += out[k].spring[s].v;
         }
-        CHECK(ratio * (out[k].statics.v - springs) == Approx(rws.force(c, 1)).margin(1e-9 * scale));
+        CHECK_ABS(ratio * (out[k].statics.v - springs), rws.force(c, 1), tol::kOptLoadRel * scale);
         largest = std::max(largest, std::abs(rws.force(c, 1)));
       }
       ++checked;
@@ -112,9 +114,9 @@ TEST_CASE("downstream load gradients match central differences", "[opt][loads]")
     for (std::size_t j = 0; j < c0.size(); ++j) {
       INFO("direction " << k << ", contact " << j);
       auto fd = [&](const opt::Grad3 opt::ContactLoad::*f) { return ((a[j].*f).v - (b[j].*f).v) / (2 * h[k]); };
-      CHECK(c0[j].statics.d[k] == Approx(fd(&opt::ContactLoad::statics)).margin(1e-6));
-      CHECK(c0[j].damping.d[k] == Approx(fd(&opt::ContactLoad::damping)).margin(1e-9));
-      CHECK(c0[j].inertia.d[k] == Approx(fd(&opt::ContactLoad::inertia)).margin(1e-10));
+      CHECK_ABS(c0[j].statics.d[k], fd(&opt::ContactLoad::statics), tol::kOptStaticsFdAbs);
+      CHECK_ABS(c0[j].damping.d[k], fd(&opt::ContactLoad::damping), tol::kOptDampingFdAbs);
+      CHECK_ABS(c0[j].inertia.d[k], fd(&opt::ContactLoad::inertia), tol::kOptInertiaFdAbs);
     }
   }
   CHECK(1e3 * c0[0].inertia.d[2] > 0.02);  // the generalized mass at the valve [kg]: valve + finger

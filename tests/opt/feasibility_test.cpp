@@ -18,8 +18,10 @@
 #include "camopt/opt/problem.hpp"
 #include "camopt/opt/solve.hpp"
 #include "opt/opt_test_support.hpp"
+#include "support/compare.hpp"
 
 using namespace camopt;
+namespace tol = camopt::test::tol;
 
 namespace {
 
@@ -29,9 +31,6 @@ const std::string kRoot = CAMOPT_SOURCE_DIR;
 constexpr double kFeasible = 1e-6;
 // a best achievable value is checked this far (relative) to either side of it
 constexpr double kMargin = 1e-3;
-// the diagnosis of one problem after different solvers: the same solves from the same start,
-// up to the round-off of the contact model's warm-started inversions
-constexpr double kSameValue = 1e-6;
 
 // the passenger-car intake set on the roller finger follower, `line` added under [limits]
 struct Fixture {
@@ -160,7 +159,7 @@ TEST_CASE("feasibility: 8.9 mm of peak lift, the same conflicting keys on ipopt,
       CHECK(found[s][k].key == first[k].key);
       CHECK(found[s][k].unit == first[k].unit);
       CHECK(found[s][k].limit == first[k].limit);
-      CHECK(found[s][k].best_achievable == Approx(first[k].best_achievable).epsilon(kSameValue));
+      CHECK_REL(found[s][k].best_achievable, first[k].best_achievable, tol::kSameDiagnosisRel);
       CHECK(found[s][k].alone_suffices == first[k].alone_suffices);
     }
   }

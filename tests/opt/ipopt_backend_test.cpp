@@ -13,8 +13,10 @@
 #include "camopt/opt/problem.hpp"
 #include "camopt/opt/solve.hpp"
 #include "opt/opt_test_support.hpp"
+#include "support/compare.hpp"
 
 using namespace camopt;
+namespace tol = camopt::test::tol;
 
 namespace {
 
@@ -30,9 +32,6 @@ Bundled bundled(const std::string& design, const std::string& set, double grid_s
   return b;
 }
 
-// relative objective agreement of two solves of one problem (both reach the kkt point to
-// the optimality tolerance 1e-9; 1e-7 leaves room for the conditioning of the active set)
-constexpr double kObjectiveTolerance = 1e-7;
 
 opt::SolveResult ipopt(opt::CamProblem& p, bool screening) {
   opt::SolverOptions so;
@@ -53,8 +52,7 @@ void check_same_optimum(opt::CamProblem& p) {
   CHECK(screened.solver_rows < full.solver_rows);
   CHECK(screened.max_violation <= opt::SolverOptions{}.constraint_tolerance);
   CHECK(screened.final.g.maxCoeff() <= 1e-6);
-  CHECK(std::abs(screened.final.objective - full.final.objective) <=
-        kObjectiveTolerance * std::max(1.0, std::abs(full.final.objective)));
+  CHECK_NEAR(screened.final.objective, full.final.objective, tol::kSameOptimumRel, tol::kSameOptimumRel);
 }
 
 }  // namespace
@@ -87,8 +85,7 @@ TEST_CASE("ipopt row screening: swing cam at three control positions, SLSQP's op
   INFO(screened.solver_message);
   CHECK(screened.solver_rows < static_cast<int>(p.rows().size()));
   CHECK(screened.max_violation <= so.constraint_tolerance);
-  CHECK(std::abs(screened.final.objective - reference.final.objective) <=
-        kObjectiveTolerance * std::max(1.0, std::abs(reference.final.objective)));
+  CHECK_NEAR(screened.final.objective, reference.final.objective, tol::kSameOptimumRel, tol::kSameOptimumRel);
 }
 
 TEST_CASE("ipopt row screening: an infeasible set is reported at the full-row solve's point and worst row",
@@ -121,5 +118,5 @@ TEST_CASE("ipopt row screening: an infeasible set is reported at the full-row so
   // screened run ends with the solve on every row, so it names the same conflict
   CHECK(screened.solver_rows == full.solver_rows);
   CHECK(screened.status.where == full.status.where);
-  CHECK(screened.max_violation == Approx(full.max_violation).epsilon(1e-9));
+  CHECK_REL(screened.max_violation, full.max_violation, tol::kSameInfeasiblePointRel);
 }

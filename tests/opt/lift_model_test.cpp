@@ -8,8 +8,10 @@
 
 #include "camopt/core/error.hpp"
 #include "camopt/opt/lift_model.hpp"
+#include "support/compare.hpp"
 
 using namespace camopt;
+namespace tol = camopt::test::tol;
 
 namespace {
 
@@ -43,17 +45,17 @@ TEST_CASE("closure puts the main lift on the closing ramp with c2 joins", "[opt]
   const auto x = closed_random(m, 7);
   for (double join : {m.main_start_deg(), m.main_end_deg()}) {
     const auto left = m.evaluate(x, join - 1e-9), right = m.evaluate(x, join + 1e-9);
-    CHECK(left.lift == Approx(right.lift).margin(1e-9));
-    CHECK(left.vel == Approx(right.vel).margin(1e-9));
-    CHECK(left.acc == Approx(right.acc).margin(1e-7));
+    CHECK_ABS(left.lift, right.lift, tol::kOptLiftJoinAbs[0]);
+    CHECK_ABS(left.vel, right.vel, tol::kOptLiftJoinAbs[1]);
+    CHECK_ABS(left.acc, right.acc, tol::kOptLiftJoinAbs[2]);
   }
   // base circle after the event
   const auto end = m.evaluate(x, m.event_end_deg() - 1e-9);
-  CHECK(std::abs(end.lift) < 1e-9);
-  CHECK(std::abs(end.vel) < 1e-9);
+  CHECK_ABS(end.lift, 0.0, tol::kOptLiftJoinAbs[0]);
+  CHECK_ABS(end.vel, 0.0, tol::kOptLiftJoinAbs[1]);
   // the ramps' heights
-  CHECK(m.evaluate(x, m.main_start_deg()).lift == Approx(0.2).margin(1e-12));
-  CHECK(m.evaluate(x, m.main_end_deg()).lift == Approx(0.25).margin(1e-10));
+  CHECK_ABS(m.evaluate(x, m.main_start_deg()).lift, 0.2, tol::kOptOpeningRampAbs);
+  CHECK_ABS(m.evaluate(x, m.main_end_deg()).lift, 0.25, tol::kOptClosingRampAbs);
 }
 
 TEST_CASE("lift rows: each derivative is the finite difference of the one below", "[opt][lift]") {
@@ -62,9 +64,9 @@ TEST_CASE("lift rows: each derivative is the finite difference of the one below"
   const double h = 1e-4;
   for (double th = m.main_start_deg() + 0.3; th < m.main_end_deg() - 0.3; th += 3.7) {
     const auto a = m.evaluate(x, th - h), b = m.evaluate(x, th + h), c = m.evaluate(x, th);
-    CHECK((b.lift - a.lift) / (2 * h) == Approx(c.vel).margin(1e-8));
-    CHECK((b.vel - a.vel) / (2 * h) == Approx(c.acc).margin(1e-8));
-    CHECK((b.acc - a.acc) / (2 * h) == Approx(c.jerk).margin(1e-8));
+    CHECK_ABS((b.lift - a.lift) / (2 * h), c.vel, tol::kOptLiftFdAbs);
+    CHECK_ABS((b.vel - a.vel) / (2 * h), c.acc, tol::kOptLiftFdAbs);
+    CHECK_ABS((b.acc - a.acc) / (2 * h), c.jerk, tol::kOptLiftFdAbs);
   }
 }
 
@@ -72,7 +74,7 @@ TEST_CASE("fit reproduces a lift of the model space exactly", "[opt][lift]") {
   const auto m = opt::AccelerationSplineLift::compile(rff_event());
   const auto x = closed_random(m, 3);
   const auto y = m.fit([&](double deg) { return m.evaluate(x, deg).lift; }, 0.5);
-  for (std::size_t j = 0; j < x.size(); ++j) CHECK(y[j] == Approx(x[j]).margin(1e-10));
+  CHECK_SERIES(test::compare_series("fitted coefficient", y, x, {.abs = tol::kSplineSpaceFitAbs}));
 }
 
 TEST_CASE("event validation names the field", "[opt][lift]") {

@@ -20,8 +20,10 @@
 #include "camopt/opt/solve.hpp"
 #include "camopt/synthesis/envelope.hpp"
 #include "opt/opt_test_support.hpp"
+#include "support/compare.hpp"
 
 using namespace camopt;
+namespace tol = camopt::test::tol;
 
 namespace {
 
@@ -79,7 +81,7 @@ void check_jacobian(opt::CamProblem& p, const std::vector<double>& u, const std:
       const auto k = static_cast<Eigen::Index>(r);
       INFO("variable " << j << " row " << opt::to_string(row.kind) << " " << p.item_name(row) << " at cam "
                        << row.cam_deg << " position " << row.position);
-      CHECK(e.jacobian(k, j) == Approx((ep.g(k) - em.g(k)) / (2 * h)).epsilon(1e-5).margin(2e-6));
+      CHECK_NEAR(e.jacobian(k, j), (ep.g(k) - em.g(k)) / (2 * h), tol::kOptLoadRowFdAbs, tol::kOptRowFdRel);
     }
   }
   for (std::size_t k = 0; k < kinds.size(); ++k) {
@@ -150,8 +152,7 @@ TEST_CASE("a separation limit active at the optimum holds by bisection on the rp
   double worst = -1e300;
   for (std::size_t k = 0; k < p.rows().size(); ++k)
     if (p.rows()[k].kind == opt::ConstraintKind::separation) worst = std::max(worst, r.final.g(static_cast<Eigen::Index>(k)));
-  CHECK(worst > -1e-6);
-  CHECK(worst < 1e-6);
+  CHECK_ABS(worst, 0.0, tol::kOptActiveRowAbs);
 
   // the cam for the optimised lift, as optimize synthesizes it
   const auto coef = p.coefficients(r.u);
@@ -188,7 +189,7 @@ TEST_CASE("a separation limit active at the optimum holds by bisection on the rp
   for (int it = 0; it < 60; ++it) ((least(0.5 * (lo + hi)) > 0) ? lo : hi) = 0.5 * (lo + hi);
   INFO("separation of the synthesized cam: " << lo << " rpm");
   // the rows hold at the 0.5 deg grid; between its points the force may dip a little lower
-  CHECK(lo == Approx(7500).epsilon(0.005));
+  CHECK_REL(lo, 7500.0, tol::kSynthesizedSeparationRel);
 
   // the Hertz row against p0 = sqrt(F E* / (pi L R*)) from the rigid model's force and the
   // kinematic solver's curvatures of the synthesized cam
@@ -210,7 +211,7 @@ TEST_CASE("a separation limit active at the optimum holds by bisection on the rp
     const kin::ContactState& cs = ws.kin.contacts[static_cast<std::size_t>(conn)];
     const double p0 = std::sqrt(f * cd.e_star * (cs.curvature_a + cs.curvature_b) / (kPi * cd.width));
     INFO("cam " << row.cam_deg);
-    CHECK(r.final.physical(static_cast<Eigen::Index>(k)) == Approx(p0).epsilon(2e-3));
+    CHECK_REL(r.final.physical(static_cast<Eigen::Index>(k)), p0, tol::kSynthesizedHertzRel);
     ++compared;
   }
   CHECK(compared > 40);

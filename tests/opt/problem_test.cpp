@@ -13,8 +13,10 @@
 #include "camopt/opt/solve.hpp"
 #include "camopt/synthesis/lift_law_event.hpp"
 #include "opt/opt_test_support.hpp"
+#include "support/compare.hpp"
 
 using namespace camopt;
+namespace tol = camopt::test::tol;
 
 namespace {
 
@@ -106,12 +108,12 @@ TEST_CASE("problem jacobian matches central finite differences", "[opt][problem]
     REQUIRE(p.evaluate(up, ep, false).ok());
     REQUIRE(p.evaluate(um, em, false).ok());
     INFO("variable " << j);
-    CHECK(e.gradient(j) == Approx((ep.objective - em.objective) / (2 * h)).epsilon(1e-6).margin(1e-8));
+    CHECK_NEAR(e.gradient(j), (ep.objective - em.objective) / (2 * h), tol::kOptObjectiveFdAbs, tol::kOptObjectiveFdRel);
     for (Eigen::Index r = 0; r < e.g.size(); ++r) {
       const double fd = (ep.g(r) - em.g(r)) / (2 * h);
       INFO("row " << r << " " << opt::to_string(p.rows()[static_cast<std::size_t>(r)].kind) << " at "
                   << p.rows()[static_cast<std::size_t>(r)].cam_deg);
-      CHECK(e.jacobian(r, j) == Approx(fd).epsilon(1e-5).margin(1e-6));
+      CHECK_NEAR(e.jacobian(r, j), fd, tol::kOptRowFdAbs, tol::kOptRowFdRel);
     }
   }
   // the declared sparsity holds every nonzero
@@ -167,13 +169,11 @@ TEST_CASE("least squares to a target: every solver reaches the kkt solution of t
     INFO(r.status.str() << " / " << r.solver_message);
     REQUIRE(r.status.ok());
     const auto coef = p.coefficients(r.u);
-    double worst = 0.0;  // lift difference over the event [mm]
-    for (double deg : grid) {
-      const double l1 = m.evaluate(coef, deg).lift;
-      const double l2 = m.evaluate(std::vector<double>(exact.data(), exact.data() + nv), deg).lift;
-      worst = std::max(worst, std::abs(l1 - l2));
-    }
-    CHECK(worst < 1e-6);
+    test::Series lift("lift of the optimum against the kkt solution [mm]", "cam [deg]");
+    for (double deg : grid)
+      lift.add(deg, m.evaluate(coef, deg).lift,
+               m.evaluate(std::vector<double>(exact.data(), exact.data() + nv), deg).lift);
+    CHECK_SERIES(lift.compare({.abs = tol::kFitOptimumLiftAbs}));
   }
 }
 
@@ -216,7 +216,8 @@ TEST_CASE("maximum lift area under acceleration, curvature, pressure-angle and s
     INFO(res.status.str() << " / " << res.solver_message);
     REQUIRE(res.status.ok());
     CHECK(res.final.g.maxCoeff() <= 1e-6);
-    CHECK(res.final.equality.cwiseAbs().maxCoeff() <= 1e-8);
+    CHECK_SERIES(test::compare_matrix("closure equality", res.final.equality,
+                                      Eigen::VectorXd::Zero(res.final.equality.size()), {.abs = tol::kOptClosureAbs}));
     // ipopt carries acc_max / acc_min (and the other opposite linear pairs) as one two-sided
     // row; its feasibility tolerance must still hold for both rows
     if (solver == opt::SolverKind::ipopt) CHECK(res.max_violation <= so.constraint_tolerance);
@@ -230,8 +231,8 @@ TEST_CASE("maximum lift area under acceleration, curvature, pressure-angle and s
     }
     // beats the classical reference by a wide margin, and presses on both acceleration limits
     CHECK(area > 1.5 * ref_area);
-    CHECK(amax == Approx(0.018).epsilon(1e-5));
-    CHECK(amin == Approx(-0.007).epsilon(1e-5));
+    CHECK_REL(amax, 0.018, tol::kOptActiveLimitRel);
+    CHECK_REL(amin, -0.007, tol::kOptActiveLimitRel);
   }
 }
 
@@ -260,7 +261,7 @@ TEST_CASE("objective hessian of a target fit equals central differences of the g
     REQUIRE(p.evaluate(um, em, true).ok());
     const Eigen::VectorXd fd = (ep.gradient - em.gradient) / (2 * step);
     INFO("column " << j);
-    CHECK((h.col(j) - fd).cwiseAbs().maxCoeff() < 1e-8 * scale);
+    CHECK_SERIES(test::compare_matrix("hessian column", h.col(j), fd, {.abs = tol::kOptHessianFdRel * scale}));
   }
 }
 
@@ -292,7 +293,7 @@ TEST_CASE("flat-faced follower: the hertz row is smooth through R = 0 and agrees
     INFO("cam " << row.cam_deg << " R " << rad << " p0 " << p0 << " g " << g);
     if (rad > 0.0) {
       // g = (p0^2 - s^2) R / (s^2 R_ref) where R > 0
-      CHECK(g == Approx((p0 * p0 - limit * limit) * rad / (limit * limit * r_ref)).epsilon(1e-9).margin(1e-9));
+      CHECK_NEAR(g, (p0 * p0 - limit * limit) * rad / (limit * limit * r_ref), tol::kOptHertzRowRel, tol::kOptHertzRowRel);
       ++convex;
     } else {
       CHECK(g > 0.0);  // a pointed lobe breaks the row (and the radius limit)
@@ -314,7 +315,7 @@ TEST_CASE("flat-faced follower: the hertz row is smooth through R = 0 and agrees
       if (p.rows()[r].kind != opt::ConstraintKind::hertz_stress) continue;
       const auto k = static_cast<Eigen::Index>(r);
       INFO("variable " << j << " row " << r << " at cam " << p.rows()[r].cam_deg);
-      CHECK(e.jacobian(k, j) == Approx((ep.g(k) - em.g(k)) / (2 * h)).epsilon(1e-6).margin(1e-7));
+      CHECK_NEAR(e.jacobian(k, j), (ep.g(k) - em.g(k)) / (2 * h), tol::kOptHertzFdAbs, tol::kOptHertzFdRel);
     }
   }
 }

@@ -13,8 +13,10 @@
 #include "camopt/opt/cam_contact.hpp"
 #include "camopt/opt/swing_lift.hpp"
 #include "camopt/synthesis/envelope.hpp"
+#include "support/compare.hpp"
 
 using namespace camopt;
+namespace tol = camopt::test::tol;
 
 namespace {
 
@@ -36,8 +38,9 @@ std::vector<double> perturbed(const opt::SwingCamLift& m) {
 // the model's valve motion against the kinematic solver run on the profile the model writes,
 // at every working point of every position where the valve is open
 struct SolverComparison {
-  int compared = 0;
-  double worst_lift = 0.0, worst_acc = 0.0, peak = 0.0;
+  test::Series lift{"valve lift [mm]", "cam [deg]"};
+  test::Series acc{"valve acceleration [mm/deg^2]", "cam [deg]"};
+  double peak = 0.0;
 };
 
 SolverComparison compare_with_kinematic_solver(const DesignSpec& d, opt::SwingCamLift& model,
@@ -76,11 +79,10 @@ SolverComparison compare_with_kinematic_solver(const DesignSpec& d, opt::SwingCa
       const double lift = mo[0];
       const auto& v = ws.vars[static_cast<std::size_t>(valve)];
       if (lift < 1e-3) continue;  // the valve on its seat
-      out.worst_lift = std::max(out.worst_lift, std::abs(v.value() - lift));
+      out.lift.add(deg, v.value(), lift);
       // [mm/rad^2] -> [mm/deg^2]
-      out.worst_acc = std::max(out.worst_acc, std::abs(v.derivative(2) * std::pow(camopt::pi / 180.0, 2) - mo[2]));
+      out.acc.add(deg, v.derivative(2) * std::pow(camopt::pi / 180.0, 2), mo[2]);
       out.peak = std::max(out.peak, lift);
-      ++out.compared;
     }
   }
   return out;
@@ -91,11 +93,11 @@ SolverComparison compare_with_kinematic_solver(const DesignSpec& d, opt::SwingCa
 // approximation in between
 void check_against_kinematic_solver(const DesignSpec& d, opt::SwingCamLift& model, double min_peak_mm) {
   const SolverComparison r = compare_with_kinematic_solver(d, model, perturbed(model));
-  INFO("compared " << r.compared << " points, peak lift " << r.peak);
-  CHECK(r.compared > 150);
+  INFO("compared " << r.lift.size() << " points, peak lift " << r.peak);
+  CHECK(r.lift.size() > 150);
   CHECK(r.peak > min_peak_mm);
-  CHECK(r.worst_lift < 2e-6);
-  CHECK(r.worst_acc < 1e-6);
+  CHECK_SERIES(r.lift.compare({.abs = tol::kSwingTableLiftAbs}));
+  CHECK_SERIES(r.acc.compare({.abs = tol::kSwingTableAccAbs}));
 }
 
 }  // namespace
@@ -116,7 +118,7 @@ TEST_CASE("swing lift: the VVLD's control arm (pivot moved by the control shaft)
   spec.positions = {0.0, 50.0, 100.0};
   opt::SwingCamLift model(d, spec, 1.0);
   REQUIRE(model.connection() == "arm_roller");
-  REQUIRE(model.dwell_radius_mm() == Approx(32.0).epsilon(1e-6));  // |Q - Rr| of the drawing
+  REQUIRE_REL(model.dwell_radius_mm(), 32.0, tol::kDrawnDwellRadiusRel);  // |Q - Rr| of the drawing
   check_against_kinematic_solver(d, model, 9.0);
 }
 
@@ -128,7 +130,9 @@ TEST_CASE("swing lift: coefficient sensitivities match central finite difference
   Eigen::Matrix<double, 4, Eigen::Dynamic> rows(4, n), scratch(4, n);
   const double h = 1e-5;  // [mm]
   int checked = 0;
-  std::array<double, 4> worst{}, scale{};
+  std::vector<test::Series> order;
+  for (const char* name : {"d lift / d c", "d velocity / d c", "d acceleration / d c", "d jerk / d c"})
+    order.emplace_back(name, "point x variables + variable");
   for (std::size_t i = 0; i < model.points().size(); i += 3) {
     double mo[4];
     REQUIRE(model.evaluate(static_cast<int>(i), c, mo, rows).ok());
@@ -141,17 +145,13 @@ TEST_CASE("swing lift: coefficient sensitivities match central finite difference
       REQUIRE(model.evaluate(static_cast<int>(i), cm, mm, scratch).ok());
       for (std::size_t k = 0; k < 4; ++k) {
         const double fd = (mp[k] - mm[k]) / (2 * h);
-        worst[k] = std::max(worst[k], std::abs(rows(static_cast<Eigen::Index>(k), j) - fd));
-        scale[k] = std::max(scale[k], std::abs(fd));
+        order[k].add(static_cast<double>(i) * n + j, rows(static_cast<Eigen::Index>(k), j), fd);
       }
     }
     ++checked;
   }
   // per derivative order: the largest error against the largest sensitivity
-  for (std::size_t k = 0; k < 4; ++k) {
-    INFO("derivative " << k << ": worst " << worst[k] << " of " << scale[k]);
-    CHECK(worst[k] < 1e-7 * scale[k]);
-  }
+  for (const test::Series& s : order) CHECK_SERIES(s.compare({.rel = tol::kSwingSensitivityFdRel}));
   CHECK(checked > 40);
 }
 
@@ -179,10 +179,10 @@ TEST_CASE("swing lift: contact quantities agree with the envelope model away fro
       REQUIRE(env.evaluate(sp.cam_deg * camopt::pi / 180.0, lift, ws, cq).ok());
       if (std::abs(mo[1]) < 0.02) continue;  // near the reversal at peak lift
       INFO("position " << k << " cam " << sp.cam_deg << " lift " << mo[0]);
-      CHECK(sc.curvature == Approx(cq.pitch_curvature.v).epsilon(1e-6));
-      CHECK(sc.pressure_angle == Approx(cq.pressure_angle.v).margin(1e-7));
-      CHECK(sc.force_ratio == Approx(cq.force_ratio.v).epsilon(1e-6));
-      CHECK(sc.roller_speed == Approx(cq.roller_speed.v).epsilon(1e-6));
+      CHECK_REL(sc.curvature, cq.pitch_curvature.v, tol::kSwingEnvelopeRel);
+      CHECK_ABS(sc.pressure_angle, cq.pressure_angle.v, tol::kSwingEnvelopePressureAngleAbs);
+      CHECK_REL(sc.force_ratio, cq.force_ratio.v, tol::kSwingEnvelopeRel);
+      CHECK_REL(sc.roller_speed, cq.roller_speed.v, tol::kSwingEnvelopeRel);
       ++compared;
     }
   }

@@ -167,6 +167,85 @@ inline constexpr double kGrindingLiftAbs = 1e-9;     // [mm] a grinding table ag
 inline constexpr double kLeverPoseAbs = 1e-10;       // [mm or rad] the lever path's pose against whole solves (each to ~1e-12)
 inline constexpr double kLeverRateRel = 1e-8;        // its derivatives, of their peak
 
+// the optimiser's models (tests/opt)
+inline constexpr double kOptPressureAngleAbs = 1e-8;  // [rad] the optimiser's closed-form pressure angle against the kinematic solver's
+inline constexpr double kOptRollerSpeedAbs = 1e-8;    // [mm/rad] its roller speed, the same
+inline constexpr double kOptContactRel = 1e-7;        // its sliding [mm/rad], entrainment and cam curvature [1/mm], of max(1, |reference|)
+inline constexpr double kOptContactFdRel = 1e-5;      // its gradients against central differences at 1e-4: truncation h^2 f''' / 6
+inline constexpr double kOptContactFdAbs = 1e-7;      // the same for a gradient of ~0, times 1 + |the quantity|
+inline constexpr double kOptLoadRel = 1e-9;           // [N] its loads by virtual work against the rigid model's multipliers, of max(1, |the first spring's force|)
+inline constexpr double kOptStaticsFdAbs = 1e-6;      // [N per unit] their gradients against central differences (h = 1e-5 mm, 1e-4, 1e-3): static load
+inline constexpr double kOptDampingFdAbs = 1e-9;      // the same: damping load (linear in the velocity)
+inline constexpr double kOptInertiaFdAbs = 1e-10;     // the same: inertia load (linear in the acceleration)
+inline constexpr double kSameDiagnosisRel = 1e-6;     // a best achievable value after different solvers: the same solves from the same start, up to the warm-started inversions' round-off
+inline constexpr double kSameOptimumRel = 1e-7;       // the objective of two solves of one problem, of max(1, |objective|): both reach the KKT point to 1e-9, room for the active set's conditioning
+inline constexpr double kSameInfeasiblePointRel = 1e-9;  // the worst violation of two solves that end at the same full-row point
+inline constexpr double kOptLiftJoinAbs[3] = {1e-9, 1e-9, 1e-7};  // [mm, mm/deg, mm/deg^2] the b-spline lift 1e-9 deg either side of a c2 join
+inline constexpr double kOptOpeningRampAbs = 1e-12;   // [mm] the opening ramp's height, set directly
+inline constexpr double kOptClosingRampAbs = 1e-10;   // [mm] the closing ramp's height, reached through the closure solve
+inline constexpr double kOptLiftFdAbs = 1e-8;         // [per deg] a b-spline lift's derivative against central differences at 1e-4 deg
+inline constexpr double kSplineSpaceFitAbs = 1e-10;   // a least-squares fit of a spline (a lift) in its own space against its coefficients: solve round-off
+inline constexpr double kOptRowFdRel = 1e-5;          // a constraint row's jacobian against central differences at 1e-6 (warm-started inversions in the rows)
+inline constexpr double kOptRowFdAbs = 1e-6;          // the same for an entry of ~0
+inline constexpr double kOptLoadRowFdAbs = 2e-6;      // the same for the load rows (spring margin, separation, film: one more solve each)
+inline constexpr double kOptObjectiveFdRel = 1e-6;    // the objective's gradient against central differences at 1e-6
+inline constexpr double kOptObjectiveFdAbs = 1e-8;    // the same for a gradient of ~0
+inline constexpr double kOptHertzFdRel = 1e-6;        // the flat-face hertz row's jacobian against central differences at 1e-6
+inline constexpr double kOptHertzFdAbs = 1e-7;        // the same for an entry of ~0
+inline constexpr double kOptHessianFdRel = 1e-8;      // a target fit's hessian against central differences of its gradient at 1e-4 (exact: the lift is linear), of the largest entry
+inline constexpr double kOptHertzRowRel = 1e-9;       // the hertz row against (p0^2 - s^2) R / (s^2 R_ref) from its own p0 and R, of max(1, |g|)
+inline constexpr double kOptActiveRowAbs = 1e-6;      // a normalised row active at the optimum: the solvers' feasibility tolerance
+inline constexpr double kOptActiveLimitRel = 1e-5;    // a linear limit the optimum presses on, of the limit
+inline constexpr double kOptClosureAbs = 1e-8;        // [mm, mm/deg, ...] the closure equalities at the optimum
+inline constexpr double kFitOptimumLiftAbs = 1e-6;    // [mm] a target fit's optimum against its kkt solution (mma stops 6e-7 to 8.3e-7 mm from it)
+inline constexpr double kSynthesizedSeparationRel = 5e-3;  // the rigid model's separation speed of the synthesized cam against the active limit: rows on a 0.5-deg grid, the force dips between
+inline constexpr double kSynthesizedHertzRel = 2e-3;  // the hertz row against p0 of the synthesized cam (a quintic spline through the lift every 0.25 deg)
+inline constexpr double kSwingTableLiftAbs = 2e-6;    // [mm] the swing-cam lift model against the kinematic solver on its 7200-point profile table
+inline constexpr double kSwingTableAccAbs = 1e-6;     // [mm/deg^2] its acceleration, the same
+inline constexpr double kDrawnDwellRadiusRel = 1e-6;  // a dwell radius against |Q - Rr| of the drawing
+inline constexpr double kSwingSensitivityFdRel = 1e-7;  // the swing lift's coefficient sensitivities against central differences at 1e-5 mm, of the largest
+inline constexpr double kSwingEnvelopeRel = 1e-6;     // the swing model's contact quantities against the envelope model's away from the reversal
+inline constexpr double kSwingEnvelopePressureAngleAbs = 1e-7;  // [rad] its pressure angle, the same
+inline constexpr double kSwingObjectiveFdAbs = 5e-5;  // the swing objective's gradient against central differences at 1e-4: 2 x its ~3e-9 noise / 1e-4
+inline constexpr double kActiveLiftCapAbs = 1e-6;     // [mm] the peak lift against a lift cap active at the optimum
+
+// synthesized profiles, target lifts and undercut windows (tests/synthesis)
+inline constexpr double kReadBackProfileRel = 1e-12;  // a profile read back from its shortest round-trip CSV, of the peak: the same doubles, at most a reordered sum
+inline constexpr double kSwingRoundTripAbs = 1e-4;    // [mm] forward lift of a synthesized swing cam against its target
+inline constexpr double kCvvlOtherControlLiftAbs = 1e-3;  // [mm] the CVVL swing cam synthesized at full lift, its lift at other controls against the original's
+inline constexpr double kVvldOtherControlLiftAbs = 5e-5;  // [mm] the same for the VVLD control arm (measured 2.9e-6 .. 1.7e-5; the original's 1-deg table ripples 1.3e-5)
+inline constexpr double kValvetronicOtherControlLiftAbs = 2e-5;  // [mm] the same for the Valvetronic lever (measured 4.2e-6 .. 5.2e-6)
+inline constexpr double kSwingCurvatureMedianAbs = 1e-8;  // reported against the quintic profile's curvature, x the smallest radius: the median point
+inline constexpr double kSwingCurvature99Abs = 1e-3;  // the same at the 99th percentile (next to a join of two pieces the spline rounds a curvature step)
+inline constexpr double kSwingMinRadiusRel = 1e-8;    // the reported smallest radius of curvature against 1 / the profile's largest curvature
+inline constexpr double kSwingConcaveRadiusRel = 1e-4;  // the smallest concave radius, the same (the spline rounds the curvature by 2e-5 of it)
+inline constexpr double kIdleArcAbs = 1e-5;           // [mm] a synthesized idle arc against its radius (measured 2.8e-6)
+inline constexpr double kTracedRampAbs = 1e-6;        // [mm] a synthesized traced ramp against the design's 1-deg working curve (measured 2.4e-8)
+inline constexpr double kSwingRestRadiusAbs = 1e-4;   // [mm] a swing cam's base radius against the rest radius (dwell or idle arc)
+inline constexpr double kTargetRoundOffMoveAbs = 1e-8;  // [mm] a swing profile after a 1e-12 relative change of its target (measured 8.6e-11 .. 1.7e-9)
+inline constexpr double kTargetContinuityRel = 1e-6;  // a target lift's f^(k), k <= 4, either side of a knot, of max |f^(k)| (plus the slope over the 1e-9 rad offset)
+inline constexpr double kInterpolatedPeakLiftAbs = 1e-6;  // [mm] the peak of the 2-deg interpolated cycloidal rise-fall against its 9 mm
+inline constexpr double kInterpolatedPeakAngleAbs = 1e-3;  // [deg] its angle against 120 deg
+inline constexpr double kBetweenSitesAbs = 1e-4;      // [mm] the same interpolant between its 2-deg sites against the law (c2, jerk steps)
+inline constexpr double kSmoothSlopeStepRatioAbs = 1e-3;  // the largest slope step of a smooth 0.25-deg table, of the lift's mean slope
+inline constexpr double kTakeUpSlopeRel = 0.05;       // the lashed table's slope step against the law's slope at the take-up (one 0.25-deg row)
+inline constexpr double kTakeUpAngleAbs = 0.5;        // [deg] its angle against the take-up angle
+inline constexpr double kSlopeStepRatioRel = 1e-3;    // the reported slope step ratio against the step / the mean slope
+inline constexpr double kTablePeakLiftAbs = 1e-3;     // [mm] a real table's interpolated peak against its largest row (it may only rise above it)
+inline constexpr double kTablePeakAngleAbs = 0.5;     // [deg] its angle against that row's
+inline constexpr double kSeamTablePeakLiftAbs = 0.01; // [mm] the ICESym table's interpolated peak against 14.195 mm read off the table
+inline constexpr double kSeamTablePeakAngleAbs = 1.0; // [deg] its angle against 52.5 deg
+inline constexpr double kSmoothedRmsAbs = 0.005;      // [mm] rms of a smoothed noisy table against the clean law: sigma / 2 (expected sigma sqrt(m / n) = 0.0035, sigma = 0.01 mm)
+inline constexpr double kSmoothedLawAbs = 0.02;       // [mm] its worst point: 2 sigma (<= 0.0147 mm over 200 seeds)
+inline constexpr double kSmoothedPeakLiftAbs = 0.01;  // [mm] its peak against 9 mm: 1 sigma
+inline constexpr double kSmoothedPeakAngleAbs = 2.0;  // [deg] its angle against 120 deg
+inline constexpr double kBSplineConversionAbs = 1e-6; // [mm] the smoothed target (a periodic quintic) against the fitted b-spline it converts
+inline constexpr double kBSplineFdRel = 1e-5;         // a b-spline's derivatives against central differences at 1e-3 deg, of 1 + |f^(k)|
+inline constexpr double kWindowEndAbs = 0.01;         // [deg] a refined undercut window end, printed to 3 decimals, against the closed form's root
+inline constexpr double kHermiteRootAbs = 1e-4;       // [deg] a window end on the cubic hermite of a 10-deg sampled cos against its root (measured 2.7e-6; the chord is 4.3e-3 off)
+inline constexpr double kChordRootAbs = 1e-9;         // [deg] a window end on the chord of a 10-deg sampled cos against the chord's root: round-off
+inline constexpr double kPeakAtSiteRel = 1e-9;        // the peak of a lift sampled at 0.25 deg whose law peaks at a site, against the law's peak
+
 // dynamics and CLI
 inline constexpr double kCompliantStiffForceAbs = 2e-5 * 563.0;  // [N] compliant (x10 stiffness) against rigid contact force: first order in 1/k, 2e-5 of the 563 N peak
 inline constexpr double kStiffLinkForceRel = 1e-2;  // a 1e6 N/mm link's force against the rigid one: the link's stretch, of the peak

@@ -18,6 +18,7 @@
 using namespace camopt;
 using namespace camopt::kin_test;
 using namespace camopt::synthesis_test;
+namespace tol = camopt::test::tol;
 
 TEST_CASE("synthesis: the CVVL swing cam synthesized at maximum lift reproduces the lift at every control position",
           "[synthesis][envelope][swing]") {
@@ -39,14 +40,14 @@ TEST_CASE("synthesis: the CVVL swing cam synthesized at maximum lift reproduces 
   CHECK(res.upstream_solves < 260);
   synthesis::RoundTrip rt;
   REQUIRE(synthesis::round_trip(synthesis::with_profile(d, res.profile), target, {0.0}, res.connection, rt).ok());
-  CHECK(rt.max_error_mm < 1e-4);
+  CHECK_ABS(rt.max_error_mm, 0.0, tol::kSwingRoundTripAbs);
   // at the other control positions the roller rests further along the dwell arc: the
   // synthesized cam (traced stroke + dwell arc about the pivot) must give the original lift
   const DesignSpec synthesized = synthesis::with_profile(d, res.profile);
   for (double control : {4.0, 8.0, 12.0, 16.0}) {
     const double worst = worst_lift_difference(d, synthesized, control);
-    INFO("control " << control << " deg: worst lift difference " << worst << " mm");
-    CHECK(worst < 1e-3);
+    INFO("control " << control << " deg");
+    CHECK_ABS(worst, 0.0, tol::kCvvlOtherControlLiftAbs);
   }
 }
 
@@ -86,13 +87,14 @@ TEST_CASE("synthesis: a swing cam's reported curvature is that of the kinematic 
       min_curvature = std::min(min_curvature, curvature);
     }
     std::sort(miss.begin(), miss.end());
-    CHECK(miss[miss.size() / 2] < 1e-8);
-    CHECK(miss[miss.size() * 99 / 100] < 1e-3);
-    CHECK(res.min_radius_of_curvature_mm == Approx(1.0 / max_curvature).epsilon(1e-8));
+    const double median_miss = miss[miss.size() / 2], percentile_99_miss = miss[miss.size() * 99 / 100];
+    CHECK_ABS(median_miss, 0.0, tol::kSwingCurvatureMedianAbs);
+    CHECK_ABS(percentile_99_miss, 0.0, tol::kSwingCurvature99Abs);
+    CHECK_REL(res.min_radius_of_curvature_mm, 1.0 / max_curvature, tol::kSwingMinRadiusRel);
     // the concave stretch (the bridge's foot): its smallest radius within 1e-4 (the spline
     // rounds the curvature there by 2e-5 of it)
     CHECK(res.has_concave == (min_curvature < 0.0));
-    if (res.has_concave) CHECK(res.min_concave_radius_mm == Approx(-1.0 / min_curvature).epsilon(1e-4));
+    if (res.has_concave) CHECK_REL(res.min_concave_radius_mm, -1.0 / min_curvature, tol::kSwingConcaveRadiusRel);
   }
 }
 
@@ -144,8 +146,8 @@ TEST_CASE("synthesis: the VVLD control arm synthesized at maximum lift keeps the
   const DesignSpec synthesized = synthesis::with_profile(d, res.profile);
   for (double control : {10.0, 25.0, 50.0, 75.0}) {
     const double worst = worst_lift_difference(d, synthesized, control);
-    INFO("control " << control << " deg: worst lift difference " << worst << " mm");
-    CHECK(worst < 5e-5);
+    INFO("control " << control << " deg");
+    CHECK_ABS(worst, 0.0, tol::kVvldOtherControlLiftAbs);
   }
 }
 
@@ -181,25 +183,23 @@ TEST_CASE("synthesis: the Valvetronic lever's working curve (a profile on a floa
   for (std::size_t i = 0; i < m.profiles.size(); ++i)
     if (m.profiles[i].name() == "working_curve") lever = static_cast<int>(i);
   REQUIRE(lever >= 0);
-  double worst_idle = 0.0, worst_traced = 0.0;
+  test::Series idle("radius on the idle arc [mm]", "cam [deg]"), traced("radius on the traced ramp [mm]", "cam [deg]");
   for (std::size_t k = 0; k < res.angle_deg.size(); ++k) {
     const double a = res.angle_deg[k];
     // rest contact at control 0: polar 240 deg (F on the line from Tt through C); the
     // eccentric moves it towards larger angles, up to ~250 deg at 60 deg
-    if (a > 241 && a < 250) worst_idle = std::max(worst_idle, std::abs(res.radius_mm[k] - 36.0));
+    if (a > 241 && a < 250) idle.add(a, res.radius_mm[k], 36.0);
     // the traced ramp (21.5 deg below the rest contact at control 0): the design's own working curve
-    if (a > 219 && a < 238)
-      worst_traced = std::max(worst_traced, std::abs(res.radius_mm[k] - m.profiles[lever].radius_at(a * deg)));
+    if (a > 219 && a < 238) traced.add(a, res.radius_mm[k], m.profiles[lever].radius_at(a * deg));
   }
   // measured: 2.8e-6 mm on the idle arc, 2.4e-8 mm on the ramp (the original is a 1 deg table)
-  INFO("idle arc error " << worst_idle << " mm, traced ramp error " << worst_traced << " mm");
-  CHECK(worst_idle < 1e-5);
-  CHECK(worst_traced < 1e-6);
+  CHECK_SERIES(idle.compare({.abs = tol::kIdleArcAbs}));
+  CHECK_SERIES(traced.compare({.abs = tol::kTracedRampAbs}));
   const DesignSpec synthesized = synthesis::with_profile(d, res.profile);
   for (double control : {30.0, 60.0}) {
     const double worst = worst_lift_difference(d, synthesized, control);
-    INFO("control " << control << " deg: worst lift difference " << worst << " mm");
-    CHECK(worst < 2e-5);  // measured 4.2e-6 .. 5.2e-6 mm at 15 .. 60 deg
+    INFO("control " << control << " deg");
+    CHECK_ABS(worst, 0.0, tol::kValvetronicOtherControlLiftAbs);  // measured 4.2e-6 .. 5.2e-6 mm at 15 .. 60 deg
   }
 }
 
@@ -229,7 +229,7 @@ TEST_CASE("synthesis: a swing cam's untouched far side is a nose and the mirror 
       for (const auto& n : res.notes) noted = noted || n.find(nose) != std::string::npos;
       CHECK(noted);
       CHECK(res.min_radius_of_curvature_mm >= std::max(8.0, min_radius));
-      CHECK(res.base_radius_mm == Approx(c.rest_radius).margin(1e-4));
+      CHECK_ABS(res.base_radius_mm, c.rest_radius, tol::kSwingRestRadiusAbs);
       // the far flank is the traced stretch's mirror image: its rows are exact copies of
       // traced rows, so radii above the rest come twice
       std::map<double, int> seen;
@@ -269,12 +269,8 @@ TEST_CASE("synthesis: a swing cam's profile moves by round-off when its target d
       return kin::CamProfile::build(res.profile);
     };
     const kin::CamProfile a = profile_of(y), b = profile_of(y_scaled);
-    double worst = 0.0, worst_at = 0.0;
-    for (int k = 0; k < 7200; ++k) {
-      const double e = std::abs(a.radius_at(k * 0.05 * deg) - b.radius_at(k * 0.05 * deg));
-      if (e > worst) worst = e, worst_at = k * 0.05;
-    }
-    INFO("moved by " << worst << " mm at " << worst_at << " deg");
-    CHECK(worst < 1e-8);
+    test::Series moved("radius after a 1e-12 change of the target [mm]", "cam [deg]");
+    for (int k = 0; k < 7200; ++k) moved.add(k * 0.05, b.radius_at(k * 0.05 * deg), a.radius_at(k * 0.05 * deg));
+    CHECK_SERIES(moved.compare({.abs = tol::kTargetRoundOffMoveAbs}));
   }
 }

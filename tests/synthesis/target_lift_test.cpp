@@ -13,6 +13,7 @@
 #include "camopt/core/units.hpp"
 #include "camopt/io/csv.hpp"
 #include "camopt/synthesis/target_lift.hpp"
+#include "support/compare.hpp"
 
 namespace {
 
@@ -22,11 +23,9 @@ using Catch::Matchers::Contains;
 
 using camopt::pi;
 using camopt::rad_per_deg;
+namespace test = camopt::test;
+namespace tol = camopt::test::tol;
 
-// named tolerances
-constexpr double kExactAbs = 1e-12;       // [mm] interpolation at the data
-constexpr double kConversionAbs = 1e-6;   // [mm] smoothing: final spline vs the fitted b-spline
-constexpr double kContinuityRel = 1e-6;   // c4 check, relative to the derivative's scale
 constexpr double kJoinEps = 1e-9;         // [rad] one-sided offset at a knot
 constexpr double kNoiseSigma = 0.01;      // [mm]
 constexpr std::uint32_t kSeed = 20240611;
@@ -65,9 +64,17 @@ void require_c4(const camopt::PeriodicSpline& s) {
     s.evaluate(x - kJoinEps, 5, left);
     for (int k = 0; k <= 4; ++k) {
       INFO("knot " << x / rad_per_deg << " deg, derivative " << k);
-      REQUIRE(std::abs(right[k] - left[k]) <= kContinuityRel * scale[k] + 2 * kJoinEps * scale[k + 1]);
+      REQUIRE_ABS(left[k], right[k], tol::kTargetContinuityRel * scale[k] + 2 * kJoinEps * scale[k + 1]);
     }
   }
+}
+
+// the target at the table's first `rows` sites against the table [mm]
+test::Comparison at_sites(const TargetLift& t, const std::vector<double>& deg, const std::vector<double>& lift,
+                          std::size_t rows) {
+  test::Series s("target lift at the table's sites [mm]", "cam [deg]");
+  for (std::size_t i = 0; i < rows; ++i) s.add(deg[i], t.lift_at(deg[i]), lift[i]);
+  return s.compare({.abs = tol::kSplineNodeAbs});
 }
 
 std::string error_of(const std::vector<double>& deg, const std::vector<double>& lift, const std::vector<int>& lines,
@@ -93,16 +100,16 @@ TEST_CASE("target lift: clean full-cycle table is interpolated exactly", "[synth
   const TargetLift t = fit_target_lift(deg, lift, {}, opt);
   CHECK_FALSE(t.closed_on_base_circle);
   CHECK_THAT(t.closure_message, Contains("covers the full cycle"));
-  for (std::size_t i = 0; i < deg.size(); ++i) REQUIRE(std::abs(t.lift_at(deg[i]) - lift[i]) <= kExactAbs);
+  REQUIRE_SERIES(at_sites(t, deg, lift, deg.size()));
   CHECK(t.residual_rms_mm == 0.0);
   CHECK(t.residual_max_mm == 0.0);
   // peak of the cycloidal rise-fall: 9 mm at 120 deg
-  CHECK(std::abs(t.max_lift_mm - 9.0) < 1e-6);
-  CHECK(std::abs(t.max_lift_at_deg - 120.0) < 1e-3);
+  CHECK_ABS(t.max_lift_mm, 9.0, tol::kInterpolatedPeakLiftAbs);
+  CHECK_ABS(t.max_lift_at_deg, 120.0, tol::kInterpolatedPeakAngleAbs);
   // between the sites the interpolant follows the law (2-deg sites, c2 law with jerk steps)
-  double worst = 0.0;
-  for (double d = 0.0; d < 360.0; d += 0.1) worst = std::max(worst, std::abs(t.lift_at(d) - cycloidal_rise_fall(d)));
-  CHECK(worst < 1e-4);
+  test::Series law("target lift against the law [mm]", "cam [deg]");
+  for (double d = 0.0; d < 360.0; d += 0.1) law.add(d, t.lift_at(d), cycloidal_rise_fall(d));
+  CHECK_SERIES(law.compare({.abs = tol::kBetweenSitesAbs}));
   require_c4(t.lift);
 
   SECTION("a 0 .. 360 table drops its repeated last row") {
@@ -111,7 +118,7 @@ TEST_CASE("target lift: clean full-cycle table is interpolated exactly", "[synth
     const TargetLift t2 = fit_target_lift(deg, lift, {}, opt);
     CHECK_THAT(t2.closure_message, Contains("was dropped"));
     CHECK(t2.lift.knots().size() == 180);
-    CHECK(std::abs(t2.lift_at(100.0) - t.lift_at(100.0)) <= kExactAbs);
+    CHECK_ABS(t2.lift_at(100.0), t.lift_at(100.0), tol::kSplineNodeAbs);
   }
 }
 
@@ -131,15 +138,19 @@ TEST_CASE("target lift: the largest slope step of a table is its lash take-up", 
   TargetLiftOptions opt;
   const TargetLift clean = fit_target_lift(deg, smooth, {}, opt);
   INFO("smooth: " << clean.slope_step_ratio << " at " << clean.slope_step_at_deg << " deg");
-  CHECK(clean.slope_step_ratio < 1e-3);
+  CHECK_ABS(clean.slope_step_ratio, 0.0, tol::kSmoothSlopeStepRatioAbs);
   const TargetLift step = fit_target_lift(deg, lashed, {}, opt);
   INFO("lashed: " << step.slope_step_mm_per_deg << " mm/deg (" << step.slope_step_ratio << ") at "
                   << step.slope_step_at_deg << " deg; take-up " << take_up_slope << " mm/deg at " << take_up_deg
                   << " deg");
-  CHECK(std::abs(std::abs(step.slope_step_mm_per_deg) - take_up_slope) < 0.05 * take_up_slope);
-  CHECK(std::min(std::abs(step.slope_step_at_deg - take_up_deg), std::abs(step.slope_step_at_deg - (240 - take_up_deg))) <
-        0.5);
-  CHECK(step.slope_step_ratio == Approx(std::abs(step.slope_step_mm_per_deg) / (2 * 9.0 / 120)).epsilon(1e-3));
+  CHECK_REL(std::abs(step.slope_step_mm_per_deg), take_up_slope, tol::kTakeUpSlopeRel);
+  // at the opening or the closing take-up
+  const double nearer_take_up_deg = std::abs(step.slope_step_at_deg - take_up_deg) <
+                                            std::abs(step.slope_step_at_deg - (240 - take_up_deg))
+                                        ? take_up_deg
+                                        : 240 - take_up_deg;
+  CHECK_ABS(step.slope_step_at_deg, nearer_take_up_deg, tol::kTakeUpAngleAbs);
+  CHECK_REL(step.slope_step_ratio, std::abs(step.slope_step_mm_per_deg) / (2 * 9.0 / 120), tol::kSlopeStepRatioRel);
 }
 
 TEST_CASE("target lift: real tappet table (-84 .. 80 cam deg) is closed on the base circle",
@@ -167,13 +178,15 @@ TEST_CASE("target lift: real tappet table (-84 .. 80 cam deg) is closed on the b
     CHECK(t.closed_on_base_circle);
     CHECK_THAT(t.closure_message, Contains("table covers 164 deg (-84 .. 80 cam deg); closed on the base circle "
                                            "(zero lift) over the remaining 196 deg"));
-    for (std::size_t i = 0; i < deg.size(); ++i) REQUIRE(std::abs(t.lift_at(deg[i]) - lift[i]) <= kExactAbs);
+    REQUIRE_SERIES(at_sites(t, deg, lift, deg.size()));
     // the fill points (0.5 deg spacing) are on the base circle
-    for (double d = 80.5; d < 276.0; d += 0.5) REQUIRE(std::abs(t.lift_at(d)) <= kExactAbs);
+    test::Series fill("target lift at the fill points [mm]", "cam [deg]");
+    for (double d = 80.5; d < 276.0; d += 0.5) fill.add(d, t.lift_at(d), 0.0);
+    REQUIRE_SERIES(fill.compare({.abs = tol::kSplineNodeAbs}));
     const auto peak = std::max_element(lift.begin(), lift.end());
     CHECK(t.max_lift_mm >= *peak);
-    CHECK(t.max_lift_mm - *peak < 1e-3);
-    CHECK(std::abs(t.max_lift_at_deg - deg[static_cast<std::size_t>(peak - lift.begin())]) <= 0.5);
+    CHECK_ABS(t.max_lift_mm, *peak, tol::kTablePeakLiftAbs);
+    CHECK_ABS(t.max_lift_at_deg, deg[static_cast<std::size_t>(peak - lift.begin())], tol::kTablePeakAngleAbs);
     require_c4(t.lift);
   }
 }
@@ -205,10 +218,10 @@ TEST_CASE("target lift: real icesym valve table (0 .. 720 crank deg) covers the 
     CHECK_THAT(t.closure_message, Contains("table covers the full cycle (0 .. 360 cam deg)"));
     CHECK_THAT(t.closure_message, Contains("was dropped"));
     CHECK_THAT(t.closure_message, Contains("gaps on the base circle filled with zero lift: 127.5 .. 337.5 cam deg"));
-    for (std::size_t i = 0; i + 1 < deg.size(); ++i) REQUIRE(std::abs(t.lift_at(deg[i]) - lift[i]) <= kExactAbs);
-    CHECK(std::abs(t.max_lift_mm - 14.195) < 0.01);
-    CHECK(std::abs(t.max_lift_at_deg - 52.5) < 1.0);
-    CHECK(std::abs(t.lift_at(230.0)) <= kExactAbs);  // a fill point in the dwell
+    REQUIRE_SERIES(at_sites(t, deg, lift, deg.size() - 1));
+    CHECK_ABS(t.max_lift_mm, 14.195, tol::kSeamTablePeakLiftAbs);
+    CHECK_ABS(t.max_lift_at_deg, 52.5, tol::kSeamTablePeakAngleAbs);
+    CHECK_ABS(t.lift_at(230.0), 0.0, tol::kSplineNodeAbs);  // a fill point in the dwell
     require_c4(t.lift);
   }
   SECTION("smoothed: both seam rows enter the fit, the residual is reported") {
@@ -252,7 +265,7 @@ TEST_CASE("target lift: input errors name the file, the row and the rule", "[syn
     lift[0] = -5e-4;  // 0.5 um below zero: exported rounding, clamped
     for (int i = 51; i <= 100; ++i) lift[static_cast<std::size_t>(i)] = lift[static_cast<std::size_t>(100 - i)];
     const TargetLift t = fit_target_lift(deg, lift, lines, opt);
-    CHECK(t.lift_at(0.0) == Approx(0.0).margin(kExactAbs));
+    CHECK_ABS(t.lift_at(0.0), 0.0, tol::kSplineNodeAbs);
   }
   SECTION("a full cycle that never comes down to the base circle names its lowest row") {
     std::vector<double> d2, l2;
@@ -377,28 +390,27 @@ TEST_CASE("target lift: smoothing recovers a noisy cycloidal rise-fall", "[synth
   CHECK(t.residual_rms_mm < 0.012);
   CHECK(t.residual_max_mm < 5 * kNoiseSigma);
   CHECK(t.closure_message.find("covers the full cycle") != std::string::npos);
-  double worst = 0.0, sum2 = 0.0;
+  test::Series law("smoothed lift against the clean law [mm]", "cam [deg]");
+  double sum2 = 0.0;
   int count = 0;
   for (double d = 0.0; d < 360.0; d += 0.25, ++count) {
     const double e = t.lift_at(d) - cycloidal_rise_fall(d);
-    worst = std::max(worst, std::abs(e));
+    law.add(d, t.lift_at(d), cycloidal_rise_fall(d));
     sum2 += e * e;
   }
-  const double rms = std::sqrt(sum2 / count);
-  INFO("deviation from the clean law: rms " << rms << " worst " << worst);
-  CHECK(rms < 0.5 * kNoiseSigma);
-  CHECK(worst < 2 * kNoiseSigma);
-  CHECK(std::abs(t.max_lift_mm - 9.0) < kNoiseSigma);
-  CHECK(std::abs(t.max_lift_at_deg - 120.0) < 2.0);
+  const double rms_deviation = std::sqrt(sum2 / count);
+  CHECK_ABS(rms_deviation, 0.0, tol::kSmoothedRmsAbs);
+  CHECK_SERIES(law.compare({.abs = tol::kSmoothedLawAbs}));
+  CHECK_ABS(t.max_lift_mm, 9.0, tol::kSmoothedPeakLiftAbs);
+  CHECK_ABS(t.max_lift_at_deg, 120.0, tol::kSmoothedPeakAngleAbs);
   require_c4(t.lift);
 
   // the conversion to PeriodicSpline reproduces the fitted b-spline
   PeriodicBSpline fit;
   REQUIRE(fit_periodic_bspline(deg, lift, opt.smoothing_knot_spacing_deg, fit).ok());
-  double conv = 0.0;
-  for (double d = 0.0; d < 360.0; d += 0.05) conv = std::max(conv, std::abs(t.lift_at(d) - fit(d)));
-  INFO("conversion error " << conv);
-  CHECK(conv < kConversionAbs);
+  test::Series conversion("smoothed lift against the fitted b-spline [mm]", "cam [deg]");
+  for (double d = 0.0; d < 360.0; d += 0.05) conversion.add(d, t.lift_at(d), fit(d));
+  CHECK_SERIES(conversion.compare({.abs = tol::kBSplineConversionAbs}));
 }
 
 TEST_CASE("target lift: periodic b-spline fit reproduces a spline in its space", "[synthesis][target_lift][smooth]") {
@@ -412,13 +424,14 @@ TEST_CASE("target lift: periodic b-spline fit reproduces a spline in its space",
   }
   PeriodicBSpline fit;
   REQUIRE(fit_periodic_bspline(deg, lift, 10.0, fit).ok());
-  for (std::size_t j = 0; j < s.coef.size(); ++j) REQUIRE(std::abs(fit.coef[j] - s.coef[j]) < 1e-10);
+  REQUIRE_SERIES(test::compare_series("fitted coefficient", fit.coef, s.coef, {.abs = tol::kSplineSpaceFitAbs}));
   // derivatives against central differences
   for (double d = 3.3; d < 360.0; d += 17.0) {
     for (int k = 1; k <= 4; ++k) {
       const double h = 1e-3;
       const double fd = (s.derivative(d + h, k - 1) - s.derivative(d - h, k - 1)) / (2 * h);
-      REQUIRE(std::abs(fd - s.derivative(d, k)) < 1e-5 * (1 + std::abs(s.derivative(d, k))));
+      INFO("cam " << d << " deg, derivative " << k);
+      REQUIRE_NEAR(fd, s.derivative(d, k), tol::kBSplineFdRel, tol::kBSplineFdRel);
     }
   }
   // a knot interval without data is rejected

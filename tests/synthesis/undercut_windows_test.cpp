@@ -12,14 +12,13 @@
 #include "camopt/synthesis/swing_remedy.hpp"
 #include "camopt/synthesis/undercut_windows.hpp"
 #include "kinematics/kinematics_test_support.hpp"
+#include "support/compare.hpp"
 
 using namespace camopt;
 using namespace camopt::kin_test;
+namespace tol = camopt::test::tol;
 
 namespace {
-
-constexpr double kWindowEndTolerance = 0.01;  // [deg] refined window end against the closed-form root
-constexpr double kRadiusTolerance = 1e-4;     // [mm] sampled smallest radius against the closed form
 
 // lift of smooth noses (periodic bumps H exp(k (cos(theta - c) - 1))) and its first two
 // derivatives in theta [mm, mm/rad, mm/rad^2]
@@ -139,8 +138,8 @@ void check_noses(const std::vector<double>& centres) {
   for (std::size_t k = 0; k < centres.size(); ++k) {
     INFO("window " << k << ": reported " << reported[k].first << "-" << reported[k].second << ", closed form "
                    << roots[2 * k] << "-" << roots[2 * k + 1]);
-    CHECK(std::abs(reported[k].first - roots[2 * k]) < kWindowEndTolerance);
-    CHECK(std::abs(reported[k].second - roots[2 * k + 1]) < kWindowEndTolerance);
+    CHECK_ABS(reported[k].first, roots[2 * k], tol::kWindowEndAbs);
+    CHECK_ABS(reported[k].second, roots[2 * k + 1], tol::kWindowEndAbs);
     // the smallest centre radius over the samples inside it (0.25 deg), against the closed form
     double smallest = 1e300;
     for (int i = 0; i < 1440; ++i) {
@@ -180,22 +179,40 @@ TEST_CASE("undercut windows: runs of a sampled margin, refined to the root of th
   }
   const auto hermite = synthesis::failing_windows(a, m, slope, value, true, true);
   REQUIRE(hermite.size() == 1);
-  CHECK(hermite[0].start_deg == Approx(90.0).margin(1e-2));
-  CHECK(hermite[0].end_deg == Approx(270.0).margin(1e-2));
-  CHECK(hermite[0].worst == Approx(-1.0));
-  CHECK(hermite[0].worst_at_deg == Approx(180.0));
+  CHECK_ABS(hermite[0].start_deg, 90.0, tol::kHermiteRootAbs);
+  CHECK_ABS(hermite[0].end_deg, 270.0, tol::kHermiteRootAbs);
+  CHECK_ABS(hermite[0].worst, -1.0, tol::kUlpAbs);  // the sample at 180 deg: cos(pi) = -1 exactly
+  CHECK_ABS(hermite[0].worst_at_deg, 180.0, tol::kUlpAbs);
+  // on a grid offset by 3 deg the roots are not midpoints of samples symmetric about them:
+  // the hermite's ends within its interpolation error of 90 and 270 deg, the chord's at the
+  // chord's own roots, 4.3e-3 deg away
+  std::vector<double> b, mb, sb;
+  for (int i = 0; i < 36; ++i) {
+    b.push_back(3.0 + i * 10.0);
+    mb.push_back(std::cos(b.back() * deg));
+    sb.push_back(-std::sin(b.back() * deg) * deg);
+  }
+  const auto offset_hermite = synthesis::failing_windows(b, mb, sb, mb, true, true);
+  const auto offset_chord = synthesis::failing_windows(b, mb, {}, mb, true, true);
+  REQUIRE(offset_hermite.size() == 1);
+  REQUIRE(offset_chord.size() == 1);
+  CHECK_ABS(offset_hermite[0].start_deg, 90.0, tol::kHermiteRootAbs);
+  CHECK_ABS(offset_hermite[0].end_deg, 270.0, tol::kHermiteRootAbs);
+  const auto chord_root = [](double left, double m_left, double m_right) { return left + 10.0 * m_left / (m_left - m_right); };
+  CHECK_ABS(offset_chord[0].start_deg, chord_root(83.0, mb[8], mb[9]), tol::kChordRootAbs);
+  CHECK_ABS(offset_chord[0].end_deg, chord_root(263.0, mb[26], mb[27]), tol::kChordRootAbs);
   const auto linear = synthesis::failing_windows(a, m, {}, value, true, true);
   REQUIRE(linear.size() == 1);
   // the chord from cos 80 to cos 100 deg crosses 0 at 90 exactly (odd symmetry)
-  CHECK(linear[0].start_deg == Approx(90.0).margin(1e-9));
+  CHECK_ABS(linear[0].start_deg, 90.0, tol::kChordRootAbs);
   // negated, it fails on (270, 90) deg: one run through 0/360
   for (auto& v : m) v = -v;
   const auto wrapped = synthesis::failing_windows(a, m, {}, m, true, true);
   REQUIRE(wrapped.size() == 1);
-  CHECK(wrapped[0].start_deg == Approx(270.0).margin(1e-9));
-  CHECK(wrapped[0].end_deg == Approx(90.0).margin(1e-9));
-  CHECK(wrapped[0].worst == Approx(-1.0));
-  CHECK(wrapped[0].worst_at_deg == Approx(0.0).margin(1e-12));
+  CHECK_ABS(wrapped[0].start_deg, 270.0, tol::kChordRootAbs);
+  CHECK_ABS(wrapped[0].end_deg, 90.0, tol::kChordRootAbs);
+  CHECK_ABS(wrapped[0].worst, -1.0, tol::kUlpAbs);
+  CHECK_ABS(wrapped[0].worst_at_deg, 0.0, tol::kUlpAbs);
 }
 
 TEST_CASE("undercut windows: a polynomial-4567 lift on the CVVL swing cam names the cause, a bound and the optimiser",
@@ -230,7 +247,7 @@ TEST_CASE("undercut windows: a polynomial-4567 lift on the CVVL swing cam names 
   const PeriodicSpline aligned = law(179.5);
   const synthesis::LiftScaleBound bound = synthesis::largest_synthesizable_scale(d, aligned, o);
   REQUIRE(bound.found);
-  CHECK(bound.peak_mm == Approx(9.5).epsilon(1e-9));
+  CHECK_REL(bound.peak_mm, 9.5, tol::kPeakAtSiteRel);
   INFO("bound " << bound.scale * bound.peak_mm << " mm .. " << bound.failing_scale * bound.peak_mm << " mm");
   CHECK(bound.failing_scale - bound.scale < 1.0 / 256);
   auto scaled = [&](double s) {
