@@ -46,7 +46,7 @@ struct BundledCase {
 
 // largest |lift_a - lift_b| [mm] over a revolution at 0.5 deg, both designs at one control
 // position [deg]: a synthesized cam against the original away from the synthesis position
-inline double worst_lift_difference(const DesignSpec& a, const DesignSpec& b, double control) {
+inline camopt::test::Comparison compare_lifts(const DesignSpec& a, const DesignSpec& b, double control, double abs_tol) {
   auto lift_at = [&](const DesignSpec& spec) {
     const auto mech = kin::compile(spec);
     PeriodicSpline lift;
@@ -56,9 +56,10 @@ inline double worst_lift_difference(const DesignSpec& a, const DesignSpec& b, do
     return v;
   };
   const auto la = lift_at(a), lb = lift_at(b);
-  double worst = 0.0;
-  for (std::size_t i = 0; i < la.size(); ++i) worst = std::max(worst, std::abs(la[i] - lb[i]));
-  return worst;
+  std::vector<double> cam_deg;
+  for (int i = 0; i < 720; ++i) cam_deg.push_back(i * 0.5);
+  return camopt::test::compare_series("lift of the synthesized design [mm]", lb, la, {.abs = abs_tol}, cam_deg,
+                                      "cam [deg]");
 }
 
 inline DesignSpec eccentric_design(bool flat, double R, double e, double roller, double offset) {
