@@ -2,6 +2,8 @@
 // report every folder command writes after its outputs (--no-report skips it).
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <filesystem>
+#include <system_error>
 
 #include "camopt/core/error.hpp"
 #include "camopt/report/report.hpp"
@@ -14,11 +16,31 @@ void add_report_flag(CLI::App& cmd, bool& no_report, const std::string& where) {
                "do not write " + where + ", the interactive page of the results (camopt report rebuilds it)");
 }
 
+namespace {
+
+// the report of a result folder, made and written while the folder is locked against other
+// camopt runs (a run committing its set meanwhile would give the page a mix of two runs), or
+// the report beside a lift table; returns its path
+std::filesystem::path write_report_of(const std::string& source) {
+  std::error_code ec;
+  if (!std::filesystem::is_directory(source, ec)) return report::write_report(source);
+  io::OutputTransaction out = open_outputs(source, {"report.html"});
+  out.stage("report.html", report::render_html(report::collect(source)));
+  out.commit();
+  return report::report_path(source);
+}
+
+void run_report(const std::string& source) {
+  const std::filesystem::path path = write_report_of(source);
+  std::printf("%s\n", path.c_str());
+}
+
+}  // namespace
+
 void write_run_report(const std::string& source, bool no_report) {
   if (no_report) return;
   try {
-    const std::filesystem::path path = report::write_report(source);
-    info("report: " + path.string());
+    info("report: " + write_report_of(source).string());
   } catch (const InputError& e) {
     throw InputError(std::string("the run's outputs are written, but not its report: ") + e.what() +
                      " (camopt report rebuilds it; --no-report skips it)");
@@ -26,11 +48,6 @@ void write_run_report(const std::string& source, bool no_report) {
 }
 
 namespace {
-
-void run_report(const std::string& source) {
-  const std::filesystem::path path = report::write_report(source);
-  std::printf("%s\n", path.c_str());
-}
 
 }  // namespace
 
