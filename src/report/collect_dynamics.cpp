@@ -12,11 +12,6 @@
 namespace camopt::report::detail {
 namespace {
 
-bool ends_with(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
-bool starts_with(const std::string& s, const std::string& prefix) { return s.rfind(prefix, 0) == 0; }
-
 // the table's rows per (engine speed, control position), family labels when there are several
 struct Runs {
   CsvData csv;
@@ -38,7 +33,7 @@ std::vector<std::pair<std::string, std::string>> columns_between(const CsvData& 
                                                                  const std::string& suffix) {
   std::vector<std::pair<std::string, std::string>> out;
   for (const auto& c : csv.columns)
-    if (starts_with(c, prefix) && ends_with(c, suffix) && c.size() > prefix.size() + suffix.size())
+    if (c.starts_with(prefix) && c.ends_with(suffix) && c.size() > prefix.size() + suffix.size())
       out.emplace_back(c, c.substr(prefix.size(), c.size() - prefix.size() - suffix.size()));
   return out;
 }
@@ -143,7 +138,7 @@ void collect_rigid(ReportData& data, const fs::path& dir, const nlohmann::json& 
   add_section(data, "forces", "Forces");
   bool first = true;
   for (const auto& [column, name] : columns_between(r.csv, "contact_", "_force_N")) {
-    if (ends_with(name, "_rigid")) continue;
+    if (name.ends_with("_rigid")) continue;
     Plot* p = add_runs_plot(data, r, "force-" + name, name + ": contact force", "forces", column, "force", first);
     if (p && r.csv.find("contact_" + name + "_rigid_force_N"))
       add_group_series(*p, r.csv, r.groups, r.labels, "cam_deg", "contact_" + name + "_rigid_force_N", "rigid", true);
@@ -188,7 +183,7 @@ void collect_flexible(ReportData& data, const fs::path& dir, const nlohmann::jso
     first = !add_runs_plot(data, r, "force-" + name, name + ": contact force", "forces", column, "force", first) && first;
   }
   for (const auto& c : r.csv.columns)
-    if (starts_with(c, "seat_") && ends_with(c, "_force_N"))
+    if (c.starts_with("seat_") && c.ends_with("_force_N"))
       add_runs_plot(data, r, "seat-" + c, "Seat force (bounce where it drops to 0)", "forces", c, "seat force");
   add_runs_plot(data, r, "cam-torque", "Cam torque", "forces", "cam_torque_Nm", "cam torque");
   for (const auto& [column, name] : columns_between(r.csv, "spring_", "_retainer_N"))
@@ -231,7 +226,7 @@ void collect_modes(ReportData& data, const fs::path& dir, const nlohmann::json& 
   // the mode shapes: amplitude per coordinate (index), one series per mode, one plot per point
   std::vector<std::string> coords;
   for (const auto& c : csv.columns)
-    if (ends_with(c, "_per_sqrt_kg")) coords.push_back(c);
+    if (c.ends_with("_per_sqrt_kg")) coords.push_back(c);
   const std::vector<Group> points = group_rows(csv, {"control_deg", "control_mm", "cam_deg"});
   for (std::size_t g = 0; g < points.size(); ++g) {
     Plot p;

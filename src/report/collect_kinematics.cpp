@@ -8,17 +8,12 @@
 namespace camopt::report::detail {
 namespace {
 
-bool ends_with(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
-bool starts_with(const std::string& s, const std::string& prefix) { return s.rfind(prefix, 0) == 0; }
-
 // the contacts of the table: every "<name>_pressure_angle_deg" column
 std::vector<std::string> contact_names(const CsvData& csv) {
   std::vector<std::string> names;
   const std::string suffix = "_pressure_angle_deg";
   for (const auto& c : csv.columns)
-    if (ends_with(c, suffix)) names.push_back(c.substr(0, c.size() - suffix.size()));
+    if (c.ends_with(suffix)) names.push_back(c.substr(0, c.size() - suffix.size()));
   return names;
 }
 
@@ -27,14 +22,14 @@ std::vector<std::string> contact_names(const CsvData& csv) {
 std::vector<std::string> node_columns(const CsvData& csv, const std::vector<std::string>& contacts) {
   std::vector<std::string> out;
   for (const auto& c : csv.columns) {
-    if (starts_with(c, "lift_") || starts_with(c, "control_") || c == "cam_deg" || c == "driver_mm") continue;
-    if (std::any_of(contacts.begin(), contacts.end(), [&](const std::string& k) { return starts_with(c, k + "_"); }))
+    if (c.starts_with("lift_") || c.starts_with("control_") || c == "cam_deg" || c == "driver_mm") continue;
+    if (std::any_of(contacts.begin(), contacts.end(), [&](const std::string& k) { return c.starts_with(k + "_"); }))
       continue;
     const std::size_t cut = c.rfind('_');
     if (cut == std::string::npos) continue;
     const std::string prefix = c.substr(0, cut + 1);
     if (std::any_of(csv.columns.begin(), csv.columns.end(),
-                    [&](const std::string& k) { return starts_with(k, prefix + "vel_"); }) &&
+                    [&](const std::string& k) { return k.starts_with(prefix + "vel_"); }) &&
         c.find("_vel_") == std::string::npos && c.find("_acc_") == std::string::npos &&
         c.find("_jerk_") == std::string::npos)
       out.push_back(c);
@@ -47,6 +42,18 @@ std::string first_of(const CsvData& csv, std::initializer_list<std::string> name
   for (const auto& n : names)
     if (csv.find(n)) return n;
   return "";
+}
+
+// a node coordinate whose velocity is the valve's, column for column (the output node: its
+// plots would repeat the valve's lift plots)
+bool repeats_valve(const CsvData& csv, const std::string& base) {
+  const std::string prefix = base.substr(0, base.rfind('_') + 1);
+  const std::vector<double>* valve = nullptr;
+  for (const auto& c : csv.columns)
+    if (c.starts_with("vel_") && c.find("_per_s") == std::string::npos) valve = csv.find(c);
+  for (const auto& c : csv.columns)
+    if (valve && c.starts_with(prefix + "vel_") && c.find("_per_s") == std::string::npos) return *csv.find(c) == *valve;
+  return false;
 }
 
 struct Sweep {
@@ -73,7 +80,7 @@ void add_node_plots(ReportData& data, const Sweep& sw, const std::string& base) 
   for (const char* d : {"vel_", "acc_", "jerk_"}) {
     std::string column;
     for (const auto& c : sw.csv.columns)
-      if (starts_with(c, prefix + d) && c.find("_per_s") == std::string::npos) column = c;
+      if (c.starts_with(prefix + d) && c.find("_per_s") == std::string::npos) column = c;
     const std::string what = d == std::string("vel_") ? "velocity" : d == std::string("acc_") ? "acceleration" : "jerk";
     add_column_plot(data, sw, "node-" + name + "-" + what, readable + " " + what, "nodes", column, readable);
   }
@@ -120,7 +127,8 @@ void collect_kinematics(ReportData& data, const fs::path& dir, const nlohmann::j
   const std::vector<std::string> contacts = contact_names(csv);
   const std::vector<std::string> nodes = node_columns(csv, contacts);
   if (!nodes.empty()) add_section(data, "nodes", "Every node: position, velocity, acceleration and jerk");
-  for (const auto& base : nodes) add_node_plots(data, sw, base);
+  for (const auto& base : nodes)
+    if (!repeats_valve(csv, base)) add_node_plots(data, sw, base);
   if (!contacts.empty()) add_section(data, "contacts", "Contacts");
   for (const auto& c : contacts) add_contact_plots(data, sw, c);
   if (nodes.empty())

@@ -14,12 +14,16 @@
 namespace camopt::report::detail {
 namespace {
 
-// the whole file; InputError naming it when it cannot be read
+// the whole file, read into a string sized once; InputError naming it when it cannot be read
 std::string read_text(const fs::path& path) {
   std::FILE* f = std::fopen(path.c_str(), "rb");
   if (!f) throw InputError("cannot read '" + path.string() + "': " + std::strerror(errno));
   std::string text;
-  char buffer[1 << 16];
+  std::error_code ec;
+  const auto size = fs::file_size(path, ec);
+  text.resize(ec ? 0 : static_cast<std::size_t>(size));
+  text.resize(std::fread(text.data(), 1, text.size(), f));
+  char buffer[1 << 16];  // anything beyond the size seen (a file that grew)
   std::size_t n;
   while ((n = std::fread(buffer, 1, sizeof buffer, f)) > 0) text.append(buffer, n);
   const bool failed = std::ferror(f) != 0;

@@ -19,6 +19,7 @@ namespace {
 // a JSON text built piece by piece
 class JsonWriter {
  public:
+  explicit JsonWriter(std::size_t expected_size) { out_.reserve(expected_size); }
   std::string& text() { return out_; }
 
   void string(std::string_view s) {
@@ -282,8 +283,28 @@ std::string base64_float32(const std::vector<double>& values) {
   return out;
 }
 
+namespace {
+
+// the numbers of the report's arrays: for the JSON's size, reserved once
+std::size_t array_values(const ReportData& d) {
+  std::size_t n = 0;
+  for (const auto& p : d.plots) {
+    n += p.x_values.size() + p.y_values.size() + p.z.size();
+    for (const auto& s : p.series) n += s.x.size() + s.y.size() + s.color.size();
+  }
+  if (d.scene)
+    for (const auto& pos : d.scene->positions) {
+      n += pos.cam_deg.size() + pos.lift_mm.size();
+      for (const auto& v : pos.pose) n += v.size();
+      for (const auto& v : pos.contact) n += v.size();
+    }
+  return n;
+}
+
+}  // namespace
+
 std::string to_json(const ReportData& d) {
-  JsonWriter w;
+  JsonWriter w(array_values(d) * 16 / 3 + (1 << 16));
   w.begin('{');
   w.member("format", "camopt-report");
   w.member_number("version", 1);
@@ -344,6 +365,9 @@ std::string render_html(const ReportData& data) {
   };
   const std::string_view page = assets::template_html;
   std::string out;
+  std::size_t size = page.size();
+  for (const auto& fill : fills) size += fill.second.size();
+  out.reserve(size);
   std::size_t at = 0;
   int filled[6] = {0, 0, 0, 0, 0, 0};
   for (;;) {
