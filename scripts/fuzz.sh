@@ -49,7 +49,9 @@ done
 source "$REPO/scripts/packages.sh"
 # libomp-14-dev: clang's OpenMP runtime, which SUNDIALSConfig.cmake asks for (OpenMP_CXX)
 ensure_packages build-essential cmake ninja-build pkg-config clang libclang-rt-14-dev libomp-14-dev libeigen3-dev \
-  libnlopt-cxx-dev coinor-libipopt-dev libsundials-dev libcli11-dev libtomlplusplus-dev nlohmann-json3-dev
+  libnlopt-cxx-dev coinor-libipopt-dev libsundials-dev libcli11-dev libtomlplusplus-dev nlohmann-json3-dev nodejs npm
+# the configure inlines the report page's uPlot from node_modules
+ensure_node_modules "$REPO"
 
 # configure without a finished configure (no build.ninja: none yet, or an earlier one failed)
 if [[ ! -f "$build_dir/CMakeCache.txt" || ! -f "$build_dir/build.ninja" ]]; then

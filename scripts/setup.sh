@@ -12,9 +12,12 @@ DEFAULT_TARGET="designs/targets/rff_intake_lift.csv"
 DEFAULT_OUT="out/synthesis"
 DEFAULT_CHECK_ARGS=(--step 0.5 --outputs all --rpm 6000)
 
-# Debian 12 packages needed to build and test
+# Debian 12 packages needed to build and test; nodejs and npm install the report page's
+# charting library (package-lock.json), libcairo2-dev draws the static figures
 PACKAGES=(build-essential cmake ninja-build pkg-config libeigen3-dev libnlopt-cxx-dev coinor-libipopt-dev
-          libsundials-dev libcli11-dev catch2 libtomlplusplus-dev nlohmann-json3-dev)
+          libsundials-dev libcli11-dev catch2 libtomlplusplus-dev nlohmann-json3-dev nodejs npm libcairo2-dev)
+# only for the tests: the headless browser that opens the reports
+TEST_PACKAGES=(chromium)
 
 usage() {
   cat <<EOF
@@ -80,7 +83,13 @@ jobs="$(nproc)"
 # --- packages: apt only when something is missing ---------------------------------------
 # shellcheck source=scripts/packages.sh
 source "$REPO/scripts/packages.sh"
-ensure_packages "${PACKAGES[@]}"
+if ((run_tests)); then
+  ensure_packages "${PACKAGES[@]}" "${TEST_PACKAGES[@]}"
+else
+  ensure_packages "${PACKAGES[@]}"
+fi
+# the npm packages of package-lock.json (uPlot, inlined into every report.html at build time)
+ensure_node_modules "$REPO"
 
 # --- configure: only without a cache or when an option changed --------------------------
 cache="$build_dir/CMakeCache.txt"
@@ -154,4 +163,5 @@ if ((run_default)); then
   "$build_dir/camopt" kinematics "$DEFAULT_OUT/design.toml" "${DEFAULT_CHECK_ARGS[@]}" --out "$DEFAULT_OUT/kinematics"
   echo "== results in $REPO/$DEFAULT_OUT/:"
   ls -l "$DEFAULT_OUT"
+  echo "== open the report in a browser: $REPO/$DEFAULT_OUT/kinematics/report.html"
 fi

@@ -1,6 +1,6 @@
 #pragma once
 // every public header of camopt, in layer order (core, kinematics, synthesis, dynamics, opt,
-// io). A program that needs one module can include that module's headers instead.
+// io, report). A program that needs one module can include that module's headers instead.
 
 #include "camopt/core/angle.hpp"
 #include "camopt/core/bspline_basis.hpp"
@@ -58,3 +58,6 @@
 #include "camopt/io/design_rewrite.hpp"
 #include "camopt/io/dxf.hpp"
 #include "camopt/io/input_file.hpp"
+
+#include "camopt/report/report.hpp"
+#include "camopt/report/report_data.hpp"

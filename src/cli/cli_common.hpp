@@ -70,14 +70,16 @@ long sweep_points(const std::string& option, double start, double stop, double s
                   const std::string& positions_option = "--control");
 
 // every file a folder command may write into its --out folder: a run that succeeds removes
-// the files of its list it did not write (a previous run's), and never any other file
-inline const std::vector<std::string> kKinematicsOutputs = {"kinematics.csv", "summary.json"};
-inline const std::vector<std::string> kDynamicsOutputs = {"dynamics.csv", "modes.csv", "summary.json"};
+// the files of its list it did not write (a previous run's), and never any other file.
+// report.html is written after the set is committed (write_run_report), so the commit removes
+// an earlier run's report first
+inline const std::vector<std::string> kKinematicsOutputs = {"kinematics.csv", "summary.json", "report.html"};
+inline const std::vector<std::string> kDynamicsOutputs = {"dynamics.csv", "modes.csv", "summary.json", "report.html"};
 inline const std::vector<std::string> kSynthesizeOutputs = {"profile.csv", "report.json", "design.toml",
-                                                            "profile.dxf", "grinding.csv"};
+                                                            "profile.dxf", "grinding.csv", "report.html"};
 inline const std::vector<std::string> kOptimizeOutputs = {"lift.csv",    "swing_pitch.csv", "profile.csv",
                                                           "report.json", "design.toml",     "profile.dxf",
-                                                          "grinding.csv"};
+                                                          "grinding.csv", "report.html"};
 
 // the output set of a run into `out_dir` (one of the lists above), the folder locked
 // against other camopt runs; a run that has to wait says so on stderr
@@ -147,6 +149,13 @@ class Progress {
   bool enabled_ = false;
 };
 
+// the report (report_command.cpp): --no-report on a command that writes results, naming the
+// file it skips; and the report of `source` (an --out folder or a lift table) written after the
+// run's outputs, unless no_report. A failure leaves no report.html and says the outputs are
+// written (InputError, exit 3)
+void add_report_flag(CLI::App& cmd, bool& no_report, const std::string& where = "report.html");
+void write_run_report(const std::string& source, bool no_report);
+
 // subcommand registration: one file per subcommand (<verb>_command.cpp)
 void setup_validate(CLI::App& app);
 void setup_kinematics(CLI::App& app);
@@ -154,5 +163,6 @@ void setup_synthesize(CLI::App& app);
 void setup_lift(CLI::App& app);
 void setup_optimize(CLI::App& app);
 void setup_dynamics(CLI::App& app);
+void setup_report(CLI::App& app);
 
 }  // namespace camopt::cli

@@ -24,6 +24,7 @@ struct DynamicsOptions {
   std::string design, model = "rigid", contacts = "rigid", rpm, out_dir, control, start = "static";
   double step_deg = 0.0;  // 0: the design's step
   dynamics::FlexibleOptions flexible;
+  bool no_report = false;
 };
 
 // --rpm: a value, a list or a range, each in (0, 1e6]
@@ -136,7 +137,9 @@ void setup_dynamics(CLI::App& app) {
   cmd->add_option("--rpm", opts->rpm,
                   "engine speed [rpm, crankshaft]: a value, a list a,b,c or START:STOP:COUNT (required, except "
                   "with --model modes)");
-  cmd->add_option("--out", opts->out_dir, "output directory (dynamics.csv or modes.csv, summary.json)")->required();
+  cmd->add_option("--out", opts->out_dir, "output directory (dynamics.csv or modes.csv, summary.json, report.html)")
+      ->required();
+  add_report_flag(*cmd, opts->no_report);
   cmd->add_option("--control", opts->control,
                   "control positions of the design's first control [deg or mm]: a value, a list or START:STOP:COUNT");
   cmd->add_option("--step", opts->step_deg, "cam angle step [cam deg] (default: the design's driver.step_deg)")
@@ -169,20 +172,20 @@ void setup_dynamics(CLI::App& app) {
     if (opts->model != "rigid") reject_unused(*cmd, {"--contacts"}, "with --model " + opts->model + " (rigid model only)");
     if (opts->model != "modes")
       reject_unused(*cmd, {"--cam-deg", "--release-cam"}, "with --model " + opts->model + " (--model modes only)");
+    // the run, then its report
     if (opts->model == "modes") {
       run_modes({opts->design, opts->out_dir, opts->control, opts->rpm, opts->flexible, *modes});
-      return;
+    } else {
+      if (opts->rpm.empty()) throw CLI::RequiredError("--rpm");
+      opts->flexible.start_at_rest = opts->start == "rest";
+      if (opts->model == "flexible")
+        run_flexible_model(*opts);
+      else if (opts->contacts == "compliant")
+        run_compliant_contacts(*opts);
+      else
+        run_rigid(*opts);
     }
-    if (opts->rpm.empty()) throw CLI::RequiredError("--rpm");
-    opts->flexible.start_at_rest = opts->start == "rest";
-    if (opts->model == "flexible") {
-      run_flexible_model(*opts);
-      return;
-    }
-    if (opts->contacts == "compliant")
-      run_compliant_contacts(*opts);
-    else
-      run_rigid(*opts);
+    write_run_report(opts->out_dir, opts->no_report);
   });
 }
 

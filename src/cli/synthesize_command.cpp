@@ -30,6 +30,7 @@ constexpr double kSlopeStepHint = 0.1;
 
 struct SynthesizeOptions {
   std::string target_csv, design, out_dir, cam = "rotational";
+  bool no_report = false;
   std::optional<double> control;
   int points = 1440;
   bool smooth = false;
@@ -320,6 +321,8 @@ void run_synthesize(const SynthesizeOptions& o) {
        std::to_string(res.min_radius_of_curvature_mm) + " mm; round trip max error " +
        std::to_string(rt.max_error_mm * unit.scale) + " " + unit.name + " -> " + o.out_dir +
        "/profile.csv, report.json, design.toml, profile.dxf, grinding.csv");
+  // the page of the results
+  write_run_report(o.out_dir, o.no_report);
 }
 
 }  // namespace
@@ -331,7 +334,10 @@ void setup_synthesize(CLI::App& app) {
   cmd->add_option("target", opts->target_csv,
                   "target lift CSV: cam_deg|crank_deg (explicit basis) and lift_mm [mm]")->required();
   cmd->add_option("--design", opts->design, "design file (TOML); its profile on the cam is replaced")->required();
-  cmd->add_option("--out", opts->out_dir, "output directory (profile.csv, report.json, design.toml)")->required();
+  cmd->add_option("--out", opts->out_dir,
+                  "output directory (profile.csv, report.json, design.toml, profile.dxf, grinding.csv, report.html)")
+      ->required();
+  add_report_flag(*cmd, opts->no_report);
   cmd->add_option("--cam", opts->cam, "which cam to synthesize: rotational (the driver's) or swing")
       ->check(CLI::IsMember({"rotational", "swing"}));
   cmd->add_option("--control", opts->control,

@@ -47,7 +47,7 @@ std::string describe_oil(const DesignSpec& spec) {
 void setup_validate(CLI::App& app) {
   auto files = std::make_shared<std::vector<std::string>>();
   auto* cmd = app.add_subcommand("validate", "check design files and print each compiled mechanism "
-                                             "(nodes, connections, solve order)");
+                                             "(nodes, connections, solve order); writes no files, so no report");
   cmd->add_option("designs", *files, "design files (TOML)")->required();
   cmd->callback([files] {
     for (const auto& f : *files) {

@@ -180,7 +180,7 @@ TEST_CASE("two runs into one folder at once each commit a whole set: the folder 
     const std::size_t points = summary["points_per_position"].get<std::size_t>();
     CHECK((points == 7201 || points == 7501));
     CHECK(data_rows(out / "kinematics.csv") == points);
-    CHECK(entries_of(out) == std::vector<std::string>{"kinematics.csv", "summary.json"});
+    CHECK(entries_of(out) == std::vector<std::string>{"kinematics.csv", "report.html", "summary.json"});
   }
 }
 
@@ -252,12 +252,12 @@ TEST_CASE("a run removes the files of its set that it did not write, and nothing
   write_text(out / "notes.txt", "mine\n");
   auto r = run_camopt({"dynamics", kRff, "--model", "rigid", "--rpm", "3000", "--out", out.string()});
   REQUIRE(r.exit_code == cli_ok);
-  CHECK(entries_of(out) == std::vector<std::string>{"dynamics.csv", "notes.txt", "summary.json"});
+  CHECK(entries_of(out) == std::vector<std::string>{"dynamics.csv", "notes.txt", "report.html", "summary.json"});
   // a modes run: its summary beside the rigid run's dynamics.csv would be a mix
   r = run_camopt({"dynamics", kRff, "--model", "modes", "--out", out.string()});
   INFO(r.all());
   REQUIRE(r.exit_code == cli_ok);
-  CHECK(entries_of(out) == std::vector<std::string>{"modes.csv", "notes.txt", "summary.json"});
+  CHECK(entries_of(out) == std::vector<std::string>{"modes.csv", "notes.txt", "report.html", "summary.json"});
   CHECK(read_file(out / "notes.txt") == "mine\n");
 }
 
@@ -267,7 +267,8 @@ TEST_CASE("a failing re-run leaves the previous set as it was, a different one r
   const fs::path out = tmp / "o";
   auto r = run_camopt({"synthesize", kTarget, "--design", kRff, "--out", out.string()});
   REQUIRE(r.exit_code == cli_ok);
-  const std::vector<std::string> set = {"design.toml", "grinding.csv", "profile.csv", "profile.dxf", "report.json"};
+  const std::vector<std::string> set = {"design.toml", "grinding.csv", "profile.csv", "profile.dxf", "report.html",
+                                        "report.json"};
   REQUIRE(entries_of(out) == set);
   std::map<std::string, std::string> before;
   for (const auto& name : set) before[name] = read_file(out / name);
@@ -295,7 +296,7 @@ TEST_CASE("a failing re-run leaves the previous set as it was, a different one r
                   out.string()});
   INFO(r.all());
   CHECK(r.exit_code == cli_numerical_failure);
-  CHECK(entries_of(out) == std::vector<std::string>{"report.json"});
+  CHECK(entries_of(out) == std::vector<std::string>{"report.html", "report.json"});
   CHECK(read_file(out / "report.json").find("conflicting_constraints") != std::string::npos);
 }
 

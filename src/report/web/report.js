@@ -1,0 +1,1 @@
+// placeholder: the page helper provides the real report.js

@@ -1,0 +1,264 @@
+// collect() on result folders made by the camopt binary: plot ids, series counts, units from
+// the CSV headers, display data against the CSV values; bad folders named.
+#include <catch2/catch.hpp>
+#include <cmath>
+
+#include "camopt/core/error.hpp"
+#include "report/report_support.hpp"
+
+namespace camopt::test {
+namespace {
+
+using report::ReportData;
+
+// every series of `plot` (one per group of `group_rows` rows) equals the csv column exactly
+void check_series_are_columns(const report::Plot& plot, const TestCsv& csv, const std::string& x_column,
+                              const std::string& y_column, std::size_t groups) {
+  INFO("plot " << plot.id << ", column " << y_column);
+  REQUIRE(plot.series.size() == groups);
+  const std::size_t rows = csv[y_column].size() / groups;
+  for (std::size_t g = 0; g < groups; ++g) {
+    const report::Series& s = plot.series[g];
+    const std::vector<double>& x = s.x.empty() ? plot.x_values : s.x;
+    REQUIRE(s.y.size() == rows);
+    REQUIRE(x.size() == rows);
+    for (std::size_t i = 0; i < rows; ++i) {
+      REQUIRE(s.y[i] == csv[y_column][g * rows + i]);
+      REQUIRE(x[i] == csv[x_column][g * rows + i]);
+    }
+  }
+}
+
+TEST_CASE("report: collect of the 17-position CVVL sweep gives one series per control position") {
+  const fs::path dir = result_folder("kin_cvvl17");
+  const ReportData d = report::collect(dir);
+  const TestCsv csv = read_test_csv(dir / "kinematics.csv");
+  CHECK(d.command == "kinematics");
+  REQUIRE(d.family.size() == 17);
+  CHECK(d.family[4] == "control 4 deg");
+  // the valve's SVAJ: the CSV columns, units as in their headers
+  const std::pair<const char*, const char*> svaj[] = {{"svaj-lift", "lift_mm"},
+                                                      {"svaj-velocity", "vel_mm_per_deg"},
+                                                      {"svaj-acceleration", "acc_mm_per_deg2"},
+                                                      {"svaj-jerk", "jerk_mm_per_deg3"}};
+  const char* units[] = {"mm", "mm/deg", "mm/deg^2", "mm/deg^3"};
+  for (std::size_t q = 0; q < 4; ++q) {
+    const report::Plot& p = plot_of(d, svaj[q].first);
+    CHECK(p.y.unit == units[q]);
+    CHECK(p.x.unit == "deg");
+    CHECK(p.link_group == "svaj");
+    check_series_are_columns(p, csv, "cam_deg", svaj[q].second, 17);
+    for (std::size_t g = 0; g < 17; ++g) CHECK(p.series[g].family_member == static_cast<int>(g));
+  }
+  // every node's and contact's plots, 17 series each
+  const report::Plot& pa = plot_of(d, "contact-cam_roller-pressure-angle");
+  CHECK(pa.y.unit == "deg");
+  check_series_are_columns(pa, csv, "cam_deg", "cam_roller_pressure_angle_deg", 17);
+  const report::Plot& finger = plot_of(d, "node-finger_angle-acceleration");
+  CHECK(finger.y.unit == "deg/deg^2");
+  check_series_are_columns(finger, csv, "cam_deg", "finger_angle_acc_deg_per_deg2", 17);
+  // a contact quantity that is zero everywhere (the pad's roller speed) is not drawn
+  CHECK_FALSE(has_plot(d, "contact-pad_valve-roller-speed"));
+  // the summary's extremes, one row per position
+  CHECK(table_of(d, "extremes").rows.size() == 17);
+  CHECK(d.notes.empty());
+}
+
+TEST_CASE("report: collect of a default kinematics run says how to get the contact plots") {
+  const ReportData d = report::collect(result_folder("kin_default"));
+  CHECK(has_plot(d, "svaj-acceleration"));
+  CHECK_FALSE(has_plot(d, "contact-cam_roller-pressure-angle"));
+  bool told = false;
+  for (const auto& n : d.notes) told = told || n.find("--outputs all") != std::string::npos;
+  CHECK(told);
+  CHECK(d.family.empty());
+  CHECK(plot_of(d, "svaj-lift").series.size() == 1);
+}
+
+TEST_CASE("report: collect of kinematics with --rpm plots the contact speeds in SI units") {
+  const fs::path dir = result_folder("kin_all");
+  const ReportData d = report::collect(dir);
+  const TestCsv csv = read_test_csv(dir / "kinematics.csv");
+  const report::Plot& roller = plot_of(d, "contact-cam_roller-roller-speed");
+  CHECK(roller.y.unit == "rpm");
+  check_series_are_columns(roller, csv, "cam_deg", "cam_roller_roller_rpm", 1);
+  CHECK(plot_of(d, "contact-cam_roller-entrainment").y.unit == "m/s");
+}
+
+TEST_CASE("report: the page's arrays are the CSV values in float32") {
+  const fs::path dir = result_folder("kin_cvvl17");
+  const TestCsv csv = read_test_csv(dir / "kinematics.csv");
+  const nlohmann::json j = page_data(report::render_html(report::collect(dir)));
+  const nlohmann::json* acc = nullptr;
+  for (const auto& p : j["plots"])
+    if (p["id"] == "svaj-acceleration") acc = &p;
+  REQUIRE(acc);
+  const std::vector<float> x = decode_float32((*acc)["x_values"].get<std::string>());
+  const auto& series = (*acc)["series"];
+  REQUIRE(series.size() == 17);
+  const std::size_t rows = csv["cam_deg"].size() / 17;
+  REQUIRE(x.size() == rows);
+  for (std::size_t g = 0; g < 17; ++g) {
+    const std::vector<float> y = decode_float32(series[g]["y"].get<std::string>());
+    REQUIRE(y.size() == rows);
+    CHECK(series[g]["family_member"] == static_cast<int>(g));
+    for (std::size_t i = 0; i < rows; ++i) {
+      REQUIRE(y[i] == static_cast<float>(csv["acc_mm_per_deg2"][g * rows + i]));
+      REQUIRE(x[i] == static_cast<float>(csv["cam_deg"][i]));
+    }
+  }
+}
+
+TEST_CASE("report: collect of synthesize draws the profile to scale with its base circle") {
+  const fs::path dir = result_folder("synthesize");
+  const ReportData d = report::collect(dir);
+  const TestCsv profile = read_test_csv(dir / "profile.csv");
+  const nlohmann::json rj = nlohmann::json::parse(read_file(dir / "report.json"));
+  CHECK(d.command == "synthesize");
+  const report::Plot& p = plot_of(d, "profile");
+  CHECK(p.kind == report::PlotKind::profile);
+  CHECK(p.main);
+  REQUIRE(p.series.size() == 2);
+  CHECK(p.series[0].x == profile["x_mm"]);
+  CHECK(p.series[0].y == profile["y_mm"]);
+  CHECK(p.series[0].color == profile["radius_of_curvature_mm"]);
+  CHECK(p.color.unit == "mm");
+  // the base circle: dashed, every point at the base radius
+  const double base = rj["profile"]["base_circle_radius_mm"].get<double>();
+  CHECK(p.series[1].dashed);
+  for (std::size_t i = 0; i < p.series[1].x.size(); ++i)
+    REQUIRE(std::hypot(p.series[1].x[i], p.series[1].y[i]) == Approx(base).epsilon(1e-14));
+  // the concave windows as bands where the radius of curvature is negative
+  const report::Plot& rho = plot_of(d, "profile-curvature");
+  REQUIRE(rj["checks"]["concave"] == true);
+  REQUIRE_FALSE(rho.bands.empty());
+  const auto& angle = profile["angle_deg"];
+  const auto& r = profile["radius_of_curvature_mm"];
+  for (std::size_t i = 0; i < angle.size(); ++i) {
+    bool inside = false;
+    for (const auto& b : rho.bands) inside = inside || (angle[i] >= b.from && angle[i] <= b.to);
+    INFO("profile angle " << angle[i] << " radius " << r[i]);
+    REQUIRE(inside == (r[i] < 0));
+  }
+}
+
+TEST_CASE("report: collect of optimize puts the limits and active angles on the SVAJ plots") {
+  const fs::path dir = result_folder("optimize");
+  const ReportData d = report::collect(dir);
+  const nlohmann::json rj = nlohmann::json::parse(read_file(dir / "report.json"));
+  CHECK(d.command == "optimize");
+  const report::Plot& acc = plot_of(d, "svaj-acceleration");
+  bool found = false;
+  for (const auto& l : acc.limits)
+    found = found || (l.label == "acc_max" && l.y == rj["constraints"]["acc_max"]["limit"].get<double>());
+  CHECK(found);
+  // every active angle of jerk_max lies in a band of the jerk plot
+  const report::Plot& jerk = plot_of(d, "svaj-jerk");
+  for (const auto& a : rj["constraints"]["jerk_max"]["active_at_cam_deg"]) {
+    const double deg = std::stod(a.get<std::string>());
+    bool inside = false;
+    for (const auto& b : jerk.bands) inside = inside || (deg > b.from && deg < b.to);
+    CHECK(inside);
+  }
+  // the constraint table: one row per constraint, none failed at this optimum
+  const report::Table& t = table_of(d, "constraints");
+  CHECK(t.rows.size() == rj["constraints"].size());
+  CHECK(t.failed_rows.empty());
+  CHECK(has_plot(d, "profile"));
+}
+
+TEST_CASE("report: collect of a rigid rpm sweep gives one series per speed and the speed map") {
+  const fs::path dir = result_folder("rigid");
+  const ReportData d = report::collect(dir);
+  const TestCsv csv = read_test_csv(dir / "dynamics.csv");
+  CHECK(d.command == "dynamics rigid");
+  REQUIRE(d.family.size() == 4);
+  CHECK(d.family[0] == "1000 rpm");
+  const report::Plot& f = plot_of(d, "force-cam_roller");
+  CHECK(f.y.unit == "N");
+  check_series_are_columns(f, csv, "cam_deg", "contact_cam_roller_force_N", 4);
+  CHECK(plot_of(d, "cam-torque").y.unit == "Nm");
+  CHECK(plot_of(d, "hertz-cam_roller").y.unit == "MPa");
+  CHECK(plot_of(d, "speed-map").kind == report::PlotKind::line);
+}
+
+TEST_CASE("report: collect of a rigid rpm x control sweep draws the speed map as a heatmap") {
+  const fs::path dir = result_folder("rigid_map");
+  const ReportData d = report::collect(dir);
+  const nlohmann::json sj = nlohmann::json::parse(read_file(dir / "summary.json"));
+  const report::Plot& map = plot_of(d, "speed-map");
+  REQUIRE(map.kind == report::PlotKind::heatmap);
+  REQUIRE(map.x_values.size() == 3);
+  REQUIRE(map.y_values.size() == 3);
+  REQUIRE(map.z.size() == 9);
+  CHECK(d.family.size() == 9);
+  // z: the smallest contact force of each result, at its (rpm, control) cell
+  for (const auto& r : sj["results"]) {
+    double smallest = 1e300;
+    for (const auto& [name, c] : r["connections"].items()) smallest = std::min(smallest, c["min_force_N"].get<double>());
+    const auto col = std::find(map.x_values.begin(), map.x_values.end(), r["rpm"].get<double>()) - map.x_values.begin();
+    const auto row =
+        std::find(map.y_values.begin(), map.y_values.end(), r["control_deg"].get<double>()) - map.y_values.begin();
+    REQUIRE(col < 3);
+    REQUIRE(row < 3);
+    CHECK(map.z[static_cast<std::size_t>(row * 3 + col)] == smallest);
+  }
+}
+
+TEST_CASE("report: collect of flexible dynamics draws the kinematic lift dashed under the dynamic one") {
+  const fs::path dir = result_folder("flexible");
+  const ReportData d = report::collect(dir);
+  const TestCsv csv = read_test_csv(dir / "dynamics.csv");
+  const report::Plot& lift = plot_of(d, "dynamic-lift");
+  REQUIRE(lift.series.size() == 2);
+  CHECK_FALSE(lift.series[0].dashed);
+  CHECK(lift.series[1].dashed);
+  CHECK(lift.series[0].y == csv["lift_mm"]);
+  CHECK(lift.series[1].y == csv["lift_kinematic_mm"]);
+  CHECK(has_plot(d, "force-cam_roller"));
+}
+
+TEST_CASE("report: collect of modes tabulates the natural frequencies") {
+  const fs::path dir = result_folder("modes");
+  const ReportData d = report::collect(dir);
+  const nlohmann::json sj = nlohmann::json::parse(read_file(dir / "summary.json"));
+  const report::Table& t = table_of(d, "frequencies");
+  REQUIRE(t.rows.size() == sj["results"].size());
+  // every frequency reads back to the summary's number (shortest round-trip text)
+  for (std::size_t r = 0; r < t.rows.size(); ++r)
+    for (std::size_t k = 0; k < sj["results"][r]["frequencies_Hz"].size(); ++k)
+      CHECK(std::stod(t.rows[r][3 + k]) == sj["results"][r]["frequencies_Hz"][k].get<double>());
+  CHECK(has_plot(d, "mode-shapes-1"));
+}
+
+TEST_CASE("report: collect of a lift table plots its four columns") {
+  const fs::path csv_path = result_folder("lift");
+  const ReportData d = report::collect(csv_path);
+  const TestCsv csv = read_test_csv(csv_path);
+  CHECK(d.command == "lift");
+  check_series_are_columns(plot_of(d, "svaj-jerk"), csv, "cam_deg", "jerk_mm_per_deg3", 1);
+  CHECK(report::report_path(csv_path) == csv_path.parent_path() / "lift.report.html");
+}
+
+TEST_CASE("report: collect names a missing folder, a folder without results and a bad CSV line") {
+  TempDir tmp;
+  CHECK_THROWS_WITH(report::collect(tmp / "absent"), Catch::Contains("absent") && Catch::Contains("no such folder"));
+  CHECK_THROWS_WITH(report::collect(tmp.path()), Catch::Contains("no camopt result"));
+  // a kinematics folder whose CSV has a bad cell on line 3
+  const fs::path dir = tmp / "kin";
+  fs::create_directories(dir);
+  fs::copy_file(result_folder("kin_default") / "summary.json", dir / "summary.json");
+  write_text(dir / "kinematics.csv", "control_deg,cam_deg,lift_mm\n0,0,0\n0,1,abc\n");
+  CHECK_THROWS_AS(report::collect(dir), InputError);
+  CHECK_THROWS_WITH(report::collect(dir), Catch::Contains("kinematics.csv:3") && Catch::Contains("'abc'"));
+  write_text(dir / "kinematics.csv", "control_deg,cam_deg,lift_mm\n0,0,0\n0,1\n");
+  CHECK_THROWS_WITH(report::collect(dir), Catch::Contains("kinematics.csv:3") && Catch::Contains("2 cells"));
+  // a summary without its design key
+  write_text(dir / "summary.json", "{\"positions\": []}");
+  CHECK_THROWS_WITH(report::collect(dir), Catch::Contains("summary.json") && Catch::Contains("'design'"));
+  write_text(dir / "summary.json", "{\"positions\": [");
+  CHECK_THROWS_WITH(report::collect(dir), Catch::Contains("summary.json") && Catch::Contains("not a JSON object"));
+}
+
+}  // namespace
+}  // namespace camopt::test
