@@ -295,7 +295,8 @@
   }
 
   // a uPlot line plot: legend, drag zoom / double-click reset, cursor and zoom shared with the
-  // plots of its link_group, dashed reference series, bands and limit lines, family highlight
+  // plots of its link_group (uPlot's cursor sync carries the drag and the reset), dashed
+  // reference series, bands and limit lines, family highlight
   function linePlot(d, p, box, width) {
     const members = [null, ...p.series.map(s => s.family_member)];
     const series = [{ label: axisTitle(p.x) }, ...p.series.map((s, i) => ({
@@ -313,10 +314,8 @@
         drawClear: [self => drawBands(self, p.bands)],
         draw: [self => drawLimits(self, p.limits)],
         setSeries: [(self, i, opts) => { if (opts.focus != null) setHover(i == null ? -1 : members[i]); }],
-        setScale: [(self, key) => { if (key === 'x' && group) shareZoom(self, group); }],
       },
     }, lineData(p), box);
-    u.camoptGroup = group;
     api.plots[p.id] = u;
     pinOnClick(u, i => members[i]);
     return {
@@ -345,20 +344,6 @@
     }
     if (lo === null) return [0, 1];
     return uPlot.rangeNum(lo, hi, 0.1, true);
-  }
-
-  // a zoom in x (drag or reset) applied to every plot of the same link_group
-  let sharingZoom = false;
-  function shareZoom(src, group) {
-    if (sharingZoom) return;
-    sharingZoom = true;
-    const { min, max } = src.scales.x;
-    for (const u of Object.values(api.plots)) {
-      if (u && u !== src && u.camoptGroup === group && (u.scales.x.min !== min || u.scales.x.max !== max)) {
-        u.setScale('x', { min, max });
-      }
-    }
-    sharingZoom = false;
   }
 
   // shaded x intervals (active constraints, undercut windows) under the series, labelled

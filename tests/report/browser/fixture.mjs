@@ -4,7 +4,7 @@
 // written "<\/". The data are closed forms, so the tests know every drawn value.
 //   node tests/report/browser/fixture.mjs OUT.html [--cvvl]   writes a page to look at by hand
 //   (--cvvl: CVVL-sized, 17 positions x 721 points x 30 quantities, for measuring)
-import { readFileSync, writeFileSync } from 'node:fs';
+import { existsSync, readFileSync, writeFileSync } from 'node:fs';
 import { fileURLToPath } from 'node:url';
 import path from 'node:path';
 
@@ -30,6 +30,9 @@ const escapeHtml = s => s.replace(/&/g, '&amp;').replace(/</g, '&lt;').replace(/
 
 // report.html from a data object whose NUM fields are already base64 strings
 export function buildPage(data) {
+  if (!existsSync(path.join(repoRoot, 'node_modules/uplot/dist'))) {
+    throw new Error('node_modules/uplot is missing: run scripts/setup.sh --test (it installs the npm packages)');
+  }
   const read = rel => readFileSync(path.join(repoRoot, rel), 'utf8');
   const parts = {
     title: escapeHtml(data.title),

@@ -189,6 +189,11 @@ test('profile: drawn to scale and coloured by radius of curvature at the colour 
   const id = 'profile', at = (x, y) => page().evaluate(([pid, px, py]) => window.camoptReport.views[pid].toPixel(px, py), [id, x, y]);
   const [o, ex, ey] = [await at(0, 0), await at(30, 0), await at(0, 30)];
   assert.ok(ex[0] - o[0] > 100, 'the profile is drawn large');
+  const size = await page().evaluate(pid => { const c = document.querySelector(`.camopt-plot[data-plot-id="${pid}"] canvas`); return [c.clientWidth, c.clientHeight]; }, id);
+  for (const [x, y] of [[-fx.ELLIPSE.a, -fx.ELLIPSE.b], [fx.ELLIPSE.a, fx.ELLIPSE.b]]) {
+    const [px, py] = await at(x, y);
+    assert.ok(px > 0 && px < size[0] && py > 0 && py < size[1], `(${x}, ${y}) mm drawn at ${px}, ${py} px: outside the ${size} px canvas`);
+  }
   assert.ok(Math.abs((ex[0] - o[0]) - (o[1] - ey[1])) < 1e-9, `equal aspect: ${ex[0] - o[0]} px vs ${o[1] - ey[1]} px per 30 mm`);
   const [lo, hi] = [await pixel(id, 1, 0.5, 6), await pixel(id, 1, 159.5, 6)];
   const near = (a, b) => a.every((v, i) => Math.abs(v - b[i]) <= 3);
