@@ -16,8 +16,10 @@
   const VIRIDIS = [[68, 1, 84], [72, 40, 120], [62, 73, 137], [49, 104, 142], [38, 130, 142],
     [31, 158, 137], [53, 183, 121], [109, 205, 89], [180, 222, 44], [253, 231, 37]];
 
-  // the page's hooks (docs/report.md); views: the canvas plots' data -> pixel maps, for tests
-  const api = { ready: null, data: null, plots: {}, views: {}, animation: null };
+  // the page's hooks (docs/report.md); views: the canvas plots' data -> pixel maps, for tests;
+  // timing: milliseconds from this script's start to the drawn page and to its first paint
+  const api = { ready: null, data: null, plots: {}, views: {}, animation: null, timing: {} };
+  const started = performance.now();
   window.camoptReport = api;
   const views = [];   // every drawn plot: { el, members, restyle(k), resize(width) }
   const pending = [];  // plot boxes waiting for their drawing: { p, box }
@@ -757,7 +759,11 @@
   api.ready = new Promise((resolve, reject) => {
     try {
       init();
-      requestAnimationFrame(() => resolve(api));   // after the first paint
+      api.timing.drawn_ms = performance.now() - started;
+      requestAnimationFrame(() => {   // after the first paint
+        api.timing.first_paint_ms = performance.now() - started;
+        resolve(api);
+      });
     } catch (err) {
       const root = document.getElementById('camopt-report');
       root.append(el('p', { class: 'camopt-error', text: 'The report could not be drawn: ' + err.message }));

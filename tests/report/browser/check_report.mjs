@@ -15,6 +15,7 @@ import { existsSync, readFileSync } from 'node:fs';
 import { parseArgs } from 'node:util';
 import path from 'node:path';
 import { fileURLToPath, pathToFileURL } from 'node:url';
+import { decodeNum } from './fixture.mjs';
 
 const SETUP_HINT = 'run scripts/setup.sh --test (it installs chromium and the npm packages)';
 
@@ -51,7 +52,7 @@ export async function openReport(browser, file, viewport = { width: 1200, height
     if (!req.url().startsWith('file:')) problems.push(`request failed: ${req.url()}`);
   });
   await page.goto(pathToFileURL(path.resolve(file)).href);
-  await page.evaluate(() => window.camoptReport.ready);
+  await page.evaluate(() => window.camoptReport.ready.then(() => true));   // not the api object: it holds the data
   return { page, problems, close: () => context.close() };
 }
 
@@ -60,7 +61,7 @@ export function readReportData(html) {
   const m = html.match(/<script type="application\/json" id="camopt-data">([\s\S]*?)<\/script>/);
   if (!m) throw new Error('no <script id="camopt-data"> in the report');
   const d = JSON.parse(m[1]);
-  const num = t => { const b = Buffer.from(t, 'base64'); return Array.from({ length: b.length / 4 }, (_, i) => b.readFloatLE(4 * i)); };
+  const num = decodeNum;
   for (const p of d.plots) {
     for (const k of ['x_values', 'y_values', 'z']) p[k] = num(p[k]);
     for (const s of p.series) for (const k of ['x', 'y', 'color']) s[k] = num(s[k]);

@@ -233,6 +233,25 @@ test('animation: follower, cam, contact and spring at each frame against the dis
   assert.equal(await page().getAttribute('#camopt-mechanism', 'data-frame'), '0');   // nearest modulo 360
 });
 
+test('resize: plots follow their box when the window narrows; printing stacks them in one column', async () => {
+  // [box width, drawn width] per plot: equal once drawn
+  const widths = () => page().evaluate(() => [...document.querySelectorAll('.camopt-plot')].map(e =>
+    [Math.floor(e.clientWidth), e.querySelector('canvas').clientWidth]));
+  const wide = await widths();
+  wide.forEach(([box, drawn], i) => assert.equal(drawn, box, `plot ${i} at 1200 px`));
+  await page().setViewportSize({ width: 700, height: 900 });
+  await page().waitForFunction(() => [...document.querySelectorAll('.camopt-plot')].every(e =>
+    e.querySelector('canvas').clientWidth === Math.floor(e.clientWidth)));
+  const narrow = await widths();
+  narrow.forEach(([box], i) => assert.ok(box < 700 && box !== wide[i][0], `plot ${i}: box ${wide[i][0]} px -> ${box} px`));
+  await page().setViewportSize({ width: 1200, height: 900 });
+  await page().emulateMedia({ media: 'print' });
+  const print = await page().evaluate(() => [getComputedStyle(document.querySelector('.camopt-grid')).display,
+    getComputedStyle(document.getElementById('camopt-nav')).display]);
+  await page().emulateMedia({ media: 'screen' });
+  assert.deepEqual(print, ['block', 'none']);
+});
+
 test('offline: a page that fetches is reported', async () => {
   const bad = path.join(dir, 'fetching.html');
   writeFileSync(bad, readFileSync(file, 'utf8').replace('<script type="application/json"', '<img src="http://127.0.0.1:9/x.png"><script type="application/json"'));
