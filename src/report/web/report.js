@@ -1,4 +1,4 @@
-// camopt report page. Reads the run's description from <script id="camopt-data"> (the data format
+// camopt report page. Reads the run's description from the JSON script element #camopt-data (the data format
 // of docs/report.md: ReportData as JSON, numeric arrays as base64 little-endian float32) and draws
 // the header, one section per ReportData section with its plots and tables, and the mechanism
 // animation. Line plots are uPlot (the global `uPlot`, inlined before this script); profiles,
