@@ -11,7 +11,8 @@ usage() {
 usage: scripts/fuzz.sh [--seconds N] [--build-dir DIR] [TARGET...]
 
   --seconds N     time budget per target (default 60)
-  --build-dir DIR clang build directory (default: build-fuzz)
+  --build-dir DIR clang build directory (default: build-fuzz); the sanitizer build of
+                  scripts/setup.sh --sanitize has the harnesses too
   TARGET          target_lift_csv, design_toml, constraint_toml (default: all)
 EOF2
 }
@@ -47,9 +48,7 @@ done
 
 # shellcheck source=scripts/packages.sh
 source "$REPO/scripts/packages.sh"
-# libomp-14-dev: clang's OpenMP runtime, which SUNDIALSConfig.cmake asks for (OpenMP_CXX)
-ensure_packages build-essential cmake ninja-build pkg-config clang libclang-rt-14-dev libomp-14-dev libeigen3-dev \
-  libnlopt-cxx-dev coinor-libipopt-dev libsundials-dev libcli11-dev libtomlplusplus-dev nlohmann-json3-dev nodejs npm
+ensure_packages "${PACKAGES[@]}" "${CLANG_PACKAGES[@]}"
 # the configure inlines the report page's uPlot from node_modules
 ensure_node_modules "$REPO"
 
@@ -60,6 +59,8 @@ if [[ ! -f "$build_dir/CMakeCache.txt" || ! -f "$build_dir/build.ninja" ]]; then
   CC=clang CXX=clang++ cmake -S "$REPO" -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
     "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -gline-tables-only -DNDEBUG" \
     -DCAMOPT_BUILD_FUZZ=ON -DCAMOPT_BUILD_TESTS=OFF
+elif ! grep -q '^CAMOPT_BUILD_FUZZ:BOOL=ON' "$build_dir/CMakeCache.txt"; then
+  die "$build_dir has no fuzz harnesses (CAMOPT_BUILD_FUZZ is off): use a build of scripts/setup.sh --sanitize, or another --build-dir"
 fi
 cmake --build "$build_dir" --parallel "$(nproc)" --target "${targets[@]/#/fuzz_}"
 

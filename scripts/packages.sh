@@ -1,6 +1,17 @@
-# sourced by scripts/setup.sh and scripts/fuzz.sh: install the Debian 12 packages that are
-# missing (apt only when something is missing; as root or through sudo), and the npm packages
-# of package-lock.json
+# sourced by scripts/setup.sh and scripts/fuzz.sh: the package lists, installing the Debian 12
+# packages that are missing (apt only then; as root or through sudo), and installing the npm
+# packages of package-lock.json
+
+# Debian 12 packages needed to build and test; nodejs and npm install the report page's
+# charting library (package-lock.json), libcairo2-dev draws the static figures
+PACKAGES=(build-essential cmake ninja-build pkg-config libeigen3-dev libnlopt-cxx-dev coinor-libipopt-dev
+          libsundials-dev libcli11-dev catch2 libtomlplusplus-dev nlohmann-json3-dev nodejs npm libcairo2-dev)
+# only for the tests: the headless browser that opens the reports
+TEST_PACKAGES=(chromium)
+# clang, its sanitizer and libFuzzer runtimes, and its OpenMP runtime (SUNDIALSConfig.cmake asks
+# for OpenMP_CXX): the sanitizer build (setup.sh --sanitize) and the fuzz build (fuzz.sh)
+CLANG_PACKAGES=(clang libclang-rt-14-dev libomp-14-dev)
+
 ensure_packages() {
   command -v dpkg-query >/dev/null 2>&1 ||
     die "dpkg-query not found: this script supports Debian 12; install by hand: $*"

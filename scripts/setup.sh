@@ -12,12 +12,6 @@ DEFAULT_TARGET="designs/targets/rff_intake_lift.csv"
 DEFAULT_OUT="out/synthesis"
 DEFAULT_CHECK_ARGS=(--step 0.5 --outputs all --rpm 6000)
 
-# Debian 12 packages needed to build and test; nodejs and npm install the report page's
-# charting library (package-lock.json), libcairo2-dev draws the static figures
-PACKAGES=(build-essential cmake ninja-build pkg-config libeigen3-dev libnlopt-cxx-dev coinor-libipopt-dev
-          libsundials-dev libcli11-dev catch2 libtomlplusplus-dev nlohmann-json3-dev nodejs npm libcairo2-dev)
-# only for the tests: the headless browser that opens the reports
-TEST_PACKAGES=(chromium)
 
 usage() {
   cat <<EOF
@@ -25,7 +19,8 @@ usage: scripts/setup.sh [--build-dir DIR] [--type Release|Debug] [--sanitize] [-
 
   --build-dir DIR  build directory (default: build; a relative path is taken from the repo root)
   --type TYPE      CMAKE_BUILD_TYPE: Release (default) or Debug
-  --sanitize       build with AddressSanitizer + UndefinedBehaviorSanitizer
+  --sanitize       build with clang, AddressSanitizer + UndefinedBehaviorSanitizer, and the
+                   libFuzzer harnesses (scripts/fuzz.sh --build-dir DIR runs them)
   --test           run the test suite (ctest) and exit with its status
   --run-default    synthesize the cam of $DEFAULT_DESIGN for $DEFAULT_TARGET, results in $DEFAULT_OUT/
 EOF
@@ -83,11 +78,10 @@ jobs="$(nproc)"
 # --- packages: apt only when something is missing ---------------------------------------
 # shellcheck source=scripts/packages.sh
 source "$REPO/scripts/packages.sh"
-if ((run_tests)); then
-  ensure_packages "${PACKAGES[@]}" "${TEST_PACKAGES[@]}"
-else
-  ensure_packages "${PACKAGES[@]}"
-fi
+wanted=("${PACKAGES[@]}")
+((run_tests)) && wanted+=("${TEST_PACKAGES[@]}")
+[[ "$sanitize" == ON ]] && wanted+=("${CLANG_PACKAGES[@]}")
+ensure_packages "${wanted[@]}"
 # the npm packages of package-lock.json (uPlot, inlined into every report.html at build time)
 ensure_node_modules "$REPO"
 
@@ -119,16 +113,23 @@ else
   elif [[ "$(as_bool "$(cache_get CAMOPT_SANITIZE)")" != "$sanitize" ]]; then
     reason="CAMOPT_SANITIZE changed to $sanitize"
   fi
+  # the sanitizer build is clang's; CMake cannot change a build directory's compiler
+  cached_compiler="$(cache_get CMAKE_CXX_COMPILER)"
+  if [[ "$sanitize" == ON && "$cached_compiler" != *clang* ]] || [[ "$sanitize" == OFF && "$(as_bool "$(cache_get CAMOPT_SANITIZE)")" == ON ]]; then
+    die "$build_dir was configured with the compiler '$cached_compiler' (sanitize $(as_bool "$(cache_get CAMOPT_SANITIZE)")); the --sanitize build uses clang, the others the default compiler: delete it or use another --build-dir"
+  fi
 fi
 if [[ -n "$reason" ]]; then
   echo "== configuring $build_dir ($build_type, sanitize $sanitize; $reason)"
   cmake_args=(-S "$REPO" -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE="$build_type" -DCAMOPT_WERROR=ON)
   if [[ "$sanitize" == ON ]]; then
-    cmake_args+=(-DCAMOPT_SANITIZE=ON)
+    # clang: the same instrumented libraries serve the unit tests and the libFuzzer harnesses
+    cmake_args+=(-DCAMOPT_SANITIZE=ON -DCAMOPT_BUILD_FUZZ=ON)
+    CC=clang CXX=clang++ cmake "${cmake_args[@]}"
   else
     cmake_args+=(-DCAMOPT_SANITIZE=OFF)
+    cmake "${cmake_args[@]}"
   fi
-  cmake "${cmake_args[@]}"
 else
   echo "== configuring: $build_dir is up to date ($build_type, sanitize $sanitize)"
 fi
