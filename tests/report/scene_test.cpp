@@ -249,18 +249,17 @@ void check_attachments(const Design& d, const Scene& scene) {
         CHECK((end_a - pose_at(pos, c.node_a, f)(c.pin_a)).norm() <= kContactAbs);
         CHECK((end_b - pose_at(pos, c.node_b, f)(c.pin_b)).norm() <= kContactAbs);
       }
-      for (const SceneShape& s : scene.shapes) {
-        if (s.role != "pivot" || s.body >= static_cast<int>(m.nodes.size())) continue;
-        // a pivot on ground or a carrier belongs to the rotational node pivoting there
-        bool found = false;
-        for (std::size_t n = 1; n < m.nodes.size(); ++n) {
-          const kin::Node& node = m.nodes[n];
-          if (node.kind != NodeKind::rotational || (node.pivot - Vector2d(s.xy[0], s.xy[1])).norm() > 0) continue;
-          found = true;
-          const Vector2d here = pose_at(pos, s.body, f)(node.pivot);
-          CHECK((here - pose_at(pos, static_cast<int>(n), f)(node.pivot)).norm() <= kContactAbs);
-        }
-        CHECK(found);
+      // every pivot circle of a turning node on ground or on the carrier a control turns
+      for (std::size_t n = 1; n < m.nodes.size(); ++n) {
+        const kin::Node& node = m.nodes[n];
+        if (node.kind != NodeKind::rotational) continue;
+        const auto it = std::find_if(scene.shapes.begin(), scene.shapes.end(), [&](const SceneShape& s) {
+          return s.role == "pivot" && s.kind == SceneShape::Kind::circle && s.xy[0] == node.pivot.x() &&
+                 s.xy[1] == node.pivot.y() && s.body != static_cast<int>(n);
+        });
+        REQUIRE(it != scene.shapes.end());
+        CHECK((pose_at(pos, it->body, f)(node.pivot) - pose_at(pos, static_cast<int>(n), f)(node.pivot)).norm() <=
+              kContactAbs);
       }
     }
 }
