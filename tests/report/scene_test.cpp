@@ -358,28 +358,36 @@ TEST_CASE("scene: the eccentric designs' followers move as the closed forms say"
 
 TEST_CASE("scene: the drawn profiles lie on the cam profiles and the valve spring has its installed length",
           "[report][scene]") {
-  const Design d = load("roller_finger_follower.toml");
-  const Scene scene = report::build_scene(d.spec, d.mech, request_of(d.mech));
-  const kin::CamProfile& lobe = d.mech.profiles.at(0);
-  const int cam = body_index(scene, "cam"), valve = body_index(scene, "valve");
-  // the cam's whole profile: every vertex at the polar radius of its polar angle (profile
-  // frame turned by -90 deg), every turn of the polar angle covered in steps <= 1 deg
-  const auto outline = std::find_if(scene.shapes.begin(), scene.shapes.end(), [&](const SceneShape& s) {
-    return s.body == cam && s.role == "profile";
+  // the bucket tappet's lobe (asymmetric: a mirrored or turned outline is off its radii):
+  // every vertex at the polar radius of its polar angle in the profile frame (turned by
+  // +90 deg in the drawing), the whole turn covered in steps of at most 1 deg
+  const Design bucket = load("bucket_tappet.toml");
+  const Scene bucket_scene = report::build_scene(bucket.spec, bucket.mech, request_of(bucket.mech));
+  const kin::CamProfile& lobe = bucket.mech.profiles.at(0);
+  const int lobe_body = body_index(bucket_scene, "cam");
+  const auto outline = std::find_if(bucket_scene.shapes.begin(), bucket_scene.shapes.end(), [&](const SceneShape& s) {
+    return s.body == lobe_body && s.role == "profile";
   });
-  REQUIRE(outline != scene.shapes.end());
+  REQUIRE(outline != bucket_scene.shapes.end());
   CHECK(outline->kind == SceneShape::Kind::polygon);
   REQUIRE(outline->xy.size() >= 2 * 360);
-  double previous = -INFINITY, largest_step = 0.0;
+  double previous = 0.0, turned = 0.0, largest_step = 0.0;
   for (std::size_t k = 0; k < outline->xy.size(); k += 2) {
     const double x = outline->xy[k], y = outline->xy[k + 1];
-    double polar = std::atan2(y, x) + 90.0 * rad_per_deg;  // the profile's own polar angle
-    polar = std::fmod(polar + 2 * pi, 2 * pi);
+    const double polar = std::fmod(std::atan2(y, x) - 90.0 * rad_per_deg + 4 * pi, 2 * pi);
     CHECK(std::abs(std::hypot(x, y) - lobe.radius_at(polar)) <= 1e-9);
-    if (k > 0) largest_step = std::max(largest_step, std::abs(std::remainder(polar - previous, 2 * pi)));
+    if (k > 0) {
+      const double step = std::remainder(polar - previous, 2 * pi);
+      largest_step = std::max(largest_step, std::abs(step));
+      turned += step;
+    }
     previous = polar;
   }
   CHECK(largest_step <= 1.0 * rad_per_deg + 1e-12);
+  CHECK(turned + largest_step >= 2 * pi - 1e-9);  // with the closing edge, once round
+  const Design d = load("roller_finger_follower.toml");
+  const Scene scene = report::build_scene(d.spec, d.mech, request_of(d.mech));
+  const int valve = body_index(scene, "valve");
   // the valve spring from its seat on ground to the retainer on the valve, 38.8 mm installed
   const auto spring = std::find_if(scene.shapes.begin(), scene.shapes.end(),
                                    [&](const SceneShape& s) { return s.kind == SceneShape::Kind::spring; });
