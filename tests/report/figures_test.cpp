@@ -30,7 +30,8 @@ namespace {
 using Rgb = std::array<double, 3>;
 
 // the series palette's first colours and viridis at 0.5 (figure_axes.cpp), as the test expects them
-constexpr Rgb kBlue{0.122, 0.467, 0.706}, kOrange{1.000, 0.498, 0.055}, kReferenceGray{0.35, 0.35, 0.35};
+constexpr Rgb kBlue{0.122, 0.467, 0.706}, kOrange{1.000, 0.498, 0.055}, kGreen{0.173, 0.627, 0.173},
+    kReferenceGray{0.35, 0.35, 0.35};
 constexpr double kColorTol = 2.5 / 255;  // 8-bit quantisation of the surface
 
 ReportData sample_data() {
@@ -48,7 +49,8 @@ ReportData sample_data() {
   Series a{"lift", {}, {2, 2, 2, NAN, 8, 8}, {}, -1, false};
   Series b{"lift 2", {0, 10}, {5, 5}, {}, -1, false};
   Series ref{"kinematic lift", {0, 10}, {0.5, 0.5}, {}, -1, true};
-  line.series = {a, b, ref};
+  Series upright{"cursor", {6, 6}, {0, 10}, {}, -1, false};
+  line.series = {a, b, ref, upright};
   line.bands = {{4.5, 5.5, "open"}};
   line.limits = {{9.0, "limit"}};
   line.main = true;
@@ -199,6 +201,7 @@ TEST_CASE("figures: every main plot is written as an svg with its titles and one
   CHECK(paths_in(svg, kBlue) == 2);
   CHECK(paths_in(svg, kOrange) == 2);
   CHECK(paths_in(svg, kReferenceGray) == 2);
+  CHECK(paths_in(svg, kGreen) == 2);
   const std::string heat = test::read_file(dir.path() / "figures" / "speed-map.svg");
   CHECK(balanced_tags(heat));
   CHECK(heat.find("x: engine speed [rpm]; y: control [deg]; color: margin [rpm]") != std::string::npos);
@@ -241,7 +244,10 @@ TEST_CASE("figures: data points land on the pixels the frame maps them to in the
     CHECK(same_color(img.at(pixel_of(line, 9, 8)), kBlue));   // on the second
     CHECK(!same_color(img.at(pixel_of(line, 3, 8)), kBlue));  // where a mirrored map would put them
     CHECK(!same_color(img.at(pixel_of(line, 9, 2)), kBlue));
-    CHECK(!same_color(img.at(pixel_of(line, 7, 8)), kBlue));  // the gap
+    CHECK(!same_color(img.at(pixel_of(line, 7, 8)), kBlue));  // the gap: no line across it
+    CHECK(!same_color(img.at(pixel_of(line, 7, 6.5)), kBlue));
+    CHECK(same_color(img.at(pixel_of(line, 6, 3)), kGreen));  // on the upright line
+    CHECK(!same_color(img.at(pixel_of(line, 6.2, 3)), kGreen));
     CHECK(same_color(img.at(pixel_of(line, 3, 7)), white));   // paper, off the grid
     CHECK(same_color(img.at(pixel_of(line, 5, 7)), Rgb{1.0, 0.95, 0.8125}));  // the band, no line across the gap
     CHECK(same_color(img.at(pixel_of(line, 3, 5)), kOrange));
