@@ -30,7 +30,7 @@ namespace {
 using Rgb = std::array<double, 3>;
 
 // the series palette's first colours and viridis at 0.5 (figure_axes.cpp), as the test expects them
-constexpr Rgb kBlue{0.122, 0.467, 0.706}, kOrange{1.000, 0.498, 0.055}, kGreen{0.173, 0.627, 0.173},
+constexpr Rgb kBlue{0.122, 0.467, 0.706}, kOrange{1.000, 0.498, 0.055}, kRed{0.839, 0.153, 0.157},
     kReferenceGray{0.35, 0.35, 0.35};
 constexpr double kColorTol = 2.5 / 255;  // 8-bit quantisation of the surface
 
@@ -201,7 +201,7 @@ TEST_CASE("figures: every main plot is written as an svg with its titles and one
   CHECK(paths_in(svg, kBlue) == 2);
   CHECK(paths_in(svg, kOrange) == 2);
   CHECK(paths_in(svg, kReferenceGray) == 2);
-  CHECK(paths_in(svg, kGreen) == 2);
+  CHECK(paths_in(svg, kRed) == 2);
   const std::string heat = test::read_file(dir.path() / "figures" / "speed-map.svg");
   CHECK(balanced_tags(heat));
   CHECK(heat.find("x: engine speed [rpm]; y: control [deg]; color: margin [rpm]") != std::string::npos);
@@ -246,8 +246,8 @@ TEST_CASE("figures: data points land on the pixels the frame maps them to in the
     CHECK(!same_color(img.at(pixel_of(line, 9, 2)), kBlue));
     CHECK(!same_color(img.at(pixel_of(line, 7, 8)), kBlue));  // the gap: no line across it
     CHECK(!same_color(img.at(pixel_of(line, 7, 6.5)), kBlue));
-    CHECK(same_color(img.at(pixel_of(line, 6, 3)), kGreen));  // on the upright line
-    CHECK(!same_color(img.at(pixel_of(line, 6.2, 3)), kGreen));
+    CHECK(same_color(img.at(pixel_of(line, 6, 3)), kRed));  // on the upright line
+    CHECK(!same_color(img.at(pixel_of(line, 6.2, 3)), kRed));
     CHECK(same_color(img.at(pixel_of(line, 3, 7)), white));   // paper, off the grid
     CHECK(same_color(img.at(pixel_of(line, 5, 7)), Rgb{1.0, 0.95, 0.8125}));  // the band, no line across the gap
     CHECK(same_color(img.at(pixel_of(line, 3, 5)), kOrange));
