@@ -15,6 +15,7 @@
 #include <map>
 #include <regex>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "camopt/core/error.hpp"
@@ -34,17 +35,25 @@ constexpr Rgb kBlue{0.122, 0.467, 0.706}, kOrange{1.000, 0.498, 0.055}, kRed{0.8
     kReferenceGray{0.35, 0.35, 0.35};
 constexpr double kColorTol = 2.5 / 255;  // 8-bit quantisation of the surface
 
+// a main plot with its axes
+Plot main_plot(const char* id, const char* title, PlotKind kind, Axis x, Axis y, Axis color = {}) {
+  Plot p;
+  p.id = id;
+  p.title = title;
+  p.kind = kind;
+  p.x = std::move(x);
+  p.y = std::move(y);
+  p.color = std::move(color);
+  p.main = true;
+  return p;
+}
+
 ReportData sample_data() {
   ReportData d;
   d.command = "kinematics";
   d.title = "figure test";
-  // a line plot: two series, a dashed reference, a band and a limit
-  Plot line;
-  line.id = "svaj-lift";
-  line.title = "Valve lift";
-  line.kind = PlotKind::line;
-  line.x = {"cam angle", "deg"};
-  line.y = {"valve lift", "mm"};
+  // a line plot: two series, a dashed reference, an upright line, a band and a limit
+  Plot line = main_plot("svaj-lift", "Valve lift", PlotKind::line, {"cam angle", "deg"}, {"valve lift", "mm"});
   line.x_values = {0, 2, 4, 6, 8, 10};
   Series a{"lift", {}, {2, 2, 2, NAN, 8, 8}, {}, -1, false};
   Series b{"lift 2", {0, 10}, {5, 5}, {}, -1, false};
@@ -53,15 +62,9 @@ ReportData sample_data() {
   line.series = {a, b, ref, upright};
   line.bands = {{4.5, 5.5, "open"}};
   line.limits = {{9.0, "limit"}};
-  line.main = true;
   // a profile: a circle of radius 10 about (1, 2) with one color value all round
-  Plot profile;
-  profile.id = "cam-profile";
-  profile.title = "Cam profile";
-  profile.kind = PlotKind::profile;
-  profile.x = {"x", "mm"};
-  profile.y = {"y", "mm"};
-  profile.color = {"radius of curvature", "mm"};
+  Plot profile = main_plot("cam-profile", "Cam profile", PlotKind::profile, {"x", "mm"}, {"y", "mm"},
+                           {"radius of curvature", "mm"});
   Series circle;
   circle.name = "cam";
   for (int i = 0; i <= 720; ++i) {
@@ -71,19 +74,12 @@ ReportData sample_data() {
     circle.color.push_back(10.0);
   }
   profile.series = {circle};
-  profile.main = true;
   // a heatmap: 2 x 3 cells, one of them a hole
-  Plot heat;
-  heat.id = "speed-map";
-  heat.title = "Separation speed";
-  heat.kind = PlotKind::heatmap;
-  heat.x = {"engine speed", "rpm"};
-  heat.y = {"control", "deg"};
-  heat.color = {"margin", "rpm"};
+  Plot heat = main_plot("speed-map", "Separation speed", PlotKind::heatmap, {"engine speed", "rpm"},
+                        {"control", "deg"}, {"margin", "rpm"});
   heat.x_values = {1000, 2000, 3000};
   heat.y_values = {0, 8};
   heat.z = {0, 50, 100, NAN, 25, 75};
-  heat.main = true;
   // not a main plot: no figure
   Plot extra = line;
   extra.id = "not-main";

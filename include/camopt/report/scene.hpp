@@ -8,8 +8,8 @@
 // link or crank-slider connection (its bar, named after the connection) and one per pivot
 // moved by a control (the carrier that turns the pivot about its centre, "<node> pivot").
 // shapes (SceneShape::role): cam and swing-cam profiles ("profile": a polygon of the whole
-// profile on a body that turns through a revolution, else an open polyline over the part
-// the contacts sweep plus a margin), discs, pads and circles ("profile"), rollers
+// profile on the driver or where the contacts sweep it all round, else an open polyline over
+// the part they sweep plus a margin), discs, pads and circles ("profile"), rollers
 // ("roller"), flat faces ("profile": the swept contact extent plus a margin, at least the
 // face's half-width), ground guides ("profile": the swept arc), link bars and lever
 // skeletons ("lever": the pivot or reference joined to each feature), pivots and pins
@@ -37,8 +37,10 @@ struct SceneRequest {
   void validate(const kin::Mechanism& mech) const;
 };
 
-// the scene of `mech` compiled from `spec`. InputError for an invalid request; a position
-// whose kinematics fail throws NumericalError naming the angle and the control position.
+// the scene of `mech` compiled from `spec`. ScenePosition::lift_mm is the lift column of
+// `camopt kinematics` bit for bit: lift_mm, or lift_deg for a rotating output node.
+// InputError for an invalid request; a position whose kinematics fail throws NumericalError
+// naming the angle and the control position.
 Scene build_scene(const DesignSpec& spec, const kin::Mechanism& mech, const SceneRequest& request);
 
 }  // namespace camopt::report
