@@ -214,6 +214,7 @@ void collect_synthesize(ReportData& data, const fs::path& dir, const nlohmann::j
   // the cam to scale and its curvature, the grinding table
   add_profile_plots(data, dir, report);
   add_grinding_plot(data, dir);
+  add_scene(data, SceneSource{dir / "design.toml"});
   data.notes.push_back("synthesize reports the largest pressure angle and round-trip error (table below), not their "
                        "course over the cam angle: run camopt kinematics on " + (dir / "design.toml").string() +
                        " --outputs all for them");
@@ -235,6 +236,10 @@ void collect_optimize(ReportData& data, const fs::path& dir, const nlohmann::jso
     data.family = family_labels({"control"}, groups);
     if (groups.size() < 2) data.family.clear();
     add_svaj_plots(data, csv, groups, data.family, "cam_deg", "valve");
+    SceneSource scene{dir / "design.toml"};
+    if (groups.size() > 1)
+      for (const Group& g : groups) scene.request.controls.push_back(g.keys.front());
+    add_scene(data, scene);
   } else {
     data.notes.push_back("no lift.csv: the run wrote report.json alone (an infeasible constraint set)");
   }

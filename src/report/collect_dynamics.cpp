@@ -134,6 +134,9 @@ void collect_rigid(ReportData& data, const fs::path& dir, const nlohmann::json& 
   data.title = "camopt dynamics rigid: " + format_scalar(member(summary, "design", file));
   add_facts(data, summary, {"design", "design_file", "model", "mode", "step_cam_deg", "points_per_position"});
   const Runs r = read_runs(data, dir / "dynamics.csv");
+  // the mechanism at the run's control positions
+  add_scene(data, scene_source_of_summary(summary, member(summary, "results", file), number(summary, "step_cam_deg", file),
+                                          0.0, 360.0));
   // contact forces and stresses, cam torque, spring margins
   add_section(data, "forces", "Forces");
   bool first = true;
@@ -168,7 +171,8 @@ void collect_flexible(ReportData& data, const fs::path& dir, const nlohmann::jso
   add_facts(data, summary, {"design", "design_file", "model", "step_cam_deg", "revolutions", "start",
                             "relative_tolerance", "absolute_tolerance"});
   const Runs r = read_runs(data, dir / "dynamics.csv");
-  // the dynamic lift over the kinematic one (dashed), the lift loss
+  // the dynamic lift over the kinematic one (dashed), the lift loss, the mechanism (its
+  // kinematic poses)
   add_section(data, "lift", "Dynamic lift");
   if (Plot* p = add_runs_plot(data, r, "dynamic-lift", "Dynamic valve lift (kinematic dashed)", "lift", "lift_mm",
                               "dynamic lift", true)) {
@@ -176,6 +180,8 @@ void collect_flexible(ReportData& data, const fs::path& dir, const nlohmann::jso
     add_group_series(*p, r.csv, r.groups, r.labels, "cam_deg", "lift_kinematic_mm", "kinematic lift", true);
   }
   add_runs_plot(data, r, "lift-loss", "Lift loss (kinematic - dynamic)", "lift", "lift_loss_mm", "lift loss");
+  add_scene(data, scene_source_of_summary(summary, member(summary, "results", file), number(summary, "step_cam_deg", file),
+                                          0.0, 360.0));
   // contact and seat forces (bounce), cam torque, spring coil forces
   add_section(data, "forces", "Forces");
   bool first = true;

@@ -122,8 +122,14 @@ void collect_kinematics(ReportData& data, const fs::path& dir, const nlohmann::j
   sw.groups = group_rows(csv, {control});
   sw.labels = family_labels({control}, sw.groups);
   if (sw.groups.size() > 1) data.family = sw.labels;
-  // the valve, the nodes, the contacts
+  // the valve, the mechanism moving, the nodes, the contacts
   add_svaj_plots(data, csv, sw.groups, sw.labels, sw.angle, "valve");
+  const std::vector<double>& driver = csv.at(sw.angle);
+  if (!driver.empty()) {
+    const double step = summary.contains("step_deg") ? number(summary, "step_deg", file) : number(summary, "step_mm", file);
+    add_scene(data, scene_source_of_summary(summary, member(summary, "positions", file), step, driver.front(),
+                                            driver[sw.groups.front().end - 1]));
+  }
   const std::vector<std::string> contacts = contact_names(csv);
   const std::vector<std::string> nodes = node_columns(csv, contacts);
   if (!nodes.empty()) add_section(data, "nodes", "Every node: position, velocity, acceleration and jerk");

@@ -5,11 +5,13 @@
 #include <cstddef>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <limits>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "camopt/report/report_data.hpp"
+#include "camopt/report/scene.hpp"
 
 namespace camopt::report::detail {
 
@@ -90,6 +92,21 @@ void add_section(ReportData& data, std::string id, std::string title);
 
 // the collectors, one per kind of run (collect_*.cpp)
 void collect_lift_table(ReportData& data, const fs::path& csv_path);
+
+// ---- the mechanism animation (collect_scene.cpp) ---------------------------------------------
+// the design a run used and the frames to draw: its control positions, its driver sweep (NaN
+// ends: the design's own) at the run's step, of which every stride-th point is drawn
+struct SceneSource {
+  fs::path design;
+  SceneRequest request{{}, std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN(), 1.0};
+  std::size_t stride = 1;
+};
+// a summary.json's design_file, the control values of its `rows` (control_deg or control_mm)
+SceneSource scene_source_of_summary(const nlohmann::json& summary, const nlohmann::json& rows, double run_step,
+                                    double start, double stop);
+// data.scene from build_scene() and a "mechanism" section after the first; a design file that
+// is not there leaves a note instead
+void add_scene(ReportData& data, const SceneSource& source);
 void collect_synthesize(ReportData& data, const fs::path& dir, const nlohmann::json& report);
 void collect_optimize(ReportData& data, const fs::path& dir, const nlohmann::json& report);
 void collect_kinematics(ReportData& data, const fs::path& dir, const nlohmann::json& summary);

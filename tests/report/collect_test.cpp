@@ -1,5 +1,6 @@
 // collect() on result folders made by the camopt binary: plot ids, series counts, units from
 // the CSV headers, display data against the CSV values; bad folders named.
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 
@@ -62,6 +63,40 @@ TEST_CASE("report: collect of the 17-position CVVL sweep gives one series per co
   // the summary's extremes, one row per position
   CHECK(table_of(d, "extremes").rows.size() == 17);
   CHECK(d.notes.empty());
+}
+
+TEST_CASE("report: the animation of the 17-position CVVL sweep moves the valve by the CSV lift at every frame") {
+  const fs::path dir = result_folder("kin_cvvl17");
+  const ReportData d = report::collect(dir);
+  const TestCsv csv = read_test_csv(dir / "kinematics.csv");
+  REQUIRE(d.scene.has_value());
+  const report::Scene& sc = *d.scene;
+  REQUIRE(sc.positions.size() == 17);
+  CHECK(sc.output_body == "valve");
+  // the section sits right after the valve's SVAJ
+  REQUIRE(d.sections.size() > 1);
+  CHECK(d.sections[1].id == "mechanism");
+  // frames every 1 deg: every second row of the 0.5 deg table, 361 per position
+  const std::size_t rows = csv["cam_deg"].size() / 17;
+  REQUIRE(rows == 721);
+  const auto valve = static_cast<std::size_t>(
+      std::find(sc.bodies.begin(), sc.bodies.end(), sc.output_body) - sc.bodies.begin());
+  REQUIRE(valve < sc.bodies.size());
+  for (std::size_t k = 0; k < 17; ++k) {
+    const report::ScenePosition& pos = sc.positions[k];
+    CHECK(pos.control == csv["control_deg"][k * rows]);
+    REQUIRE(pos.cam_deg.size() == 361);
+    for (std::size_t f = 0; f < pos.cam_deg.size(); ++f) {
+      const std::size_t row = k * rows + 2 * f;
+      INFO("control " << pos.control << ", frame " << f);
+      REQUIRE(pos.cam_deg[f] == csv["cam_deg"][row]);
+      // the lift column bit for bit, and the valve's drawn translation (it slides along its
+      // axis from its drawing position) of that length
+      REQUIRE(pos.lift_mm[f] == csv["lift_mm"][row]);
+      const double tx = pos.pose[valve][3 * f], ty = pos.pose[valve][3 * f + 1];
+      REQUIRE(std::abs(std::hypot(tx, ty) - std::abs(csv["lift_mm"][row])) <= 1e-12);
+    }
+  }
 }
 
 TEST_CASE("report: collect of a default kinematics run says how to get the contact plots") {

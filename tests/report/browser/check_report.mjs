@@ -149,8 +149,11 @@ export function csvLift(text, liftColumn, control) {
 // drawn displacement |(tx, ty)| and data-lift-mm against the CSV's lift at a
 export async function checkLift(page, scene, liftByAngle, position = 0, count = 9) {
   const failures = [];
-  const angles = [...liftByAngle.keys()];
-  if (!angles.length) return [`CSV: no rows for control position ${position} (${scene.positions[position].control})`];
+  // the CSV's angles that are frames of the animation (its frames may be every k-th row)
+  const frames = Array.from(scene.positions[position].cam_deg);
+  const isFrame = a => frames.some(f => Math.abs(f - a) <= 4 * 2 ** -24 * Math.max(Math.abs(a), 1));
+  const angles = [...liftByAngle.keys()].filter(isFrame);
+  if (!angles.length) return [`CSV: no rows at the animation's frames for control position ${position} (${scene.positions[position].control})`];
   const peak = angles.reduce((a, b) => (Math.abs(liftByAngle.get(b)) > Math.abs(liftByAngle.get(a)) ? b : a));
   const picks = [...new Set([peak, ...Array.from({ length: count - 1 }, (_, i) => angles[Math.floor(i * (angles.length - 1) / (count - 2))])])];
   await page.evaluate(k => window.camoptReport.animation.setPosition(k), position);
@@ -168,7 +171,10 @@ export async function checkLift(page, scene, liftByAngle, position = 0, count = 
     const tol = 4 * 2 ** -24 * Math.max(Math.abs(got.tx), Math.abs(got.ty), Math.abs(want), 1);
     const shown = Math.hypot(got.tx, got.ty);
     if (got.position !== String(position)) failures.push(`animation: data-position ${got.position}, expected ${position}`);
-    if (Math.abs(got.cam - a) > 4 * 2 ** -24 * Math.max(Math.abs(a), 1)) failures.push(`animation: setCamDeg(${a}) shows cam ${got.cam} deg`);
+    // the page shows angles modulo one revolution (360 deg is drawn as 0 deg)
+    const turn = x => ((x % 360) + 360) % 360;
+    const off = Math.abs(turn(got.cam) - turn(a));
+    if (Math.min(off, 360 - off) > 4 * 2 ** -24 * Math.max(Math.abs(a), 1)) failures.push(`animation: setCamDeg(${a}) shows cam ${got.cam} deg`);
     if (Math.abs(shown - Math.abs(want)) > tol) failures.push(`animation at ${a} deg: ${scene.output_body} drawn ${shown} mm from rest, CSV lift ${want} mm (tolerance ${tol.toExponential(2)})`);
     if (Math.abs(got.lift - want) > tol) failures.push(`animation at ${a} deg: data-lift-mm ${got.lift}, CSV lift ${want} mm`);
   }

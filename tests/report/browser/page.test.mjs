@@ -85,7 +85,7 @@ test('hooks: a checker fed a wrong plot count or a wrong lift reports it', async
   assert.ok(failures.some(f => f.startsWith('plot svaj-lift: data-series')), failures.join('\n'));
   assert.ok(failures.some(f => f.startsWith('table constraints: rows marked failed')), failures.join('\n'));
   // a CSV whose lift is 1e-5 relative off: above float32 rounding, so every picked angle fails
-  const scene = { output_body: 'follower', positions: [{ control: 0 }] };
+  const scene = { output_body: 'follower', positions: [{ control: 0, cam_deg: [0, 90, 180, 270] }] };
   const lift = new Map([0, 90, 180, 270].map(a => [a, fx.discLift(a * Math.PI / 180) * (1 + 1e-5) + 1e-5]));
   assert.equal((await checkLift(page(), scene, lift, 0, 4)).length, 8);
 });
