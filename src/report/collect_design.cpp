@@ -215,9 +215,7 @@ void collect_synthesize(ReportData& data, const fs::path& dir, const nlohmann::j
   add_profile_plots(data, dir, report);
   add_grinding_plot(data, dir);
   add_scene(data, SceneSource{dir / "design.toml"});
-  data.notes.push_back("synthesize reports the largest pressure angle and round-trip error (table below), not their "
-                       "course over the cam angle: run camopt kinematics on " + (dir / "design.toml").string() +
-                       " --outputs all for them");
+  add_made_cam_plots(data, dir, report);
   // every key of report.json
   add_section(data, "summary", "Summary");
   data.tables.push_back(key_value_table("summary", "report.json", "summary", report));

@@ -107,6 +107,10 @@ SceneSource scene_source_of_summary(const nlohmann::json& summary, const nlohman
 // data.scene from build_scene() and a "mechanism" section after the first; a design file that
 // is not there leaves a note instead
 void add_scene(ReportData& data, const SceneSource& source);
+// synthesize: the kinematic solver on the folder's design.toml: the pressure angle and the
+// cam's radius of curvature at the contact against cam angle, and the made lift minus the
+// target (report.json's target_file, when readable from here)
+void add_made_cam_plots(ReportData& data, const fs::path& dir, const nlohmann::json& report);
 void collect_synthesize(ReportData& data, const fs::path& dir, const nlohmann::json& report);
 void collect_optimize(ReportData& data, const fs::path& dir, const nlohmann::json& report);
 void collect_kinematics(ReportData& data, const fs::path& dir, const nlohmann::json& summary);

@@ -6,6 +6,7 @@
 
 #include "camopt/core/error.hpp"
 #include "report/report_support.hpp"
+#include "support/compare.hpp"
 
 namespace camopt::test {
 namespace {
@@ -162,7 +163,7 @@ TEST_CASE("report: collect of synthesize draws the profile to scale with its bas
   const double base = rj["profile"]["base_circle_radius_mm"].get<double>();
   CHECK(p.series[1].dashed);
   for (std::size_t i = 0; i < p.series[1].x.size(); ++i)
-    REQUIRE(std::hypot(p.series[1].x[i], p.series[1].y[i]) == Approx(base).epsilon(1e-14));
+    REQUIRE_REL(std::hypot(p.series[1].x[i], p.series[1].y[i]), base, 1e-14);
   // the concave windows as bands where the radius of curvature is negative
   const report::Plot& rho = plot_of(d, "profile-curvature");
   REQUIRE(rj["checks"]["concave"] == true);
@@ -175,6 +176,20 @@ TEST_CASE("report: collect of synthesize draws the profile to scale with its bas
     INFO("profile angle " << angle[i] << " radius " << r[i]);
     REQUIRE(inside == (r[i] < 0));
   }
+  // the made cam in the kinematic solver: its largest pressure angle and its round-trip error
+  // are those synthesize reports from its own check of the same cam on the same grid
+  const report::Plot& pa = plot_of(d, "made-pressure-angle");
+  REQUIRE(pa.series.size() == 1);
+  double pa_max = 0;
+  for (double v : pa.series[0].y) pa_max = std::max(pa_max, std::abs(v));
+  CHECK_REL(pa_max, rj["checks"]["max_pressure_angle_deg"].get<double>(), 1e-12);
+  const report::Plot& rt = plot_of(d, "made-round-trip");
+  REQUIRE(rt.series.size() == 1);
+  CHECK(rt.series[0].x.size() == 720);
+  double rt_max = 0;
+  for (double v : rt.series[0].y) rt_max = std::max(rt_max, std::abs(v));
+  // (a difference of two 8 mm lifts: their round-off, a few 1e-15 mm, is the tolerance)
+  CHECK_ABS(rt_max, rj["checks"]["round_trip_max_error_mm"].get<double>(), 1e-13);
 }
 
 TEST_CASE("report: collect of optimize puts the limits and active angles on the SVAJ plots") {

@@ -21,6 +21,7 @@
 #include "camopt/core/error.hpp"
 #include "camopt/report/figures.hpp"
 #include "cli/cli_support.hpp"
+#include "support/compare.hpp"
 
 using namespace camopt;
 using namespace camopt::report;
@@ -251,7 +252,7 @@ TEST_CASE("figures: data points land on the pixels the frame maps them to in the
   SECTION("profile: to scale, the curve in the colour of its value") {
     const Plot& profile = d.plots[1];
     const FigureFrame f = figure_frame(profile);
-    CHECK((f.x_max - f.x_min) / f.width == Approx((f.y_max - f.y_min) / f.height).epsilon(1e-12));
+    CHECK_REL((f.x_max - f.x_min) / f.width, (f.y_max - f.y_min) / f.height, 1e-12);
     CHECK((f.x_min <= -9 && f.x_max >= 11 && f.y_min <= -8 && f.y_max >= 12));
     const Image img(figure(figures, "cam-profile.png"));
     // viridis at the middle of the colour range (one value, widened by 10 % each way)
