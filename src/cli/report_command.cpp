@@ -25,7 +25,8 @@ std::filesystem::path write_report_of(const std::string& source) {
   std::error_code ec;
   if (!std::filesystem::is_directory(source, ec)) return report::write_report(source);
   io::OutputTransaction out = open_outputs(source, {"report.html"});
-  out.stage("report.html", report::render_html(report::collect(source)));
+  // rebuilt from the results at any time: renamed into place without waiting for the disk
+  out.stage("report.html", report::render_html(report::collect(source)), io::Durability::renamed);
   out.commit();
   return report::report_path(source);
 }

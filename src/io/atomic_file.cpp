@@ -85,8 +85,10 @@ void discard_temp(const std::string& temp_path) {
   detail::forget_temp(temp_path);
 }
 
-// write `content` to a new temp file next to `path`; returns the temp path
-std::string write_temp_file(const std::string& path, std::string_view content) {
+// write `content` to a new temp file next to `path` (on the disk before it returns when
+// `durability` says so); returns the temp path
+std::string write_temp_file(const std::string& path, std::string_view content,
+                            Durability durability = Durability::on_disk) {
   require_parent_directory(path);
   std::string temp_path;
   const int fd = detail::create_registered_temp(path, temp_path);
@@ -111,7 +113,7 @@ std::string write_temp_file(const std::string& path, std::string_view content) {
     data += written;
     remaining -= static_cast<std::size_t>(written);
   }
-  if (::fsync(fd) != 0) fail(errno);
+  if (durability == Durability::on_disk && ::fsync(fd) != 0) fail(errno);
   if (::close(fd) != 0) {
     const int error = errno;
     discard_temp(temp_path);
@@ -172,9 +174,9 @@ void lock_directory(int fd, const std::string& directory, const std::function<vo
 
 }  // namespace
 
-void write_text_atomic(const std::string& path, std::string_view content) {
+void write_text_atomic(const std::string& path, std::string_view content, Durability durability) {
   require_replaceable(path);
-  const std::string temp_path = write_temp_file(path, content);
+  const std::string temp_path = write_temp_file(path, content, durability);
   try {
     require_replaceable(path);  // again: the check and the rename are far apart for a large file
   } catch (...) {
@@ -215,7 +217,7 @@ void OutputTransaction::release_lock() {
   lock_fd_ = -1;
 }
 
-void OutputTransaction::stage(const std::string& file_name, std::string_view content) {
+void OutputTransaction::stage(const std::string& file_name, std::string_view content, Durability durability) {
   CAMOPT_ASSERT_MSG(!committed_, "OutputTransaction: stage() after commit()");
   CAMOPT_ASSERT_MSG(std::find(may_write_.begin(), may_write_.end(), file_name) != may_write_.end(),
                     "OutputTransaction: a file not in the command's list of outputs");
@@ -223,7 +225,8 @@ void OutputTransaction::stage(const std::string& file_name, std::string_view con
   for (const auto& staged : staged_)
     CAMOPT_ASSERT_MSG(staged.second != final_path, "OutputTransaction: file staged twice");
   // written now, so a full disk shows before anything is committed
-  staged_.emplace_back(write_temp_file(final_path, content), final_path);
+  staged_.emplace_back(write_temp_file(final_path, content, durability), final_path);
+  synced_ = synced_ || durability == Durability::on_disk;
 }
 
 void OutputTransaction::commit() {
@@ -243,7 +246,7 @@ void OutputTransaction::commit() {
     const bool staged = std::any_of(staged_.begin(), staged_.end(), [&](const auto& s) { return s.second == path; });
     if (!staged) remove_stale(path);
   }
-  ::fsync(lock_fd_);  // the renames reach the disk with the files
+  if (synced_) ::fsync(lock_fd_);  // the renames reach the disk with the files
   committed_ = true;
   release_lock();
 }

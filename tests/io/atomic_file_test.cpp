@@ -22,6 +22,7 @@
 namespace fs = std::filesystem;
 using camopt::InputError;
 using camopt::io::OutputTransaction;
+using camopt::io::Durability;
 using camopt::io::write_text_atomic;
 using Catch::Contains;
 
@@ -51,6 +52,25 @@ TEST_CASE("write_text_atomic writes the content and leaves no temp file", "[io][
   write_text_atomic(path, "cam_deg,lift_mm\n0,0\n");
   CHECK(read_text(path) == "cam_deg,lift_mm\n0,0\n");
   CHECK(list_directory(dir.path()) == std::vector<std::string>{"lift.csv"});
+}
+
+TEST_CASE("write_text_atomic without waiting for the disk still replaces whole and leaves no temp file", "[io][atomic]") {
+  const TempDir dir;
+  const std::string path = dir.file("report.html");
+  write_text_atomic(path, "first version, longer than the second\n", Durability::renamed);
+  write_text_atomic(path, "second\n", Durability::renamed);
+  CHECK(read_text(path) == "second\n");
+  CHECK(list_directory(dir.path()) == std::vector<std::string>{"report.html"});
+  // in a transaction: staged without waiting, committed with the set, the previous file replaced
+  {
+    OutputTransaction out(dir.path(), {"report.html", "summary.json"});
+    out.stage("report.html", "third\n", Durability::renamed);
+    out.stage("summary.json", "{}\n");
+    CHECK(read_text(path) == "second\n");
+    out.commit();
+  }
+  CHECK(read_text(path) == "third\n");
+  CHECK(list_directory(dir.path()) == std::vector<std::string>{"report.html", "summary.json"});
 }
 
 TEST_CASE("write_text_atomic replaces an existing file", "[io][atomic]") {

@@ -10,10 +10,16 @@
 
 namespace camopt::io {
 
+// on_disk: the file's data reach the disk (fsync) before it is renamed into place, as every
+// result file. renamed: the rename alone, for a derived file that can be rebuilt from the
+// results (the report): as atomic against an error or a signal, without waiting for the disk
+enum class Durability { on_disk, renamed };
+
 // write `content` to `path` atomically (temp file + rename); throws InputError naming
 // the path when the directory is missing or not writable, or when `path` exists and is
 // not a regular file (nothing is created then)
-void write_text_atomic(const std::string& path, std::string_view content);
+void write_text_atomic(const std::string& path, std::string_view content,
+                       Durability durability = Durability::on_disk);
 
 // the set of output files of one run, committed together into one directory.
 // The constructor makes the directory (if missing; it must be a real directory, not a
@@ -33,7 +39,8 @@ class OutputTransaction {
   OutputTransaction(const OutputTransaction&) = delete;
   OutputTransaction& operator=(const OutputTransaction&) = delete;
 
-  void stage(const std::string& file_name, std::string_view content);  // file_name: one of may_write
+  // file_name: one of may_write; the directory is synced at commit() when a file was staged on_disk
+  void stage(const std::string& file_name, std::string_view content, Durability durability = Durability::on_disk);
   void commit();
   const std::string& directory() const { return directory_; }
 
@@ -45,6 +52,7 @@ class OutputTransaction {
   std::vector<std::string> may_write_;
   std::vector<std::pair<std::string, std::string>> staged_;  // temp path, final path
   int lock_fd_ = -1;  // the directory, opened and flock'ed
+  bool synced_ = false;  // a file staged on_disk: commit() syncs the directory
   bool committed_ = false;
 };
 
