@@ -158,8 +158,10 @@ struct ReportOptions {
   bool no_report = false;
   std::string figures;  // "", "svg" or "png"
 };
-void add_report_options(CLI::App& cmd, ReportOptions& report, const std::string& where = "report.html");
-void add_figures_option(CLI::App& cmd, std::string& figures, const std::string& where = "the folder");
+// the options' help names the files: `where` the report, `figures` the figures
+void add_report_options(CLI::App& cmd, ReportOptions& report, const std::string& where = "report.html",
+                        const std::string& figures = "<plot id>.svg or .png in the folder");
+void add_figures_option(CLI::App& cmd, std::string& figures, const std::string& files);
 // the report and figures of `source` (an --out folder or a lift table), made from one read of
 // the outputs while the folder is locked and committed together. A failure leaves neither and
 // says the outputs are written (InputError, exit 3)

@@ -281,7 +281,8 @@ void setup_lift(CLI::App& app) {
   cmd->add_option("--out", o.out, "output CSV: cam_deg (or crank_deg), lift_mm, vel_mm_per_deg, acc_mm_per_deg2, "
                                   "jerk_mm_per_deg3")
       ->required();
-  add_report_options(*cmd, o.report, "<stem>.report.html beside the CSV");
+  add_report_options(*cmd, o.report, "<stem>.report.html beside the CSV",
+                     "<stem>.<plot id>.svg or .png beside the CSV");
   cmd->callback([opts] { run_lift(*opts); });
 }
 

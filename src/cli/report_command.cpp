@@ -16,19 +16,17 @@ namespace camopt::cli {
 
 namespace fs = std::filesystem;
 
-void add_figures_option(CLI::App& cmd, std::string& figures, const std::string& where) {
+void add_figures_option(CLI::App& cmd, std::string& figures, const std::string& files) {
   cmd.add_option("--figures", figures,
-                 "also write the run's main plots as static images, <plot id>.svg or .png (" +
-                     std::to_string(report::kFigureWidth) + " x " + std::to_string(report::kFigureHeight) +
-                     " px) in " + where + "; with --no-report too")
+                 "also write the run's main plots as static images of " + std::to_string(report::kFigureWidth) + " x " +
+                     std::to_string(report::kFigureHeight) + " px: " + files)
       ->check(CLI::IsMember({"svg", "png"}));
 }
 
-void add_report_options(CLI::App& cmd, ReportOptions& report, const std::string& where) {
+void add_report_options(CLI::App& cmd, ReportOptions& report, const std::string& where, const std::string& figures) {
   cmd.add_flag("--no-report", report.no_report,
                "do not write " + where + ", the interactive page of the results (camopt report rebuilds it)");
-  const bool lift_table = where != "report.html";
-  add_figures_option(cmd, report.figures, lift_table ? "the CSV's folder, as <stem>.<plot id>" : "the folder");
+  add_figures_option(cmd, report.figures, figures + ", with the report or without it (--no-report)");
 }
 
 namespace {
@@ -133,7 +131,8 @@ void setup_report(CLI::App& app) {
                 "self-contained and fetches nothing when opened");
   cmd->add_option("source", *source, "result folder (the --out of a run), or a lift table CSV of camopt lift")
       ->required();
-  add_figures_option(*cmd, *figures, "the folder (beside a lift table: <stem>.<plot id>)");
+  add_figures_option(*cmd, *figures,
+                     "<plot id>.svg or .png in the folder (<stem>.<plot id>.svg or .png beside a lift table)");
   cmd->callback([source, figures] { run_report(*source, *figures); });
 }
 
