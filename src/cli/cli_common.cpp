@@ -139,7 +139,8 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 }
 
 io::OutputTransaction open_outputs(const std::string& out_dir, const std::vector<std::string>& outputs) {
-  return io::OutputTransaction(out_dir, outputs, [](const std::string& message) { info(message); });
+  return io::OutputTransaction(
+      out_dir, outputs, [](const std::string& message) { info(message); }, [&out_dir] { return previous_figures(out_dir); });
 }
 
 void check_inputs_outside(const std::string& out_dir, std::initializer_list<std::string> inputs,

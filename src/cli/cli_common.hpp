@@ -71,8 +71,8 @@ long sweep_points(const std::string& option, double start, double stop, double s
 
 // every file a folder command may write into its --out folder: a run that succeeds removes
 // the files of its list it did not write (a previous run's), and never any other file.
-// report.html is written after the set is committed (write_run_report), so the commit removes
-// an earlier run's report first
+// report.html and the figures are written after the set is committed (write_run_report), so
+// the commit removes an earlier run's report and figures first
 inline const std::vector<std::string> kKinematicsOutputs = {"kinematics.csv", "summary.json", "report.html"};
 inline const std::vector<std::string> kDynamicsOutputs = {"dynamics.csv", "modes.csv", "summary.json", "report.html"};
 inline const std::vector<std::string> kSynthesizeOutputs = {"profile.csv", "report.json", "design.toml",
@@ -81,8 +81,9 @@ inline const std::vector<std::string> kOptimizeOutputs = {"lift.csv",    "swing_
                                                           "report.json", "design.toml",     "profile.dxf",
                                                           "grinding.csv", "report.html"};
 
-// the output set of a run into `out_dir` (one of the lists above), the folder locked
-// against other camopt runs; a run that has to wait says so on stderr
+// the output set of a run into `out_dir` (one of the lists above, and the figures of the
+// run the folder holds: previous_figures), the folder locked against other camopt runs; a
+// run that has to wait says so on stderr
 io::OutputTransaction open_outputs(const std::string& out_dir, const std::vector<std::string>& outputs);
 
 // the steps the commands share
@@ -149,12 +150,26 @@ class Progress {
   bool enabled_ = false;
 };
 
-// the report (report_command.cpp): --no-report on a command that writes results, naming the
-// file it skips; and the report of `source` (an --out folder or a lift table) written after the
-// run's outputs, unless no_report. A failure leaves no report.html and says the outputs are
-// written (InputError, exit 3)
-void add_report_flag(CLI::App& cmd, bool& no_report, const std::string& where = "report.html");
-void write_run_report(const std::string& source, bool no_report);
+// the report (report_command.cpp): what a command that writes results writes after them.
+// --no-report skips report.html (<stem>.report.html beside a lift table); --figures svg|png
+// also writes the run's main plots as static images, <plot id>.svg|png in the folder
+// (<stem>.<plot id>.svg|png beside a lift table), with or without the report
+struct ReportOptions {
+  bool no_report = false;
+  std::string figures;  // "", "svg" or "png"
+};
+// the options' help names the files: `where` the report, `figures` the figures
+void add_report_options(CLI::App& cmd, ReportOptions& report, const std::string& where = "report.html",
+                        const std::string& figures = "<plot id>.svg or .png in the folder");
+void add_figures_option(CLI::App& cmd, std::string& figures, const std::string& files);
+// the report and figures of `source` (an --out folder or a lift table), made from one read of
+// the outputs while the folder is locked and committed together. A failure leaves neither and
+// says the outputs are written (InputError, exit 3)
+void write_run_report(const std::string& source, const ReportOptions& report);
+// the figure files in out_dir of the run the folder holds: the names of its main plots in
+// either format that are there (none when the folder holds no .svg or .png file, or no result
+// camopt can read). A run's output set includes them, so a run removes an earlier run's figures
+std::vector<std::string> previous_figures(const std::string& out_dir);
 
 // subcommand registration: one file per subcommand (<verb>_command.cpp)
 void setup_validate(CLI::App& app);

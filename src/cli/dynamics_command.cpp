@@ -24,7 +24,7 @@ struct DynamicsOptions {
   std::string design, model = "rigid", contacts = "rigid", rpm, out_dir, control, start = "static";
   double step_deg = 0.0;  // 0: the design's step
   dynamics::FlexibleOptions flexible;
-  bool no_report = false;
+  ReportOptions report;  // --no-report, --figures
 };
 
 // --rpm: a value, a list or a range, each in (0, 1e6]
@@ -139,7 +139,7 @@ void setup_dynamics(CLI::App& app) {
                   "with --model modes)");
   cmd->add_option("--out", opts->out_dir, "output directory (dynamics.csv or modes.csv, summary.json, report.html)")
       ->required();
-  add_report_flag(*cmd, opts->no_report);
+  add_report_options(*cmd, opts->report);
   cmd->add_option("--control", opts->control,
                   "control positions of the design's first control [deg or mm]: a value, a list or START:STOP:COUNT");
   cmd->add_option("--step", opts->step_deg, "cam angle step [cam deg] (default: the design's driver.step_deg)")
@@ -185,7 +185,7 @@ void setup_dynamics(CLI::App& app) {
       else
         run_rigid(*opts);
     }
-    write_run_report(opts->out_dir, opts->no_report);
+    write_run_report(opts->out_dir, opts->report);
   });
 }
 

@@ -23,7 +23,7 @@ struct KinematicsOptions {
   double step_deg = 0.0;  // 0: the design's step
   double rpm = 0.0;       // 0: no SI columns
   std::string duration_at;  // --duration-at heights ("" : 1 and 0.1 in the output's unit)
-  bool no_report = false;
+  ReportOptions report;  // --no-report, --figures
 };
 
 struct OutputSelection {
@@ -366,7 +366,7 @@ void run_kinematics(const KinematicsOptions& o) {
        std::to_string(result.driver.size()) + " points in " + std::to_string(seconds * 1e3) + " ms -> " + o.out_dir +
        "/kinematics.csv, summary.json");
   // the page of the results
-  write_run_report(o.out_dir, o.no_report);
+  write_run_report(o.out_dir, o.report);
 }
 
 }  // namespace
@@ -377,7 +377,7 @@ void setup_kinematics(CLI::App& app) {
                                                "contact quantities, over the cam cycle and control range");
   cmd->add_option("design", opts->design, "design file (TOML)")->required();
   cmd->add_option("--out", opts->out_dir, "output directory (kinematics.csv, summary.json, report.html)")->required();
-  add_report_flag(*cmd, opts->no_report);
+  add_report_options(*cmd, opts->report);
   cmd->add_option("--control", opts->control,
                   "control positions of the design's first control [deg or mm]: a value, or START:STOP:COUNT "
                   "(e.g. 0:16:17)");

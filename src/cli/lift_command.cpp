@@ -21,7 +21,7 @@ constexpr double kMaxStepDeg = 10.0;  // coarser tables cannot resolve a lift ev
 
 struct LiftOptions {
   std::string law, close_law, out, basis = "cam";
-  bool no_report = false;
+  ReportOptions report;  // --no-report, --figures
   double lift_mm = 10.0;
   double duration_deg = 130.0;  // whole event (ramps and dwell included) [cam deg]
   double open_deg = 0.0, close_deg = 0.0;
@@ -230,7 +230,7 @@ void run_lift(const LiftOptions& o) {
   info("lift: wrote " + o.out + " (" + std::to_string(rows) + " rows, " + header[0] + " 0 .. " +
        fmt(columns[0].back()) + ")");
   // the page of the table, <stem>.report.html beside it
-  write_run_report(o.out, o.no_report);
+  write_run_report(o.out, o.report);
 }
 
 }  // namespace
@@ -281,7 +281,8 @@ void setup_lift(CLI::App& app) {
   cmd->add_option("--out", o.out, "output CSV: cam_deg (or crank_deg), lift_mm, vel_mm_per_deg, acc_mm_per_deg2, "
                                   "jerk_mm_per_deg3")
       ->required();
-  add_report_flag(*cmd, o.no_report, "<stem>.report.html beside the CSV");
+  add_report_options(*cmd, o.report, "<stem>.report.html beside the CSV",
+                     "<stem>.<plot id>.svg or .png beside the CSV");
   cmd->callback([opts] { run_lift(*opts); });
 }
 

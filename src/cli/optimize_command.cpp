@@ -33,7 +33,7 @@ constexpr double kNoseConvexRadius = 1.0;
 struct OptimizeOptions {
   std::string design, constraints, solver = "ipopt", out_dir, cam = "rotational";
   bool verify = false;
-  bool no_report = false;
+  ReportOptions report;  // --no-report, --figures
   int points = 1440;
   int max_iterations = 3000;
   int starts = 6;
@@ -407,7 +407,7 @@ void run_optimize(const OptimizeOptions& o) {
     report_conflicts(result, report);
     out.stage("report.json", report.dump(2) + "\n");
     out.commit();
-    write_run_report(o.out_dir, o.no_report);
+    write_run_report(o.out_dir, o.report);
     throw NumericalError(result.status);
   }
   // the lift, the profile and its exports, and --verify
@@ -424,7 +424,7 @@ void run_optimize(const OptimizeOptions& o) {
        (problem.is_swing() ? "/lift.csv, swing_pitch.csv, profile.csv, report.json, design.toml, profile.dxf, grinding.csv"
                            : "/lift.csv, profile.csv, report.json, design.toml, profile.dxf, grinding.csv"));
   // the page of the results, before a solver failure or a failed verification is raised
-  write_run_report(o.out_dir, o.no_report);
+  write_run_report(o.out_dir, o.report);
   // a solver failure, or a failed verification, once the outputs are written
   if (!result.status.ok()) throw NumericalError(result.status);
   if (o.verify) raise_if_failed(verdict);
@@ -454,7 +454,7 @@ void setup_optimize(CLI::App& app) {
       ->check(CLI::Range(1, 1000000))
       ->capture_default_str();
   cmd->add_option("--starts", opts->starts, "global: number of starts")->check(CLI::Range(1, 1000))->capture_default_str();
-  add_report_flag(*cmd, opts->no_report);
+  add_report_options(*cmd, opts->report);
   cmd->add_flag("--verify", opts->verify, "run the optimised design through kinematics, rigid and flexible dynamics and report them");
   cmd->callback([opts, cmd] {
     if (opts->solver != "global") reject_unused(*cmd, {"--starts"}, "with --solver " + opts->solver + " (global only)");

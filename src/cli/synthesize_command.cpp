@@ -30,7 +30,7 @@ constexpr double kSlopeStepHint = 0.1;
 
 struct SynthesizeOptions {
   std::string target_csv, design, out_dir, cam = "rotational";
-  bool no_report = false;
+  ReportOptions report;  // --no-report, --figures
   std::optional<double> control;
   int points = 1440;
   bool smooth = false;
@@ -322,7 +322,7 @@ void run_synthesize(const SynthesizeOptions& o) {
        std::to_string(rt.max_error_mm * unit.scale) + " " + unit.name + " -> " + o.out_dir +
        "/profile.csv, report.json, design.toml, profile.dxf, grinding.csv");
   // the page of the results
-  write_run_report(o.out_dir, o.no_report);
+  write_run_report(o.out_dir, o.report);
 }
 
 }  // namespace
@@ -337,7 +337,7 @@ void setup_synthesize(CLI::App& app) {
   cmd->add_option("--out", opts->out_dir,
                   "output directory (profile.csv, report.json, design.toml, profile.dxf, grinding.csv, report.html)")
       ->required();
-  add_report_flag(*cmd, opts->no_report);
+  add_report_options(*cmd, opts->report);
   cmd->add_option("--cam", opts->cam, "which cam to synthesize: rotational (the driver's) or swing")
       ->check(CLI::IsMember({"rotational", "swing"}));
   cmd->add_option("--control", opts->control,

@@ -187,13 +187,17 @@ void write_text_atomic(const std::string& path, std::string_view content, Durabi
 }
 
 OutputTransaction::OutputTransaction(std::string directory, std::vector<std::string> may_write,
-                                     const std::function<void(const std::string&)>& on_wait)
+                                     const std::function<void(const std::string&)>& on_wait,
+                                     const std::function<std::vector<std::string>()>& locked_outputs)
     : directory_(std::move(directory)), may_write_(std::move(may_write)) {
-  // the folder, locked against other runs, then its output paths checked
+  // the folder, locked against other runs, the names known only then, its output paths checked
   const int fd = open_output_directory(directory_);
   lock_directory(fd, directory_, on_wait);
   lock_fd_ = fd;
   try {
+    if (locked_outputs)
+      for (std::string& name : locked_outputs())
+        if (std::find(may_write_.begin(), may_write_.end(), name) == may_write_.end()) may_write_.push_back(std::move(name));
     for (const std::string& name : may_write_) require_replaceable(path_of(name));
   } catch (...) {
     release_lock();

@@ -294,3 +294,35 @@ TEST_CASE("a second OutputTransaction on a directory waits until the first has c
   CHECK(list_directory(out) == std::vector<std::string>{"lift.csv"});
   CHECK(read_text(out + "/lift.csv") == "second\n");
 }
+
+TEST_CASE("OutputTransaction adds the names of locked_outputs once it holds the folder", "[io][atomic]") {
+  const TempDir dir;
+  const std::string out = dir.file("out");
+  std::optional<OutputTransaction> first;
+  first.emplace(out, std::vector<std::string>{"lift.csv", "lift.png"});
+  first->stage("lift.csv", "first\n");
+  first->stage("lift.png", "first\n");
+
+  // the second run's extra names: the .png files it finds in the folder when it is called
+  std::atomic<bool> waiting{false};
+  std::vector<std::string> seen;
+  std::thread second_run([&] {
+    OutputTransaction second(
+        out, {"lift.csv"}, [&](const std::string&) { waiting = true; },
+        [&] {
+          for (const std::string& name : list_directory(out))
+            if (fs::path(name).extension() == ".png") seen.push_back(name);
+          return seen;
+        });
+    second.stage("lift.csv", "second\n");
+    second.commit();
+  });
+  for (int i = 0; i < 10000 && !waiting; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  REQUIRE(waiting);
+  first->commit();
+  second_run.join();
+  // called after the first run's commit: it saw lift.png, and the second's commit removed it
+  CHECK(seen == std::vector<std::string>{"lift.png"});
+  CHECK(list_directory(out) == std::vector<std::string>{"lift.csv"});
+  CHECK(read_text(out + "/lift.csv") == "second\n");
+}

@@ -32,9 +32,12 @@ void write_text_atomic(const std::string& path, std::string_view content,
 // temp files and the folder keeps the previous run's set untouched.
 class OutputTransaction {
  public:
-  // may_write: every file name the command can write into the directory
+  // may_write: every file name the command can write into the directory; locked_outputs, when
+  // given, is called once the folder is locked and adds the names it returns to may_write
+  // (files named after the data of the run the folder holds, read without another run's writes)
   OutputTransaction(std::string directory, std::vector<std::string> may_write,
-                    const std::function<void(const std::string&)>& on_wait = {});
+                    const std::function<void(const std::string&)>& on_wait = {},
+                    const std::function<std::vector<std::string>()>& locked_outputs = {});
   ~OutputTransaction();
   OutputTransaction(const OutputTransaction&) = delete;
   OutputTransaction& operator=(const OutputTransaction&) = delete;
