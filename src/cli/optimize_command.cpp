@@ -386,7 +386,14 @@ void run_optimize(const OptimizeOptions& o) {
   so.solver = opt::parse_solver(o.solver);
   so.max_iterations = o.max_iterations;
   so.starts = o.starts;
-  so.progress = make_progress_printer();
+  // the progress on stderr, and every report of it kept for report.json's "convergence"
+  auto convergence = std::make_shared<nlohmann::json>(nlohmann::json::array());
+  so.progress = [printer = make_progress_printer(), convergence](const opt::SolverProgress& p) {
+    if (printer) printer(p);
+    if (p.event == opt::SolverProgress::Event::begin) return;
+    convergence->push_back({{"phase", p.phase}, {"iteration", p.iteration}, {"objective", p.objective},
+                            {"violation_normalised", p.violation}, {"elapsed_s", p.elapsed_s}});
+  };
   std::unique_ptr<ValveTarget> target;
   if (!set.objective.target_file.empty()) {
     const io::CsvTable table = io::read_csv(set.objective.target_file);
@@ -401,6 +408,7 @@ void run_optimize(const OptimizeOptions& o) {
        " inequality constraints on a " + std::to_string(set.grid_step_deg) + " deg grid, solver " + o.solver);
   const opt::SolveResult result = opt::optimize(problem, so);
   nlohmann::json report = run_report(o, spec, set, problem, result);
+  report["convergence"] = *convergence;
   // an infeasible set: the report with the conflicting limits, and the failure
   io::OutputTransaction out = open_outputs(o.out_dir, kOptimizeOutputs);
   if (result.status.code == StatusCode::infeasible || result.u.empty()) {

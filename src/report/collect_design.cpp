@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <system_error>
 
 #include "camopt/core/error.hpp"
@@ -171,6 +172,39 @@ void add_verification(ReportData& data, const nlohmann::json& report) {
   if (report.contains("verified")) data.passed = report["verified"].get<bool>();
 }
 
+// report.json's "convergence" (every progress report of the solvers: each ipopt iteration,
+// nlopt evaluations at most every 0.05 s, each phase's end): the objective and the worst
+// normalised violation against the run's time, one series per phase
+void add_convergence_plots(ReportData& data, const nlohmann::json& report) {
+  const auto it = report.find("convergence");
+  if (it == report.end() || !it->is_array() || it->empty()) {
+    data.notes.push_back("no convergence history in report.json");
+    return;
+  }
+  Plot objective = line_plot("convergence-objective", "Objective during the solve", "convergence", "time_s",
+                             "objective", "convergence");
+  Plot violation = line_plot("convergence-violation", "Worst normalised violation during the solve", "convergence",
+                             "time_s", "violation_normalised", "convergence");
+  objective.x.label = violation.x.label = "solver time";
+  for (const auto& row : *it) {
+    const std::string phase = row.value("phase", std::string());
+    if (objective.series.empty() || objective.series.back().name != phase) {
+      objective.series.push_back({phase, {}, {}, {}, -1, false});
+      violation.series.push_back({phase, {}, {}, {}, -1, false});
+    }
+    const auto value = [&](const char* key) {
+      const auto v = row.find(key);
+      return v != row.end() && v->is_number() ? v->get<double>() : std::numeric_limits<double>::quiet_NaN();
+    };
+    for (Plot* p : {&objective, &violation}) p->series.back().x.push_back(value("elapsed_s"));
+    objective.series.back().y.push_back(value("objective"));
+    violation.series.back().y.push_back(value("violation_normalised"));
+  }
+  add_section(data, "convergence", "Convergence");
+  data.plots.push_back(std::move(objective));
+  data.plots.push_back(std::move(violation));
+}
+
 }  // namespace
 
 void add_svaj_plots(ReportData& data, const CsvData& csv, const std::vector<Group>& groups,
@@ -244,14 +278,13 @@ void collect_optimize(ReportData& data, const fs::path& dir, const nlohmann::jso
   // the constraints at the optimum (limits, active angles), the verification
   if (const auto it = report.find("constraints"); it != report.end()) add_constraints(data, *it, file);
   add_verification(data, report);
-  data.notes.push_back("the run records no convergence history: report.json gives the iteration count and the final "
-                       "objective and violation");
+  add_convergence_plots(data, report);
   // the cam it made
   add_profile_plots(data, dir, report);
   add_grinding_plot(data, dir);
   add_section(data, "summary", "Summary");
   nlohmann::json rest = report;
-  for (const char* big : {"constraints", "verification", "conflicting_constraints"}) rest.erase(big);
+  for (const char* big : {"constraints", "verification", "conflicting_constraints", "convergence"}) rest.erase(big);
   data.tables.push_back(key_value_table("summary", "report.json", "summary", rest));
   if (const auto it = report.find("conflicting_constraints"); it != report.end())
     data.tables.push_back(rows_table("conflicts", "Conflicting constraints (infeasible set)", "constraints", *it, {"name"}));

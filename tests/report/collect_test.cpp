@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <map>
 
 #include "camopt/core/error.hpp"
 #include "report/report_support.hpp"
@@ -215,6 +216,24 @@ TEST_CASE("report: collect of optimize puts the limits and active angles on the 
   CHECK(t.rows.size() == rj["constraints"].size());
   CHECK(t.failed_rows.empty());
   CHECK(has_plot(d, "profile"));
+  // the convergence history: one series per ipopt working-set round, the rounds' iterations
+  // adding up to the run's count, ending at the reported optimum, in the order of the run
+  const report::Plot& conv = plot_of(d, "convergence-objective");
+  REQUIRE(conv.series.size() == 2);
+  int iterations = 0;
+  std::map<std::string, int> last;
+  for (const auto& row : rj["convergence"]) last[row["phase"].get<std::string>()] = row["iteration"].get<int>();
+  for (const auto& [phase, n] : last) iterations += n;
+  CHECK(iterations == rj["iterations"].get<int>());
+  CHECK(conv.series.back().y.back() == rj["objective"]["value"].get<double>());
+  const report::Plot& viol = plot_of(d, "convergence-violation");
+  CHECK(viol.series.back().y.back() <= 1e-9);
+  double time = 0;
+  for (const auto& s : conv.series)
+    for (double x : s.x) {
+      REQUIRE(x >= time);
+      time = x;
+    }
 }
 
 TEST_CASE("report: collect of a rigid rpm sweep gives one series per speed and the speed map") {
