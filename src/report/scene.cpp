@@ -3,6 +3,7 @@
 #include "camopt/report/scene.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <set>
@@ -45,26 +46,67 @@ void extend(double* box, double x, double y) {
   box[3] = std::max(box[3], y);
 }
 
+// the points of a body that can be extreme in any pose: the convex hull of its shape points
+// (Andrew's monotone chain; a rotation and a translation keep a set's extremes on its hull),
+// and its circles (centre, radius)
+struct BodyExtent {
+  std::vector<std::array<double, 2>> hull;
+  std::vector<std::array<double, 3>> circles;
+};
+
+std::vector<std::array<double, 2>> convex_hull(std::vector<std::array<double, 2>> pts) {
+  std::sort(pts.begin(), pts.end());
+  pts.erase(std::unique(pts.begin(), pts.end()), pts.end());
+  if (pts.size() < 3) return pts;
+  const auto cross = [](const auto& o, const auto& a, const auto& b) {
+    return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
+  };
+  std::vector<std::array<double, 2>> hull(2 * pts.size());
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < pts.size(); ++i) {  // lower chain
+    while (k >= 2 && cross(hull[k - 2], hull[k - 1], pts[i]) <= 0) --k;
+    hull[k++] = pts[i];
+  }
+  for (std::size_t i = pts.size() - 1, lower = k + 1; i-- > 0;) {  // upper chain
+    while (k >= lower && cross(hull[k - 2], hull[k - 1], pts[i]) <= 0) --k;
+    hull[k++] = pts[i];
+  }
+  hull.resize(k - 1);
+  return hull;
+}
+
+std::vector<BodyExtent> body_extents(const Scene& scene) {
+  std::vector<std::vector<std::array<double, 2>>> points(scene.bodies.size());
+  std::vector<BodyExtent> out(scene.bodies.size());
+  for (const SceneShape& s : scene.shapes)
+    for (std::size_t k = 0; k + 1 < s.xy.size(); k += 2) {
+      // a spring's second end moves with body_b
+      const auto body = static_cast<std::size_t>(s.kind == SceneShape::Kind::spring && k == 2 ? s.body_b : s.body);
+      if (s.kind == SceneShape::Kind::circle)
+        out[body].circles.push_back({s.xy[k], s.xy[k + 1], s.radius});
+      else
+        points[body].push_back({s.xy[k], s.xy[k + 1]});
+    }
+  for (std::size_t b = 0; b < out.size(); ++b) out[b].hull = convex_hull(std::move(points[b]));
+  return out;
+}
+
 // the bounding box of every shape point posed by its body's pose at every frame [mm]
 void bounding_box(Scene& scene) {
   double box[4] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
                    -std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+  const std::vector<BodyExtent> extents = body_extents(scene);
   for (const ScenePosition& p : scene.positions)
     for (std::size_t f = 0; f < p.cam_deg.size(); ++f)
-      for (const SceneShape& s : scene.shapes) {
-        for (std::size_t k = 0; k + 1 < s.xy.size(); k += 2) {
-          // a spring's second end moves with body_b
-          const int body = s.kind == SceneShape::Kind::spring && k == 2 ? s.body_b : s.body;
-          const std::vector<double>& pose = p.pose[static_cast<std::size_t>(body)];
-          const double tx = pose[3 * f], ty = pose[3 * f + 1], a = pose[3 * f + 2];
-          const double c = std::cos(a), sn = std::sin(a);
-          const double x = c * s.xy[k] - sn * s.xy[k + 1] + tx, y = sn * s.xy[k] + c * s.xy[k + 1] + ty;
-          if (s.kind == SceneShape::Kind::circle) {
-            extend(box, x - s.radius, y - s.radius);
-            extend(box, x + s.radius, y + s.radius);
-          } else {
-            extend(box, x, y);
-          }
+      for (std::size_t b = 0; b < extents.size(); ++b) {
+        const std::vector<double>& pose = p.pose[b];
+        const double tx = pose[3 * f], ty = pose[3 * f + 1], a = pose[3 * f + 2];
+        const double c = std::cos(a), sn = std::sin(a);
+        for (const auto& q : extents[b].hull) extend(box, c * q[0] - sn * q[1] + tx, sn * q[0] + c * q[1] + ty);
+        for (const auto& q : extents[b].circles) {
+          const double x = c * q[0] - sn * q[1] + tx, y = sn * q[0] + c * q[1] + ty;
+          extend(box, x - q[2], y - q[2]);
+          extend(box, x + q[2], y + q[2]);
         }
       }
   std::copy(box, box + 4, scene.bbox);
