@@ -207,7 +207,10 @@ TEST_CASE("figures: every main plot is written as an svg with its titles and one
 TEST_CASE("figures: a png of 800 x 500 pixels per main plot", "[report][figures]") {
   const auto figures = render_figures(sample_data(), FigureFormat::png);
   REQUIRE(figures.size() == 3);
-  for (const auto& [name, png] : figures) {
+  for (const auto& figure : figures) {
+    // named, not a structured binding: clang 14 cannot capture one in the lambda below
+    const std::string& name = figure.first;
+    const std::string& png = figure.second;
     INFO(name);
     CHECK(name.size() > 4);
     CHECK(name.substr(name.size() - 4) == ".png");
