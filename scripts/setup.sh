@@ -148,7 +148,8 @@ if ((run_tests)); then
   echo "== testing"
   # the sanitizer build: the font caches fontconfig keeps for the process's life (loaded by
   # cairo when a figure draws text) are not leaks of ours
-  [[ "$sanitize" == ON ]] && export LSAN_OPTIONS="suppressions=$REPO/tests/lsan.supp${LSAN_OPTIONS:+:$LSAN_OPTIONS}"
+  # (print_suppressions=0: nothing added to the stderr the CLI tests read)
+  [[ "$sanitize" == ON ]] && export LSAN_OPTIONS="suppressions=$REPO/tests/lsan.supp:print_suppressions=0${LSAN_OPTIONS:+:$LSAN_OPTIONS}"
   test_status=0
   ctest --test-dir "$build_dir" --output-on-failure --parallel "$jobs" || test_status=$?
   if ((test_status != 0 || !run_default)); then
