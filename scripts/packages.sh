@@ -5,7 +5,10 @@
 # Debian 12 packages needed to build and test; nodejs and npm install the report page's
 # charting library (package-lock.json), libcairo2-dev draws the static figures
 PACKAGES=(build-essential cmake ninja-build pkg-config libeigen3-dev libnlopt-cxx-dev coinor-libipopt-dev
-          libsundials-dev libcli11-dev catch2 libtomlplusplus-dev nlohmann-json3-dev nodejs npm libcairo2-dev)
+          libsundials-dev libcli11-dev catch2 libtomlplusplus-dev nlohmann-json3-dev nodejs libcairo2-dev)
+# Debian's npm, unless an npm is already there: a nodejs from another source (NodeSource's
+# packages bring their own npm and conflict with Debian's)
+command -v npm >/dev/null 2>&1 || PACKAGES+=(npm)
 # only for the tests: the headless browser that opens the reports
 TEST_PACKAGES=(chromium)
 # clang, its sanitizer and libFuzzer runtimes, and its OpenMP runtime (SUNDIALSConfig.cmake asks
