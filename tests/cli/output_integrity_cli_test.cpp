@@ -187,8 +187,10 @@ TEST_CASE("two runs into one folder at once each commit a whole set: the folder 
 // ---- signals ------------------------------------------------------------------------------
 
 TEST_CASE("a run stopped by SIGTERM or SIGINT while it writes leaves no temporary file", "[cli][outputs]") {
-  // 360001 points: a CSV of tens of MB, so the writes take a while
-  const std::vector<std::string> args = {"kinematics", kRff, "--step", "0.001"};
+  // 90001 points: a CSV of about 9 MB and its report, so the writes take a while (tenths of
+  // a second in a Release build, seconds under the sanitizers) while the polling below sees
+  // a temporary file within 0.2 ms
+  const std::vector<std::string> args = {"kinematics", kRff, "--step", "0.004"};
   TempDir tmp;
 
   SECTION("the signal sent as soon as a temporary file appears") {
