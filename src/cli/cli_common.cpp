@@ -127,11 +127,12 @@ void fail_at_position(const kin::Mechanism& mech, const ControlPositions& contro
   throw NumericalError(status);
 }
 
-void write_outputs(const std::string& out_dir, const std::vector<std::string>& output_set,
-                   const std::vector<std::pair<std::string, std::string>>& files) {
+std::map<std::string, io::FileId> write_outputs(const std::string& out_dir, const std::vector<std::string>& output_set,
+                                                const std::vector<std::pair<std::string, std::string>>& files) {
   io::OutputTransaction out = open_outputs(out_dir, output_set);
   for (const auto& [name, contents] : files) out.stage(name, contents);
   out.commit();
+  return out.committed();
 }
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <initializer_list>
 #include <limits>
+#include <map>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -11,6 +12,7 @@
 
 #include "camopt/io/atomic_file.hpp"
 #include "camopt/kinematics/mechanism.hpp"
+#include "camopt/report/report.hpp"
 
 namespace CLI {
 class App;
@@ -119,9 +121,10 @@ ControlPositions resolve_controls(const kin::Mechanism& mech, const std::string&
 [[noreturn]] void fail_at_position(const kin::Mechanism& mech, const ControlPositions& controls, Status status,
                                    std::size_t position);
 
-// the files of one output set (name, contents) staged into out_dir and committed together
-void write_outputs(const std::string& out_dir, const std::vector<std::string>& output_set,
-                   const std::vector<std::pair<std::string, std::string>>& files);
+// the files of one output set (name, contents) staged into out_dir and committed together;
+// returns the files committed (io::OutputTransaction::committed)
+std::map<std::string, io::FileId> write_outputs(const std::string& out_dir, const std::vector<std::string>& output_set,
+                                                const std::vector<std::pair<std::string, std::string>>& files);
 
 // seconds of wall time since t0
 double seconds_since(std::chrono::steady_clock::time_point t0);
@@ -165,7 +168,13 @@ void add_figures_option(CLI::App& cmd, std::string& figures, const std::string& 
 // the report and figures of `source` (an --out folder or a lift table), made from one read of
 // the outputs while the folder is locked and committed together. A failure leaves neither and
 // says the outputs are written (InputError, exit 3)
-void write_run_report(const std::string& source, const ReportOptions& report);
+// `written`: tables of the run still in memory, taken instead of their files while the folder
+// holds the files the run committed (report::collect)
+void write_run_report(const std::string& source, const ReportOptions& report, const report::WrittenTables& written = {});
+// the table `name` of a run as the report takes it: with the file that write_outputs committed
+// (none when it committed no such file)
+report::WrittenTables hand_over(const std::map<std::string, io::FileId>& committed, const std::string& name,
+                                io::Columns table);
 // the figure files in out_dir of the run the folder holds: the names of its main plots in
 // either format that are there (none when the folder holds no .svg or .png file, or no result
 // camopt can read). A run's output set includes them, so a run removes an earlier run's figures

@@ -9,8 +9,8 @@
 
 namespace camopt::cli {
 
-std::string compliant_csv(const DynamicsSetup& su, const std::vector<CompliantRun>& runs,
-                          const std::vector<dynamics::RigidSweep>& rigid) {
+io::Columns compliant_columns(const DynamicsSetup& su, const std::vector<CompliantRun>& runs,
+                                const std::vector<dynamics::RigidSweep>& rigid) {
   using Run = CompliantRun;
   const kin::Mechanism& mech = su.mech;
   const dynamics::Model& model = su.model;
@@ -65,7 +65,7 @@ std::string compliant_csv(const DynamicsSetup& su, const std::vector<CompliantRu
                  return run.result.deviation[i * run.result.rows + r] * scale;
                });
   }
-  return io::format_csv(header, cols);
+  return {std::move(header), std::move(cols), {}};
 }
 
 nlohmann::json compliant_summary(const DynamicsSetup& su, const std::string& design_file,

@@ -8,16 +8,17 @@
 
 #include "camopt/dynamics/compliant.hpp"
 #include "camopt/dynamics/rigid.hpp"
+#include "camopt/io/csv.hpp"
 #include "dynamics_setup.hpp"
 
 namespace camopt::cli {
 
 using CompliantRun = GridRun<dynamics::CompliantResult>;
 
-// dynamics.csv: long format, one row per (rpm, control position, cam angle); rigid: the mode
+// dynamics.csv's columns: long format, one row per (rpm, control position, cam angle); rigid: the mode
 // (a) sweep of every control position
-std::string compliant_csv(const DynamicsSetup& su, const std::vector<CompliantRun>& runs,
-                          const std::vector<dynamics::RigidSweep>& rigid);
+io::Columns compliant_columns(const DynamicsSetup& su, const std::vector<CompliantRun>& runs,
+                              const std::vector<dynamics::RigidSweep>& rigid);
 
 // summary.json: the run and, per (rpm, control position), the integrator's counts, every
 // connection's force extremes and stiffness, and the contact events

@@ -65,7 +65,7 @@ std::vector<dynamics::RigidSweep> rigid_sweeps(const DynamicsSetup& su, bool pro
 
 // mode (a): the kinematically constrained inverse dynamics, one sweep per control position,
 // every speed from its split load cases
-void run_rigid(const DynamicsOptions& o) {
+report::WrittenTables run_rigid(const DynamicsOptions& o) {
   // the design, its dynamics model, speeds and control positions
   const DynamicsSetup su = make_setup(o);
   // one sweep per control position
@@ -74,15 +74,17 @@ void run_rigid(const DynamicsOptions& o) {
   const double seconds = seconds_since(t0);
   // dynamics.csv and summary.json
   const nlohmann::json summary = rigid_summary(su, o.design, sweeps, seconds);
-  write_outputs(o.out_dir, kDynamicsOutputs,
-                {{"dynamics.csv", rigid_csv(su, sweeps)}, {"summary.json", summary.dump(2) + "\n"}});
+  io::Columns table = rigid_columns(su, sweeps);
+  const auto committed = write_outputs(o.out_dir, kDynamicsOutputs,
+                                       {{"dynamics.csv", io::format_csv(table)}, {"summary.json", summary.dump(2) + "\n"}});
   info("dynamics (rigid): " + std::to_string(su.controls.values.size()) + " position(s) x " +
        std::to_string(sweeps[0].points()) + " points in " + std::to_string(seconds * 1e3) + " ms, " +
        std::to_string(su.rpms.size()) + " speed(s) -> " + o.out_dir + "/dynamics.csv, summary.json");
+  return hand_over(committed, "dynamics.csv", std::move(table));
 }
 
 // mode (b): stiff separable contacts integrated in time, one run per (rpm, control)
-void run_compliant_contacts(const DynamicsOptions& o) {
+report::WrittenTables run_compliant_contacts(const DynamicsOptions& o) {
   // the design, its dynamics model, speeds and control positions
   const DynamicsSetup su = make_setup(o);
   const auto t0 = std::chrono::steady_clock::now();
@@ -97,14 +99,16 @@ void run_compliant_contacts(const DynamicsOptions& o) {
   const double seconds = seconds_since(t0);
   // dynamics.csv and summary.json
   const nlohmann::json summary = compliant_summary(su, o.design, runs, seconds);
-  write_outputs(o.out_dir, kDynamicsOutputs,
-                {{"dynamics.csv", compliant_csv(su, runs, rigid)}, {"summary.json", summary.dump(2) + "\n"}});
+  io::Columns table = compliant_columns(su, runs, rigid);
+  const auto committed = write_outputs(o.out_dir, kDynamicsOutputs,
+                                       {{"dynamics.csv", io::format_csv(table)}, {"summary.json", summary.dump(2) + "\n"}});
   info("dynamics (rigid, compliant contacts): " + std::to_string(runs.size()) + " run(s) in " +
        std::to_string(seconds * 1e3) + " ms -> " + o.out_dir + "/dynamics.csv, summary.json");
+  return hand_over(committed, "dynamics.csv", std::move(table));
 }
 
 // the flexible model: one CVODE run per (rpm, control), the last revolution reported
-void run_flexible_model(const DynamicsOptions& o) {
+report::WrittenTables run_flexible_model(const DynamicsOptions& o) {
   // the design, its dynamics model, speeds and control positions
   const DynamicsSetup su = make_setup(o);
   // one CVODE run per (rpm, control position)
@@ -116,11 +120,13 @@ void run_flexible_model(const DynamicsOptions& o) {
       });
   const double seconds = seconds_since(t0);
   // dynamics.csv and summary.json (with the runs' warnings on stderr)
-  const std::string csv = flexible_csv(su, runs, o.flexible.coil_displacements);
+  io::Columns table = flexible_columns(su, runs, o.flexible.coil_displacements);
   const nlohmann::json summary = flexible_summary(su, o.design, o.flexible, runs, seconds);
-  write_outputs(o.out_dir, kDynamicsOutputs, {{"dynamics.csv", csv}, {"summary.json", summary.dump(2) + "\n"}});
+  const auto committed = write_outputs(o.out_dir, kDynamicsOutputs,
+                                       {{"dynamics.csv", io::format_csv(table)}, {"summary.json", summary.dump(2) + "\n"}});
   info("dynamics (flexible): " + std::to_string(runs.size()) + " run(s) in " + std::to_string(seconds * 1e3) +
        " ms -> " + o.out_dir + "/dynamics.csv, summary.json");
+  return hand_over(committed, "dynamics.csv", std::move(table));
 }
 
 }  // namespace
@@ -172,20 +178,21 @@ void setup_dynamics(CLI::App& app) {
     if (opts->model != "rigid") reject_unused(*cmd, {"--contacts"}, "with --model " + opts->model + " (rigid model only)");
     if (opts->model != "modes")
       reject_unused(*cmd, {"--cam-deg", "--release-cam"}, "with --model " + opts->model + " (--model modes only)");
-    // the run, then its report
+    // the run, then its report (from the run's table in memory)
+    report::WrittenTables written;
     if (opts->model == "modes") {
       run_modes({opts->design, opts->out_dir, opts->control, opts->rpm, opts->flexible, *modes});
     } else {
       if (opts->rpm.empty()) throw CLI::RequiredError("--rpm");
       opts->flexible.start_at_rest = opts->start == "rest";
       if (opts->model == "flexible")
-        run_flexible_model(*opts);
+        written = run_flexible_model(*opts);
       else if (opts->contacts == "compliant")
-        run_compliant_contacts(*opts);
+        written = run_compliant_contacts(*opts);
       else
-        run_rigid(*opts);
+        written = run_rigid(*opts);
     }
-    write_run_report(opts->out_dir, opts->report);
+    write_run_report(opts->out_dir, opts->report, written);
   });
 }
 

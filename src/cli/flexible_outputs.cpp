@@ -19,7 +19,7 @@ std::string shortest_number(double v) {
 
 }  // namespace
 
-std::string flexible_csv(const DynamicsSetup& su, const std::vector<FlexibleRun>& runs, bool coil_displacements) {
+io::Columns flexible_columns(const DynamicsSetup& su, const std::vector<FlexibleRun>& runs, bool coil_displacements) {
   using Run = FlexibleRun;
   const kin::Mechanism& mech = su.mech;
   const dynamics::Model& model = su.model;
@@ -96,7 +96,7 @@ std::string flexible_csv(const DynamicsSetup& su, const std::vector<FlexibleRun>
         add_column("spring_" + first.chain_names[s] + "_coil" + std::to_string(j) + "_mm",
                    [k, masses](const Res& r, std::size_t i) { return r.coil_displacement[i * masses + k]; });
   }
-  return io::format_csv(header, cols);
+  return {std::move(header), std::move(cols), {}};
 }
 
 nlohmann::json flexible_summary(const DynamicsSetup& su, const std::string& design_file,

@@ -7,14 +7,15 @@
 #include <vector>
 
 #include "camopt/dynamics/flexible.hpp"
+#include "camopt/io/csv.hpp"
 #include "dynamics_setup.hpp"
 
 namespace camopt::cli {
 
 using FlexibleRun = GridRun<dynamics::FlexibleResult>;
 
-// dynamics.csv: long format, one row per (rpm, control position, cam angle)
-std::string flexible_csv(const DynamicsSetup& su, const std::vector<FlexibleRun>& runs, bool coil_displacements);
+// dynamics.csv's columns: long format, one row per (rpm, control position, cam angle)
+io::Columns flexible_columns(const DynamicsSetup& su, const std::vector<FlexibleRun>& runs, bool coil_displacements);
 
 // summary.json; a run far off its linearised gap or without a periodic steady state is
 // also a warning on stderr

@@ -152,7 +152,8 @@ std::vector<kin::PositionSummary> no_lash_summaries(const Run& run, const kin::S
 class CsvColumns {
  public:
   CsvColumns(const Run& run, const kin::SweepResult& result) : run_(run), result_(result) {}
-  std::string csv();
+  // the table, moved out
+  io::Columns table();
 
  private:
   template <class ValueAt>
@@ -239,7 +240,7 @@ void CsvColumns::add_contact(std::size_t c) {
   add(n + "gap_mm", cs([](const kin::ContactState& s) { return s.gap; }));
 }
 
-std::string CsvColumns::csv() {
+io::Columns CsvColumns::table() {
   const kin::Mechanism& mech = run_.mech;
   add_control_and_driver();
   // the valve lift, its derivative columns named vel_, acc_, jerk_ without the lift prefix
@@ -263,7 +264,7 @@ std::string CsvColumns::csv() {
   if (run_.sel.contacts)
     for (std::size_t c = 0; c < mech.connections.size(); ++c)
       if (mech.connections[c].kind == ConnectionKind::contact) add_contact(c);
-  return io::format_csv(header_, cols_);
+  return {std::move(header_), std::move(cols_), {}};
 }
 
 // one control position's entry of summary.json, and its line (and a toggle warning) on stderr
@@ -359,14 +360,15 @@ void run_kinematics(const KinematicsOptions& o) {
   run.driver_unit = mech.driver_is_angle() ? "deg" : "mm";
   run.cam_deg_per_s = o.rpm / mech.driver.crank_per_cam * 6.0;  // [deg/s]
   // kinematics.csv and summary.json, committed together
-  const std::string csv = CsvColumns(run, result).csv();
+  io::Columns table = CsvColumns(run, result).table();
   const nlohmann::json summary = summary_json(run, sweep, result, no_lash, seconds);
-  write_outputs(o.out_dir, kKinematicsOutputs, {{"kinematics.csv", csv}, {"summary.json", summary.dump(2) + "\n"}});
+  const auto committed = write_outputs(o.out_dir, kKinematicsOutputs,
+                                       {{"kinematics.csv", io::format_csv(table)}, {"summary.json", summary.dump(2) + "\n"}});
   info("kinematics: " + std::to_string(result.positions.size()) + " position(s) x " +
        std::to_string(result.driver.size()) + " points in " + std::to_string(seconds * 1e3) + " ms -> " + o.out_dir +
        "/kinematics.csv, summary.json");
-  // the page of the results
-  write_run_report(o.out_dir, o.report);
+  // the page of the results, from the table in memory
+  write_run_report(o.out_dir, o.report, hand_over(committed, "kinematics.csv", std::move(table)));
 }
 
 }  // namespace

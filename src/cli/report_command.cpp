@@ -52,12 +52,13 @@ PageFiles page_files(const std::string& source) {
 // the report and the figures of `source` from one collect(), staged and committed together
 // while the folder is locked against other camopt runs (a run committing its set meanwhile
 // would give them a mix of two runs); returns the paths written, the report's first
-std::vector<fs::path> write_pages(const std::string& source, const ReportOptions& report) {
+std::vector<fs::path> write_pages(const std::string& source, const ReportOptions& report,
+                                  const report::WrittenTables& written) {
   const PageFiles files = page_files(source);
   // the folder locked, then the data read and every page made before the first is staged
   std::vector<std::pair<std::string, std::string>> pages;
   io::OutputTransaction out(files.dir, {}, [](const std::string& message) { info(message); }, [&] {
-    const report::ReportData data = report::collect(source);
+    const report::ReportData data = report::collect(source, written);
     if (!report.no_report) pages.emplace_back(files.report, report::render_html(data));
     if (!report.figures.empty())
       for (auto& [name, content] :
@@ -67,19 +68,19 @@ std::vector<fs::path> write_pages(const std::string& source, const ReportOptions
     for (const auto& page : pages) names.push_back(page.first);
     return names;
   });
-  std::vector<fs::path> written;
+  std::vector<fs::path> paths;
   // rebuilt from the results at any time (camopt report): renamed into place without waiting
   // for the disk, which would cost the shortest runs a fifth of their time
   for (const auto& [name, content] : pages) {
     out.stage(name, content, io::Durability::renamed);
-    written.push_back(fs::path(files.shown) / name);
+    paths.push_back(fs::path(files.shown) / name);
   }
   out.commit();
-  return written;
+  return paths;
 }
 
 void run_report(const std::string& source, const std::string& figures) {
-  for (const fs::path& path : write_pages(source, {false, figures})) std::printf("%s\n", path.c_str());
+  for (const fs::path& path : write_pages(source, {false, figures}, {})) std::printf("%s\n", path.c_str());
 }
 
 // a figure file name of camopt's: a main plot id with one of the extensions
@@ -112,10 +113,19 @@ std::vector<std::string> previous_figures(const std::string& out_dir) {
   return names;
 }
 
-void write_run_report(const std::string& source, const ReportOptions& report) {
+report::WrittenTables hand_over(const std::map<std::string, io::FileId>& committed, const std::string& name,
+                                io::Columns table) {
+  const auto it = committed.find(name);
+  if (it == committed.end()) return {};
+  report::WrittenTables written;
+  written[name] = {std::move(table), it->second};
+  return written;
+}
+
+void write_run_report(const std::string& source, const ReportOptions& report, const report::WrittenTables& written) {
   if (report.no_report && report.figures.empty()) return;
   try {
-    for (const fs::path& path : write_pages(source, report))
+    for (const fs::path& path : write_pages(source, report, written))
       info((path.extension() == ".html" ? "report: " : "figure: ") + path.string());
   } catch (const InputError& e) {
     const std::string what = report.figures.empty() ? "its report" : report.no_report ? "its figures" : "its report and figures";

@@ -42,7 +42,8 @@ class RigidTable {
     }
     cols.push_back(std::move(col));
   }
-  std::string csv() const { return io::format_csv(header, cols, may_be_empty_); }
+  // the table, moved out
+  io::Columns take() { return {std::move(header), std::move(cols), std::move(may_be_empty_)}; }
 
   std::vector<std::string> header;
   std::vector<std::vector<double>> cols;
@@ -341,8 +342,8 @@ nlohmann::json rigid_result(const DynamicsSetup& su, const Sweep& s, double rpm,
 
 }  // namespace
 
-std::string rigid_csv(const DynamicsSetup& su, const std::vector<Sweep>& sweeps) {
-  return rigid_table(su, sweeps).csv();
+io::Columns rigid_columns(const DynamicsSetup& su, const std::vector<Sweep>& sweeps) {
+  return rigid_table(su, sweeps).take();
 }
 
 nlohmann::json rigid_summary(const DynamicsSetup& su, const std::string& design_file, const std::vector<Sweep>& sweeps,

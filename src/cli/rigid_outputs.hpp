@@ -6,12 +6,13 @@
 #include <vector>
 
 #include "camopt/dynamics/rigid.hpp"
+#include "camopt/io/csv.hpp"
 #include "dynamics_setup.hpp"
 
 namespace camopt::cli {
 
-// dynamics.csv: long format, one row per (rpm, control position, cam angle)
-std::string rigid_csv(const DynamicsSetup& su, const std::vector<dynamics::RigidSweep>& sweeps);
+// dynamics.csv's columns: long format, one row per (rpm, control position, cam angle)
+io::Columns rigid_columns(const DynamicsSetup& su, const std::vector<dynamics::RigidSweep>& sweeps);
 
 // summary.json: the run, per control position the separation speeds, per (rpm, control
 // position) the torque, connection, spring and pivot extremes, and with [oil] the films

@@ -251,8 +251,18 @@ void OutputTransaction::commit() {
     if (!staged) remove_stale(path);
   }
   if (synced_) ::fsync(lock_fd_);  // the renames reach the disk with the files
+  for (const auto& [temp_path, final_path] : staged_)
+    if (const auto id = file_id(final_path)) committed_ids_[std::filesystem::path(final_path).filename().string()] = *id;
   committed_ = true;
   release_lock();
+}
+
+std::optional<FileId> file_id(const std::string& path) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) return std::nullopt;
+  return FileId{static_cast<std::uint64_t>(st.st_dev), static_cast<std::uint64_t>(st.st_ino),
+                static_cast<std::int64_t>(st.st_size),
+                static_cast<std::int64_t>(st.st_mtim.tv_sec) * 1000000000 + st.st_mtim.tv_nsec};
 }
 
 }  // namespace camopt::io

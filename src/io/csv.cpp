@@ -341,6 +341,11 @@ std::string format_csv(const std::vector<std::string>& header, const std::vector
   return text;
 }
 
+std::string format_csv(const Columns& table) {
+  if (table.may_be_empty.empty()) return format_csv(table.header, table.values);
+  return format_csv(table.header, table.values, table.may_be_empty);
+}
+
 void write_csv(const std::string& path, const std::vector<std::string>& header,
                const std::vector<std::vector<double>>& columns) {
   write_text_atomic(path, format_csv(header, columns));

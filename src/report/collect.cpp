@@ -21,7 +21,7 @@ bool newer(const fs::path& a, const fs::path& b) {
 }
 
 // a folder's summary.json: kinematics or one of the dynamics models
-void collect_summary(ReportData& data, const fs::path& dir) {
+void collect_summary(ReportData& data, const detail::Folder& dir) {
   const nlohmann::json summary = read_json(dir / "summary.json");
   const std::string file = (dir / "summary.json").string();
   const auto model = summary.find("model");
@@ -43,7 +43,7 @@ void collect_summary(ReportData& data, const fs::path& dir) {
 }
 
 // a folder's report.json: optimize (it names a constraint set) or synthesize
-void collect_design_report(ReportData& data, const fs::path& dir) {
+void collect_design_report(ReportData& data, const detail::Folder& dir) {
   const nlohmann::json report = read_json(dir / "report.json");
   if (report.contains("constraint_set")) {
     data.command = "optimize";
@@ -126,7 +126,7 @@ void decimate(ReportData& data, std::size_t max_points) {
   }
 }
 
-ReportData collect(const fs::path& source) {
+ReportData collect(const fs::path& source, const WrittenTables& written) {
   ReportData data;
   data.source_dir = source_name(source);
   std::error_code ec;
@@ -139,9 +139,9 @@ ReportData collect(const fs::path& source) {
   } else {
     const bool summary = fs::exists(source / "summary.json", ec), report = fs::exists(source / "report.json", ec);
     if (summary && (!report || newer(source / "summary.json", source / "report.json")))
-      collect_summary(data, source);
+      collect_summary(data, {source, &written});
     else if (report)
-      collect_design_report(data, source);
+      collect_design_report(data, {source, &written});
     else
       throw InputError("'" + source.string() +
                        "': no camopt result in it (summary.json of kinematics or dynamics, or report.json of "

@@ -42,14 +42,12 @@ std::vector<Band> windows(const std::vector<double>& x, const std::vector<bool>&
 
 // the cam to scale, coloured by its radius of curvature, with the base circle dashed; the
 // radius of curvature against profile angle with the concave windows as bands
-void add_profile_plots(ReportData& data, const fs::path& dir, const nlohmann::json& report) {
-  const fs::path path = dir / "profile.csv";
-  std::error_code ec;
-  if (!fs::exists(path, ec)) {
+void add_profile_plots(ReportData& data, const Folder& dir, const nlohmann::json& report) {
+  if (!dir.has("profile.csv")) {
     data.notes.push_back("no profile.csv in the folder: the cam is not drawn");
     return;
   }
-  const CsvData csv = read_csv(path);
+  const CsvData csv = dir.csv("profile.csv");
   add_section(data, "profile", "Cam profile");
   Plot p;
   p.id = "profile";
@@ -63,7 +61,7 @@ void add_profile_plots(ReportData& data, const fs::path& dir, const nlohmann::js
   Series profile{"profile", csv.at("x_mm"), csv.at("y_mm"), csv.at("radius_of_curvature_mm"), -1, false};
   p.series.push_back(std::move(profile));
   // the base circle
-  const nlohmann::json& prof = member(report, "profile", path.parent_path().string() + "/report.json");
+  const nlohmann::json& prof = member(report, "profile", (dir / "report.json").string());
   const double base = number(prof, "base_circle_radius_mm", (dir / "report.json").string(), "profile");
   Series circle{"base circle", {}, {}, {}, -1, true};
   for (int i = 0; i <= 360; ++i) {
@@ -85,10 +83,9 @@ void add_profile_plots(ReportData& data, const fs::path& dir, const nlohmann::js
 }
 
 // the grinding table: master lift against cam angle
-void add_grinding_plot(ReportData& data, const fs::path& dir) {
-  std::error_code ec;
-  if (!fs::exists(dir / "grinding.csv", ec)) return;
-  const CsvData csv = read_csv(dir / "grinding.csv");
+void add_grinding_plot(ReportData& data, const Folder& dir) {
+  if (!dir.has("grinding.csv")) return;
+  const CsvData csv = dir.csv("grinding.csv");
   Plot g = line_plot("grinding", "Grinding table: master lift", "profile", "cam_deg", "master_lift_mm", "");
   add_group_series(g, csv, group_rows(csv, {}), {""}, "cam_deg", "master_lift_mm", "master lift");
   data.plots.push_back(std::move(g));
@@ -241,7 +238,7 @@ void collect_lift_table(ReportData& data, const fs::path& csv_path) {
   add_svaj_plots(data, csv, group_rows(csv, {}), {""}, angle, "valve");
 }
 
-void collect_synthesize(ReportData& data, const fs::path& dir, const nlohmann::json& report) {
+void collect_synthesize(ReportData& data, const Folder& dir, const nlohmann::json& report) {
   const std::string file = (dir / "report.json").string();
   data.title = "camopt synthesize: " + format_scalar(member(report, "design", file));
   add_facts(data, report, {"design", "design_file", "target_file", "cam", "connection", "follower_shape"});
@@ -255,15 +252,14 @@ void collect_synthesize(ReportData& data, const fs::path& dir, const nlohmann::j
   data.tables.push_back(key_value_table("summary", "report.json", "summary", report));
 }
 
-void collect_optimize(ReportData& data, const fs::path& dir, const nlohmann::json& report) {
+void collect_optimize(ReportData& data, const Folder& dir, const nlohmann::json& report) {
   const std::string file = (dir / "report.json").string();
   data.title = "camopt optimize: " + format_scalar(member(report, "design", file));
   add_facts(data, report, {"design", "design_file", "constraints_file", "constraint_set", "solver", "status",
                            "iterations", "time_s"});
   // the lift and its derivatives, one series per control position of a swing cam
-  std::error_code ec;
-  if (fs::exists(dir / "lift.csv", ec)) {
-    const CsvData csv = read_csv(dir / "lift.csv");
+  if (dir.has("lift.csv")) {
+    const CsvData csv = dir.csv("lift.csv");
     const std::vector<Group> groups = group_rows(csv, {"control"});
     data.family = family_labels({"control"}, groups);
     if (groups.size() < 2) data.family.clear();

@@ -19,8 +19,8 @@ struct Runs {
   std::vector<std::string> labels;
 };
 
-Runs read_runs(ReportData& data, const fs::path& path) {
-  Runs r{read_csv(path), {}, {}};
+Runs read_runs(ReportData& data, const Folder& dir) {
+  Runs r{dir.csv("dynamics.csv"), {}, {}};
   const std::string control = r.csv.find("control_mm") ? "control_mm" : "control_deg";
   r.groups = group_rows(r.csv, {"rpm", control});
   r.labels = family_labels({"rpm", control}, r.groups);
@@ -129,11 +129,11 @@ void add_results_table(ReportData& data, const nlohmann::json& summary, const st
 
 }  // namespace
 
-void collect_rigid(ReportData& data, const fs::path& dir, const nlohmann::json& summary) {
+void collect_rigid(ReportData& data, const Folder& dir, const nlohmann::json& summary) {
   const std::string file = (dir / "summary.json").string();
   data.title = "camopt dynamics rigid: " + format_scalar(member(summary, "design", file));
   add_facts(data, summary, {"design", "design_file", "model", "mode", "step_cam_deg", "points_per_position"});
-  const Runs r = read_runs(data, dir / "dynamics.csv");
+  const Runs r = read_runs(data, dir);
   // the mechanism at the run's control positions
   add_scene(data, scene_source_of_summary(summary, member(summary, "results", file), number(summary, "step_cam_deg", file),
                                           0.0, 360.0));
@@ -165,12 +165,12 @@ void collect_rigid(ReportData& data, const fs::path& dir, const nlohmann::json& 
   add_results_table(data, summary, file);
 }
 
-void collect_flexible(ReportData& data, const fs::path& dir, const nlohmann::json& summary) {
+void collect_flexible(ReportData& data, const Folder& dir, const nlohmann::json& summary) {
   const std::string file = (dir / "summary.json").string();
   data.title = "camopt dynamics flexible: " + format_scalar(member(summary, "design", file));
   add_facts(data, summary, {"design", "design_file", "model", "step_cam_deg", "revolutions", "start",
                             "relative_tolerance", "absolute_tolerance"});
-  const Runs r = read_runs(data, dir / "dynamics.csv");
+  const Runs r = read_runs(data, dir);
   // the dynamic lift over the kinematic one (dashed), the lift loss, the mechanism (its
   // kinematic poses)
   add_section(data, "lift", "Dynamic lift");
@@ -207,12 +207,12 @@ void collect_flexible(ReportData& data, const fs::path& dir, const nlohmann::jso
   add_results_table(data, summary, file);
 }
 
-void collect_modes(ReportData& data, const fs::path& dir, const nlohmann::json& summary) {
+void collect_modes(ReportData& data, const Folder& dir, const nlohmann::json& summary) {
   const std::string file = (dir / "summary.json").string();
   data.title = "camopt dynamics modes: " + format_scalar(member(summary, "design", file));
   add_facts(data, summary, {"design", "design_file", "model", "linearisation", "driver_contacts",
                             "mode_shape_normalisation"});
-  const CsvData csv = read_csv(dir / "modes.csv");
+  const CsvData csv = dir.csv("modes.csv");
   const nlohmann::json& results = member(summary, "results", file);
   // the natural frequencies per linearisation point
   add_section(data, "modes", "Natural frequencies and mode shapes");

@@ -109,13 +109,13 @@ void add_contact_plots(ReportData& data, const Sweep& sw, const std::string& c) 
 
 }  // namespace
 
-void collect_kinematics(ReportData& data, const fs::path& dir, const nlohmann::json& summary) {
+void collect_kinematics(ReportData& data, const Folder& dir, const nlohmann::json& summary) {
   const std::string file = (dir / "summary.json").string();
   data.title = "camopt kinematics: " + format_scalar(member(summary, "design", file));
   add_facts(data, summary, {"design", "design_file", "driver", "step_deg", "step_mm", "points_per_position",
                             "engine_speed_rpm"});
   // the sweep: one group of rows per control position
-  const CsvData csv = read_csv(dir / "kinematics.csv");
+  const CsvData csv = dir.csv("kinematics.csv");
   Sweep sw{csv, {}, {}, first_of(csv, {"cam_deg", "driver_mm"})};
   if (sw.angle.empty()) throw InputError(csv.file + ": no driver column (cam_deg or driver_mm)");
   const std::string control = first_of(csv, {"control_deg", "control_mm"});

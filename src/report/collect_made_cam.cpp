@@ -36,7 +36,7 @@ Target read_target(const nlohmann::json& report, const kin::Mechanism& mech) {
 
 }  // namespace
 
-void add_made_cam_plots(ReportData& data, const fs::path& dir, const nlohmann::json& report) {
+void add_made_cam_plots(ReportData& data, const Folder& dir, const nlohmann::json& report) {
   std::error_code ec;
   const fs::path design = dir / "design.toml";
   const auto connection = report.find("connection");

@@ -10,6 +10,7 @@
 #include <string_view>
 #include <vector>
 
+#include "camopt/report/report.hpp"
 #include "camopt/report/report_data.hpp"
 #include "camopt/report/scene.hpp"
 
@@ -34,6 +35,18 @@ struct CsvData {
 CsvData read_csv(const fs::path& path);
 // InputError naming the file and the parse error
 nlohmann::json read_json(const fs::path& path);
+
+// the result folder collected, with the tables its run handed over in memory (collect())
+struct Folder {
+  fs::path path;
+  const WrittenTables* written = nullptr;
+  fs::path operator/(std::string_view name) const { return path / name; }
+  // the folder holds the file
+  bool has(const std::string& name) const;
+  // the run's table in memory while the folder holds the file the run committed (as read
+  // back from that file: -0 as 0), read_csv of the file otherwise
+  CsvData csv(const std::string& name) const;
+};
 
 // the member `key` of the object `j` (read from `file`), or InputError "file: no key 'path.key'"
 const nlohmann::json& member(const nlohmann::json& j, const std::string& key, const std::string& file,
@@ -110,13 +123,13 @@ void add_scene(ReportData& data, const SceneSource& source);
 // synthesize: the kinematic solver on the folder's design.toml: the pressure angle and the
 // cam's radius of curvature at the contact against cam angle, and the made lift minus the
 // target (report.json's target_file, when readable from here)
-void add_made_cam_plots(ReportData& data, const fs::path& dir, const nlohmann::json& report);
-void collect_synthesize(ReportData& data, const fs::path& dir, const nlohmann::json& report);
-void collect_optimize(ReportData& data, const fs::path& dir, const nlohmann::json& report);
-void collect_kinematics(ReportData& data, const fs::path& dir, const nlohmann::json& summary);
-void collect_rigid(ReportData& data, const fs::path& dir, const nlohmann::json& summary);
-void collect_flexible(ReportData& data, const fs::path& dir, const nlohmann::json& summary);
-void collect_modes(ReportData& data, const fs::path& dir, const nlohmann::json& summary);
+void add_made_cam_plots(ReportData& data, const Folder& dir, const nlohmann::json& report);
+void collect_synthesize(ReportData& data, const Folder& dir, const nlohmann::json& report);
+void collect_optimize(ReportData& data, const Folder& dir, const nlohmann::json& report);
+void collect_kinematics(ReportData& data, const Folder& dir, const nlohmann::json& summary);
+void collect_rigid(ReportData& data, const Folder& dir, const nlohmann::json& summary);
+void collect_flexible(ReportData& data, const Folder& dir, const nlohmann::json& summary);
+void collect_modes(ReportData& data, const Folder& dir, const nlohmann::json& summary);
 
 // the lift, velocity, acceleration and jerk plots of a lift table (lift.csv, a target, a
 // kinematic sweep's valve): one plot each in section "svaj", linked; `angle` the x column

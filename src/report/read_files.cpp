@@ -113,6 +113,28 @@ CsvData read_csv(const fs::path& path) {
   return csv;
 }
 
+bool Folder::has(const std::string& name) const {
+  std::error_code ec;
+  return fs::exists(path / name, ec);
+}
+
+CsvData Folder::csv(const std::string& name) const {
+  // the run's table while the folder holds the file it committed
+  const auto it = written ? written->find(name) : WrittenTables::const_iterator{};
+  if (!written || it == written->end() || io::file_id((path / name).string()) != it->second.file)
+    return read_csv(path / name);
+  const io::Columns& table = it->second.columns;
+  CAMOPT_ASSERT(table.header.size() == table.values.size());
+  CsvData csv;
+  csv.file = (path / name).string();
+  csv.columns = table.header;
+  csv.values = table.values;
+  // the file's text of -0 is 0 (format_csv)
+  for (auto& column : csv.values)
+    for (double& v : column) v += 0.0;
+  return csv;
+}
+
 nlohmann::json read_json(const fs::path& path) {
   const std::string text = read_text(path);
   nlohmann::json j = nlohmann::json::parse(text, nullptr, false);

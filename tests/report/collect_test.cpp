@@ -6,6 +6,7 @@
 #include <map>
 
 #include "camopt/core/error.hpp"
+#include "camopt/io/atomic_file.hpp"
 #include "report/report_support.hpp"
 #include "support/compare.hpp"
 
@@ -327,6 +328,39 @@ TEST_CASE("report: collect names a missing folder, a folder without results and 
   CHECK_THROWS_WITH(report::collect(dir), Catch::Contains("summary.json") && Catch::Contains("'design'"));
   write_text(dir / "summary.json", "{\"positions\": [");
   CHECK_THROWS_WITH(report::collect(dir), Catch::Contains("summary.json") && Catch::Contains("not a JSON object"));
+}
+
+TEST_CASE("report: a run's table in memory is taken while the folder holds the file it committed") {
+  TempDir tmp;
+  const fs::path dir = tmp / "kin";
+  fs::create_directories(dir);
+  for (const char* name : {"summary.json", "kinematics.csv"})
+    fs::copy_file(result_folder("kin_default") / name, dir / name);
+  const TestCsv csv = read_test_csv(dir / "kinematics.csv");
+  // the table as the run holds it, told apart from the file: the lift doubled, and a negative
+  // zero at the first row (the file's text of it is 0)
+  io::Columns table{csv.header, csv.columns, {}};
+  std::size_t lift = 0;
+  while (table.header[lift] != "lift_mm") ++lift;
+  for (double& v : table.values[lift]) v *= 2.0;
+  table.values[lift][0] = -0.0;
+  const auto id = io::file_id((dir / "kinematics.csv").string());
+  REQUIRE(id.has_value());
+  const report::WrittenTables written = {{"kinematics.csv", {table, *id}}};
+  // the file the run committed: the table is taken, its -0 as 0
+  const report::ReportData memory_data = report::collect(dir, written);
+  const report::Series& in_memory = plot_of(memory_data, "svaj-lift").series.front();
+  REQUIRE(in_memory.y.size() == csv["lift_mm"].size());
+  CHECK_FALSE(std::signbit(in_memory.y[0]));
+  CHECK(in_memory.y[0] == 0.0);
+  for (std::size_t i = 1; i < in_memory.y.size(); ++i) REQUIRE(in_memory.y[i] == 2.0 * csv["lift_mm"][i]);
+  // another run's file in its place (a rename: another inode): the file is read
+  write_text(dir / "kinematics.tmp", read_file(dir / "kinematics.csv"));
+  fs::rename(dir / "kinematics.tmp", dir / "kinematics.csv");
+  const report::ReportData file_data = report::collect(dir, written);
+  const report::Series& from_file = plot_of(file_data, "svaj-lift").series.front();
+  REQUIRE(from_file.y.size() == csv["lift_mm"].size());
+  for (std::size_t i = 0; i < from_file.y.size(); ++i) REQUIRE(from_file.y[i] == csv["lift_mm"][i]);
 }
 
 }  // namespace

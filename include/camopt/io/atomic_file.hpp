@@ -3,7 +3,10 @@
 // no partial file survives an error or a SIGINT / SIGTERM / SIGHUP / SIGQUIT. Only a
 // regular file is ever replaced: a symbolic link, device, fifo or directory at an output
 // path is an InputError naming it.
+#include <cstdint>
 #include <functional>
+#include <map>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -20,6 +23,16 @@ enum class Durability { on_disk, renamed };
 // not a regular file (nothing is created then)
 void write_text_atomic(const std::string& path, std::string_view content,
                        Durability durability = Durability::on_disk);
+
+// which file a path names: a file replaced by another (a rename) has another inode, a file
+// written again another size or time
+struct FileId {
+  std::uint64_t device = 0, inode = 0;
+  std::int64_t size = -1, mtime_ns = 0;
+  bool operator==(const FileId&) const = default;
+};
+// the file at `path`, nothing when there is none
+std::optional<FileId> file_id(const std::string& path);
 
 // the set of output files of one run, committed together into one directory.
 // The constructor makes the directory (if missing; it must be a real directory, not a
@@ -46,6 +59,9 @@ class OutputTransaction {
   void stage(const std::string& file_name, std::string_view content, Durability durability = Durability::on_disk);
   void commit();
   const std::string& directory() const { return directory_; }
+  // after commit(): the files it put in place, by file name, taken before the folder was
+  // unlocked (a later run's commit replaces them by other files)
+  const std::map<std::string, FileId>& committed() const { return committed_ids_; }
 
  private:
   std::string path_of(const std::string& file_name) const;
@@ -57,6 +73,7 @@ class OutputTransaction {
   int lock_fd_ = -1;  // the directory, opened and flock'ed
   bool synced_ = false;  // a file staged on_disk: commit() syncs the directory
   bool committed_ = false;
+  std::map<std::string, FileId> committed_ids_;
 };
 
 }  // namespace camopt::io

@@ -63,6 +63,16 @@ std::string format_csv(const std::vector<std::string>& header, const std::vector
 std::string format_csv(const std::vector<std::string>& header, const std::vector<std::vector<double>>& columns,
                        const std::vector<bool>& may_be_empty);
 
+// a result table held in memory: header names with units, one vector per column, and the
+// columns whose NaN is an empty cell (none when may_be_empty is empty)
+struct Columns {
+  std::vector<std::string> header;
+  std::vector<std::vector<double>> values;
+  std::vector<bool> may_be_empty;
+};
+// format_csv of the table, with its may_be_empty
+std::string format_csv(const Columns& table);
+
 // write columns (header names must carry units) to `path` atomically
 void write_csv(const std::string& path, const std::vector<std::string>& header,
                const std::vector<std::vector<double>>& columns);

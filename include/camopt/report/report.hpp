@@ -4,9 +4,12 @@
 // page (docs/report.md), write_report() does both and writes it atomically.
 #include <cstddef>
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
+#include "camopt/io/atomic_file.hpp"
+#include "camopt/io/csv.hpp"
 #include "camopt/report/report_data.hpp"
 
 namespace camopt::report {
@@ -16,7 +19,17 @@ namespace camopt::report {
 // table written by `camopt lift` (a CSV file). Series are decimated for display
 // (decimate()). InputError naming the file, line or key for a folder that holds no
 // recognisable result, a malformed CSV or a missing JSON key.
-ReportData collect(const std::filesystem::path& source);
+// `written`: the CSV tables of the folder that the run writing it holds in memory, by file
+// name, each with the file it committed; a table is taken instead of reading its file back
+// while the folder still holds that file (another run may have replaced the set since). The
+// file is the table's shortest round-trip text, so the page is the same byte for byte (a
+// negative zero is written 0, an empty cell is a NaN, and so they are taken).
+struct WrittenTable {
+  io::Columns columns;
+  io::FileId file;
+};
+using WrittenTables = std::map<std::string, WrittenTable>;
+ReportData collect(const std::filesystem::path& source, const WrittenTables& written = {});
 
 // report.html: the page template with the assets inlined and the data as JSON
 // (docs/report.md, "Data format")
