@@ -88,6 +88,20 @@ io::Columns flexible_columns(const DynamicsSetup& su, const std::vector<Flexible
     add_column("spring_" + first.chain_names[s] + "_static_N",
                [s, nch](const Res& r, std::size_t i) { return r.spring_static_load[i * nch + s]; });
   }
+  // hydraulic lash adjusters, named by the node they support
+  const std::size_t nh = first.hla_names.size();
+  for (std::size_t k = 0; k < nh; ++k) {
+    const std::string n = "hla_" + first.hla_names[k] + "_";
+    auto per_hla = [k, nh](const std::vector<double> Res::*v) {
+      return [k, nh, v](const Res& r, std::size_t i) { return (r.*v)[i * nh + k]; };
+    };
+    add_column(n + "plunger_mm", per_hla(&Res::hla_plunger));
+    add_column(n + "force_N", per_hla(&Res::hla_force));
+    add_column(n + "pressure_MPa", per_hla(&Res::hla_pressure));
+    add_column(n + "leak_mm3_per_s", per_hla(&Res::hla_leak_flow));
+    add_column(n + "refill_mm3_per_s", per_hla(&Res::hla_refill_flow));
+    add_column(n + "ball_lift_mm", per_hla(&Res::hla_ball_lift));
+  }
   if (coil_displacements) {
     const int masses = first.layout.spring_masses;
     int k = 0;
@@ -140,12 +154,16 @@ nlohmann::json flexible_summary(const DynamicsSetup& su, const std::string& desi
            std::to_string(r.revolutions_integrated) + " revolutions (start-state difference " +
            shortest_number(r.periodic_difference) + " tolerances); the last revolution is reported: raise --revolutions");
     const bool separates = j["any_contact_separates"].get<bool>();
-    map.push_back({{"rpm", run.rpm},
-                   {"control_" + su.controls.unit, su.controls.values[run.position]},
-                   {"any_contact_separates", separates},
-                   {"bounce_count", has_seat ? j["bounce_count"] : nlohmann::json(nullptr)},
-                   {"bounce_height_" + lift_unit, has_seat ? j["bounce_height_" + lift_unit] : nlohmann::json(nullptr)},
-                   {"max_lift_loss_" + lift_unit, j["max_lift_loss_" + lift_unit]}});
+    nlohmann::json point = {{"rpm", run.rpm},
+                            {"control_" + su.controls.unit, su.controls.values[run.position]},
+                            {"any_contact_separates", separates},
+                            {"bounce_count", has_seat ? j["bounce_count"] : nlohmann::json(nullptr)},
+                            {"bounce_height_" + lift_unit, has_seat ? j["bounce_height_" + lift_unit] : nlohmann::json(nullptr)},
+                            {"max_lift_loss_" + lift_unit, j["max_lift_loss_" + lift_unit]}};
+    // pump-up (> 0) or collapse (< 0) of every HLA over the reported revolution
+    if (j.contains("hla"))
+      for (const auto& h : j["hla"]) point["hla_" + h["node"].get<std::string>() + "_drift_mm"] = h["plunger_drift_mm"];
+    map.push_back(point);
     results.push_back(j);
   }
   summary["results"] = results;

@@ -9,6 +9,49 @@
 
 namespace camopt::cli {
 
+namespace {
+
+// per HLA over the reported points: the plunger's drift (pump-up > 0, collapse < 0), the
+// chamber pressure's range (cavitation at its floor), whether the check valve opened, and the
+// oil it leaked and took in
+nlohmann::json hla_summary(const dynamics::FlexibleResult& r) {
+  nlohmann::json out = nlohmann::json::array();
+  const std::size_t nh = r.hla_names.size(), last = r.cam_deg.size() - 1;
+  for (std::size_t k = 0; k < nh; ++k) {
+    Extremes pressure, force, ball, plunger;
+    for (std::size_t i = 0; i <= last; ++i) {
+      plunger.add(r.hla_plunger[i * nh + k], r.cam_deg[i]);
+      pressure.add(r.hla_pressure[i * nh + k], r.cam_deg[i]);
+      force.add(r.hla_force[i * nh + k], r.cam_deg[i]);
+      ball.add(r.hla_ball_lift[i * nh + k], r.cam_deg[i]);
+    }
+    bool cavitates = false, ball_opens = ball.max > 0.0;
+    const std::string prefix = "hla " + r.hla_names[k] + " ";
+    for (const auto& ev : r.events) {
+      if (ev.what.rfind(prefix, 0) != 0) continue;
+      cavitates = cavitates || ev.what.ends_with("pressure floor");
+      ball_opens = ball_opens || ev.what.ends_with("ball seat");
+    }
+    out.push_back({{"node", r.hla_names[k]},
+                   {"plunger_drift_mm", r.hla_plunger[last * nh + k] - r.hla_plunger[k]},
+                   {"min_plunger_mm", plunger.min},
+                   {"max_plunger_mm", plunger.max},
+                   {"max_force_N", force.max},
+                   {"max_force_at_cam_deg", force.max_at},
+                   {"max_pressure_MPa", pressure.max},
+                   {"min_pressure_MPa", pressure.min},
+                   {"min_pressure_at_cam_deg", pressure.min_at},
+                   {"cavitates", cavitates},
+                   {"ball_opens", ball_opens},
+                   {"max_ball_lift_mm", ball.max},
+                   {"leak_volume_mm3", r.hla_leak_volume[last * nh + k] - r.hla_leak_volume[k]},
+                   {"refill_volume_mm3", r.hla_refill_volume[last * nh + k] - r.hla_refill_volume[k]}});
+  }
+  return out;
+}
+
+}  // namespace
+
 nlohmann::json flexible_run_summary(const kin::Mechanism& mech, const dynamics::Model& model,
                                     const dynamics::FlexibleResult& r) {
   const std::size_t nc = mech.connections.size(), nch = r.chain_names.size();
@@ -126,6 +169,7 @@ nlohmann::json flexible_run_summary(const kin::Mechanism& mech, const dynamics::
     if (r.lift[i] < min_lift) min_lift = r.lift[i], min_at = r.cam_deg[i];
   j["min_lift_" + lift_unit] = min_lift;
   j["min_lift_at_cam_deg"] = min_at;
+  if (!r.hla_names.empty()) j["hla"] = hla_summary(r);
   return j;
 }
 

@@ -95,7 +95,8 @@ void start_from_rest(System& s, Eigen::VectorXd& v0) {
 // elements, chains and seats, and the lash kinks of the path within the reported window
 void describe_run(const System& s, double start_deg, FlexibleResult& out) {
   const kin::Mechanism& mech = s.mech;
-  out.layout = {s.R, s.E, s.N - s.core()};
+  out.layout = {s.R, s.E, s.N - s.core(), s.P, s.H};
+  for (const detail::Plunger& p : s.plungers) out.hla_names.push_back(mech.nodes[p.node].name);
   out.connections = s.C;
   out.parameters = describe(s);
   for (int c = 0; c < s.C; ++c)

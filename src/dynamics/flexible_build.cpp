@@ -81,7 +81,7 @@ void add_elements(System& s, const Model& model) {
 void add_chains(System& s, const Model& model) {
   const kin::Mechanism& mech = s.mech;
   std::vector<Spring> kept;
-  int next = s.R + s.E;
+  int next = s.core();
   for (const Spring& sp : model.springs) {
     // torsion springs and springs on floating bodies stay in the path
     if (sp.kind != SpringKind::compression || sp.on_point || mech.nodes[sp.node].control >= 0) {
@@ -240,10 +240,12 @@ double train_frequency(System& s) {
                                                       : law.scale * line_contact_tangent_stiffness(
                                                                         s.opt.reference_force, law.length, law.e_star,
                                                                         s.reduced_radius(c));
-    for (int i = 0; i < s.R; ++i)
-      for (int j = 0; j < s.R; ++j) k(s.row_map[c][i], s.row_map[c][j]) += kc * s.gn(i, c) * s.gn(j, c);
+    s.for_gradient(c, [&](int i, double gi, double) {
+      s.for_gradient(c, [&](int j, double gj, double) { k(i, j) += kc * gi * gj; });
+    });
   }
   for (const Chain& ch : s.chains) k(ch.row, ch.row) += ch.law.stiffness(s.path[s.L.xs + ch.table_index]);
+  for (const Plunger& p : s.plungers) k(p.coord, p.coord) += hla_static_stiffness(s, p);
   s.mass_matrix(s.m);
   const Eigen::MatrixXd m = s.m.core;
   s.evaluated_theta = std::nan("");
@@ -264,7 +266,7 @@ void set_damping(System& s) {
   for (int c = 0; c < s.C; ++c) {
     if (s.flex.contacts[c].is_contact) continue;
     Eigen::VectorXd g = Eigen::VectorXd::Zero(s.core());
-    for (int r = 0; r < s.R; ++r) g(s.row_map[c][r]) += s.gn(r, c);
+    s.for_gradient(c, [&](int row, double gn, double) { g(row) += gn; });
     const double inv_mass = g.dot(m_inv * g);
     const double m_c = inv_mass > 0 ? 1.0 / inv_mass : 0.0;
     const double link_ratio = s.flex.links[c].damping_ratio.value_or(s.opt.contact_damping_ratio);
@@ -325,6 +327,7 @@ void add_roots(System& s) {
   for (int c = 0; c < s.C; ++c)
     if (s.flex.contacts[c].is_contact && !s.flex.contacts[c].two_sided) s.root_list.push_back({0, c, 0});
   for (int i = 0; i < static_cast<int>(s.seats.size()); ++i) s.root_list.push_back({1, i, 0});
+  add_hla_roots(s);
   for (std::size_t i = 0; i < s.chains.size(); ++i)
     if (s.chains[i].solid_travel >= 0)
       for (int j = 1; j <= s.chains[i].masses + 1; ++j) s.root_list.push_back({2, static_cast<int>(i), j});
@@ -350,17 +353,20 @@ Status build_system(System& s, const Model& model, const std::vector<double>& co
   s.far_of_row.assign(s.R, -1);
   // the extended coordinates: far ends of compliant nodes, then the spring chains' masses
   add_elements(s, model);
+  add_plungers(s, model);
   add_chains(s, model);
   // the valve seats and the contacts' force laws
   add_seats(s);
   set_contact_laws(s);
   map_rows(s);
   // the kinematic path over one revolution, and the seats checked against it
-  s.L = Layout(s.R, s.C, static_cast<int>(s.chains.size()), static_cast<int>(s.seats.size()));
+  s.L = Layout(s.R, s.C, static_cast<int>(s.chains.size()), static_cast<int>(s.seats.size()), s.P);
   const Status st = tabulate_path(s, controls, theta_first);
   if (!st.ok()) return st;
   check_seats(s);
   s.theta0 = theta_first;
+  s.hyd = Eigen::VectorXd::Zero(s.H);
+  if (s.H > 0) initial_hydraulics(s, 0.0, s.hyd.data());
   allocate_work(s);
   // damping of links and components from the train's first mode
   set_damping(s);
@@ -416,7 +422,7 @@ Eigen::VectorXd initial_deviation(System& s, const Eigen::VectorXd& lambda0, con
       }
       continue;
     }
-    for (int r = 0; r < s.R; ++r) a(eq, s.row_map[c][r]) += s.gn(r, c);
+    s.for_gradient(c, [&](int row, double gn, double) { a(eq, row) += gn; });
     if (s.flex.contacts[c].is_contact) b(eq) = -s.path[s.L.gap + c] - contact_approach(s, c, lambda0(c));
     else b(eq) = -lambda0(c) / s.link_k[c];
   }
@@ -436,6 +442,8 @@ Eigen::VectorXd initial_deviation(System& s, const Eigen::VectorXd& lambda0, con
     b(eq) = load;
     ++eq;
   }
+  // plungers start where the kinematics has them (the static polish then balances the HLA)
+  for (const Plunger& p : s.plungers) a(eq++, p.coord) = 1.0;
   CAMOPT_ASSERT(eq == nc);
   Eigen::VectorXd x = Eigen::VectorXd::Zero(s.N);
   x.head(nc) = a.partialPivLu().solve(b);
@@ -503,6 +511,7 @@ Status static_start(System& s, const Model& model, const std::vector<double>& co
     for (int j = 1; j <= ch.masses; ++j)
       v0(ch.first + j - 1) = j / (ch.masses + 1.0) * s.path[s.L.xs1 + ch.table_index] * s.omega;
   polish_static(s, x0, v0, 30);
+  if (s.H > 0) settle_hydraulics(s, 0.0, x0.data(), v0.data(), s.hyd.data());
   s.forces(x0.data(), v0.data());
   int contact = -1;
   const double error = s.gap_error(x0.data(), contact);

@@ -100,6 +100,8 @@ void System::forces(const double* q, const double* qd, bool powers_only) {
     f(e.far) -= fe;
     fr.viscous_power += e.c * rate * rate;
   }
+  // plungers: the node's kinematic acceleration along the axis, the HLA and its stops
+  for (const Plunger& p : plungers) f(p.coord) = -path[L.pz_inertia + p.table_index] * w2 + plunger_force(*this, p, q, qd);
   fr.torque = path[L.load_drv];
   for (int c = 0; c < C; ++c) {
     double fc = 0.0, mu = 0.0;
@@ -123,7 +125,7 @@ void System::forces(const double* q, const double* qd, bool powers_only) {
     if (cd.is_contact && fc != 0.0 && cd.friction > 0.0 && !cd.rolling) {
       // sliding of a over b [mm/s]: kinematic plus the deviation's (g_t . dq' = -(v_a - v_b).t)
       double sliding = path[L.slide + c] * omega;
-      for (int r = 0; r < R; ++r) sliding -= gt(r, c) * qd[row_map[c][r]];
+      sliding -= tangent_dot(c, qd);
       const double v0 = opt.friction_velocity_m_per_s * 1e3;
       mu = cd.friction * sliding / std::sqrt(sliding * sliding + v0 * v0);
       fr.friction_power[c] = mu * std::abs(fc) * sliding;
@@ -133,7 +135,7 @@ void System::forces(const double* q, const double* qd, bool powers_only) {
     fr.mu_eff[c] = mu;
     if (fc != 0.0) {
       // friction mu |F| along the tangent, whichever wall carries the force
-      for (int r = 0; r < R; ++r) f(row_map[c][r]) += fc * gn(r, c) + std::abs(fc) * mu * gt(r, c);
+      for_gradient(c, [&](int row, double gn, double gt) { f(row) += fc * gn + std::abs(fc) * mu * gt; });
       fr.torque -= fc * path[L.gn_drv + c] + std::abs(fc) * mu * path[L.gt_drv + c];
     }
   }
@@ -245,9 +247,9 @@ void System::newton_matrices(const double* q, const double* qd, Structured& k, S
   // w g_left g_right^T on the connection's rows (0: g_n, 1: g_t)
   auto add_outer = [&](Eigen::MatrixXd& a, int c, double w, int left, int right) {
     if (w == 0.0) return;
-    for (int i = 0; i < R; ++i)
-      for (int j = 0; j < R; ++j)
-        a(row_map[c][i], row_map[c][j]) += w * (left ? gt(i, c) : gn(i, c)) * (right ? gt(j, c) : gn(j, c));
+    for_gradient(c, [&](int i, double gni, double gti) {
+      for_gradient(c, [&](int j, double gnj, double gtj) { a(i, j) += w * (left ? gti : gni) * (right ? gtj : gnj); });
+    });
   };
   for (int c = 0; c < C; ++c) {
     if (frozen[c]) continue;
@@ -270,13 +272,17 @@ void System::newton_matrices(const double* q, const double* qd, Structured& k, S
     // friction mu(v) F g_t with v = v_kin - g_t . dq': dmu/dv = mu_c v0^2 / (v^2 + v0^2)^1.5
     if (v.force != 0.0 && cd.friction > 0.0 && !cd.rolling && !cd.two_sided) {
       double sliding = path[L.slide + c] * omega;
-      for (int r = 0; r < R; ++r) sliding -= gt(r, c) * qd[row_map[c][r]];
+      sliding -= tangent_dot(c, qd);
       const double v0 = opt.friction_velocity_m_per_s * 1e3, root = std::sqrt(sliding * sliding + v0 * v0);
       const double mu = cd.friction * sliding / root, dmu = cd.friction * v0 * v0 / (root * root * root);
       add_outer(k.core, c, v.d_pen * mu, 1, 0);
       add_outer(d.core, c, v.d_rate * mu, 1, 0);
       add_outer(d.core, c, v.force * dmu, 1, 1);
     }
+  }
+  for (const Plunger& p : plungers) {
+    k.core(p.coord, p.coord) += plunger_stiffness(*this, p, q);
+    if (!statics) d.core(p.coord, p.coord) += plunger_damping(*this, p, q);
   }
   for (const Seat& st : seats) {
     const double pen = seat_penetration(st, q);
@@ -305,6 +311,17 @@ void System::mass_matrix(Structured& out) const {
     const double half = 0.5 * out.core(e.near, e.near);
     out.core(e.near, e.near) = half;
     out.core(e.far, e.far) = half;
+  }
+  // a plunger carries the node's mass and its own; the node's centre of gravity couples it
+  // with the node's angle (split between the halves of a compliant node, as its mass)
+  for (const Plunger& p : plungers) {
+    out.core(p.coord, p.coord) = p.mass;
+    const double couple = path[L.pz_mass + p.table_index];
+    for (int end : {p.row, p.far}) {
+      if (end < 0) continue;
+      const double share = p.far < 0 ? couple : 0.5 * couple;
+      out.core(p.coord, end) = out.core(end, p.coord) = share;
+    }
   }
   for (const Chain& ch : chains)
     if (ch.masses > 0) std::fill(out.bands[ch.band].diag.begin(), out.bands[ch.band].diag.end(), ch.mass);
@@ -357,8 +374,7 @@ double System::gap_error(const double* q, int& contact) const {
   contact = -1;
   for (int c = 0; c < C; ++c) {
     if (!flex.contacts[c].is_contact || fr.connection[c] == 0.0) continue;
-    double slide = 0.0;
-    for (int r = 0; r < R; ++r) slide += gt(r, c) * q[row_map[c][r]];
+    const double slide = tangent_dot(c, q);
     const double error = 0.5 * slide * slide * std::abs(path[L.curv2 + c]);
     if (error > worst) worst = error, contact = c;
   }
@@ -373,6 +389,7 @@ std::string System::gap_error_message(double error, int contact) const {
 }
 
 double System::root_value(const Root& rt, const double* q, const double* qd) const {
+  CAMOPT_ASSERT_MSG(rt.kind != 3, "root_value: an HLA's root needs the time (hla_root_value)");
   if (rt.kind == 0) {
     const double pen = penetration(rt.index, q);
     if (!(pen > 0.0)) return pen;
@@ -392,6 +409,7 @@ double System::root_value(const Root& rt, const double* q, const double* qd) con
 }
 
 std::string System::root_name(const Root& rt) const {
+  if (rt.kind == 3) return hla_root_name(*this, rt);
   if (rt.kind == 0) return mech.connections[rt.index].name;
   if (rt.kind == 1) return mech.nodes[seats[rt.index].node].name + " seat";
   return chains[rt.index].name + " coil " + std::to_string(rt.segment);

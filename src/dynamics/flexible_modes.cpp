@@ -38,6 +38,9 @@ Status flexible_modes(const kin::Mechanism& mech, const Model& model, const std:
     }
   }
   s.newton_matrices(x.data(), v.data(), s.jk, s.jd, true);
+  // an HLA holds its oil: the chamber is a spring A^2 beta / V (no leak over a vibration)
+  for (const detail::Plunger& p : s.plungers)
+    s.jk.core(p.coord, p.coord) += detail::hla_static_stiffness(s, p) - detail::plunger_stiffness(s, p, x.data());
   s.mass_matrix(s.m);
   const Eigen::MatrixXd k = s.jk.dense(s.chains, s.N), m = s.m.dense(s.chains, s.N);
   Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(0.5 * (k + k.transpose()), m);
@@ -61,6 +64,7 @@ Status flexible_modes(const kin::Mechanism& mech, const Model& model, const std:
     out.coordinates.push_back(mech.nodes[e.node].name + ".far");
     out.units.push_back(out.units[e.near]);
   }
+  for (const detail::Plunger& p : s.plungers) out.coordinates.push_back(mech.nodes[p.node].name + ".hla"), out.units.push_back("mm");
   for (const detail::Chain& ch : s.chains)
     for (int j = 1; j <= ch.masses; ++j) out.coordinates.push_back(ch.name + ".coil" + std::to_string(j)), out.units.push_back("mm");
   const int n = s.N;
@@ -115,7 +119,7 @@ Status flexible_linearise(const kin::Mechanism& mech, const Model& model, const 
   s.forces(x.data(), v.data());
   s.newton_matrices(x.data(), v.data(), s.jk, s.jd);
   const Eigen::MatrixXd k = s.jk.dense(s.chains, n), d = s.jd.dense(s.chains, n);
-  out.layout = {s.R, s.E, n - s.core()};
+  out.layout = {s.R, s.E, n - s.core(), s.P, 0};
   out.q.assign(x.data(), x.data() + n);
   out.qd.assign(v.data(), v.data() + n);
   out.force.assign(s.fr.f.data(), s.fr.f.data() + n);

@@ -17,7 +17,7 @@ constexpr double kKinkOffset = 1e-8;  // [rad]
 constexpr double kPieceSlack = 1e-7;  // [rad] an angle this close to a piece belongs to it
 }  // namespace
 
-Layout::Layout(int r, int c, int s, int v) : R(r), C(c), S(s), V(v) {
+Layout::Layout(int r, int c, int s, int v, int p) : R(r), C(c), S(s), V(v), P(p) {
   gas = inertia + R;        // R: gas load on the row [N or N mm]
   other = gas + R;          // R: remaining springs (torsion, ...)
   spring_k = other + R;     // R x R (column-major): their stiffness d(load)/dq
@@ -38,7 +38,11 @@ Layout::Layout(int r, int c, int s, int v) : R(r), C(c), S(s), V(v) {
   out = seat + V;           // 1: output node displacement from rest
   out1 = out + 1;           // 1: its d/dtheta
   out2 = out1 + 1;          // 1: its d2/dtheta2
-  size = out2 + 1;
+  pz_gn = out2 + 1;         // P x C: gap gradient on each plunger coordinate
+  pz_gt = pz_gn + P * C;    // P x C: tangent gradient on it
+  pz_inertia = pz_gt + P * C;  // P: inertia of the node's kinematic motion along the axis (per omega^2)
+  pz_mass = pz_inertia + P;    // P: mass coupling of the plunger coordinate with the node's row
+  size = pz_mass + P;
 }
 
 namespace {
@@ -48,6 +52,27 @@ std::vector<char> lash_flags(const System& s, const RigidWorkspace& ws) {
   std::vector<char> f;
   for (int c : s.lash) f.push_back(ws.kin.contacts[c].open ? 1 : 0);
   return f;
+}
+
+// a plunger's columns: moving the pivot by z along the axis moves the whole node, so a
+// contact's gap changes by +-n.axis z (b side +, a side -, as the gradients of rigid.cpp), its
+// tangent coordinate by +-t.axis z; the node's centre of gravity couples z with the node's
+// angle (m (k x r_cg) . axis) and its kinematic acceleration loads z (m a_cg . axis)
+void fill_plunger(const System& s, const RigidWorkspace& ws, const Plunger& p, double* row) {
+  constexpr double kMilli = 1e-3;  // kg mm/s^2 -> N
+  const kin::Mechanism& mech = s.mech;
+  for (int c = 0; c < s.C; ++c) {
+    if (!p.touches[c]) continue;
+    const kin::ContactState& cs = ws.kin.contacts[c];
+    const Eigen::Vector2d n(cs.normal_x, cs.normal_y), t(-cs.normal_y, cs.normal_x);
+    const double side = mech.connections[c].node_b == p.node ? 1.0 : -1.0;
+    row[s.L.pz_gn + p.table_index * s.C + c] = side * n.dot(p.axis);
+    row[s.L.pz_gt + p.table_index * s.C + c] = side * t.dot(p.axis);
+  }
+  const double m = kMilli * s.flex.bodies[p.node].mass;
+  const Eigen::Vector2d arm = ws.cg_pos[p.node] - p.pivot;
+  row[s.L.pz_inertia + p.table_index] = m * ws.cg_acc[p.node].dot(p.axis);
+  row[s.L.pz_mass + p.table_index] = m * Eigen::Vector2d(-arm.y(), arm.x()).dot(p.axis);
 }
 
 // one table row: what the model needs of the kinematic path at the workspace's angle
@@ -94,6 +119,7 @@ void fill_row(const System& s, const RigidWorkspace& ws, double* row) {
     const kin::Node& n = mech.nodes[st.node];
     row[L.seat + st.table_index] = ws.kin.vars[n.first_variable].value() - n.rest;
   }
+  for (const Plunger& p : s.plungers) fill_plunger(s, ws, p, row);
   const kin::Node& on = mech.nodes[mech.output_node];
   const auto& ov = ws.kin.vars[on.first_variable];
   row[L.out] = ov.value() - on.rest;
@@ -285,6 +311,7 @@ void System::evaluate_angle(double theta) {
 double System::piece_end_rate(int piece, int side, int e) const {
   if (e >= core()) return 0.0;
   const PathPiece& p = pieces[piece];
+  if (e >= R + E) return 0.0;  // a plunger: at rest on the path
   const int r = e < R ? e : elements[e - R].near;
   const double* row = &table[static_cast<std::size_t>(p.first + (side ? p.count - 1 : 0)) * L.size];
   return row[L.vel + r] * omega;

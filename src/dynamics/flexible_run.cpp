@@ -15,11 +15,15 @@ namespace {
 // a root this close to a kink (in revolutions) is at the kink: the contact that the lash
 // closes touches exactly there, and CVODE returns the root before the stop time
 constexpr double kKinkTime = 1e-9;
+// the energy quadratures: drive, gas, viscous, friction (then two per HLA)
+constexpr int kQuadratures = 4;
 
-void read_state(const System& s, N_Vector y, Eigen::VectorXd& q, Eigen::VectorXd& qd) {
+// the coordinates and rates, and the hydraulic state into the system
+void read_state(System& s, N_Vector y, Eigen::VectorXd& q, Eigen::VectorXd& qd) {
   const double* yv = N_VGetArrayPointer(y);
   q = Eigen::Map<const Eigen::VectorXd>(yv, s.N);
   qd = Eigen::Map<const Eigen::VectorXd>(yv + s.N, s.N);
+  if (s.H > 0) s.hyd = Eigen::Map<const Eigen::VectorXd>(yv + 2 * s.N, s.H);
 }
 
 int rhs_callback(sunrealtype t, N_Vector y, N_Vector ydot, void* data) {
@@ -29,11 +33,14 @@ int rhs_callback(sunrealtype t, N_Vector y, N_Vector ydot, void* data) {
     s->evaluate(t);
     const double* yv = N_VGetArrayPointer(y);
     double* yd = N_VGetArrayPointer(ydot);
+    const double* h = yv + 2 * s->N;
+    if (s->H > 0) s->hyd = Eigen::Map<const Eigen::VectorXd>(h, s->H);
     s->accelerations(yv, yv + s->N);
     std::copy(yv + s->N, yv + 2 * s->N, yd);
     std::copy(s->acc.data(), s->acc.data() + s->N, yd + s->N);
+    const bool hydraulics = s->H == 0 || hydraulic_rates(*s, t, yv, yv + s->N, h, yd + 2 * s->N);
     // recoverable: CVODE retries with a smaller step
-    return s->acc.allFinite() ? 0 : 1;
+    return s->acc.allFinite() && hydraulics ? 0 : 1;
   } catch (...) {
     return keep_callback_error(s->callback_error, "right-hand side");
   }
@@ -45,13 +52,20 @@ int quadrature_callback(sunrealtype t, N_Vector y, N_Vector q_dot, void* data) {
   try {
     s->evaluate(t);
     const double* yv = N_VGetArrayPointer(y);
+    if (s->H > 0) s->hyd = Eigen::Map<const Eigen::VectorXd>(yv + 2 * s->N, s->H);
     s->forces(yv, yv + s->N, true);
     double* qd = N_VGetArrayPointer(q_dot);
     qd[0] = s->fr.drive_power;
     qd[1] = s->fr.gas_power;
     qd[2] = s->fr.viscous_power;
     qd[3] = s->fr.friction_total;
-    for (int i = 0; i < 4; ++i)
+    // the HLAs' leak and refill volumes
+    for (std::size_t k = 0; k < s->plungers.size(); ++k) {
+      const HlaPoint pt = hla_point(*s, s->plungers[k], t, yv, yv + s->N, yv + 2 * s->N);
+      qd[4 + 2 * k] = pt.leak_mm3_per_s;
+      qd[5 + 2 * k] = pt.refill_mm3_per_s;
+    }
+    for (int i = 0; i < kQuadratures + 2 * s->P; ++i)
       if (!std::isfinite(qd[i])) return 1;
     return 0;
   } catch (...) {
@@ -82,7 +96,12 @@ int root_callback(sunrealtype t, N_Vector y, sunrealtype* gout, void* data) {
   try {
     s->evaluate(t);
     const double* yv = N_VGetArrayPointer(y);
-    for (std::size_t i = 0; i < s->root_list.size(); ++i) gout[i] = s->root_value(s->root_list[i], yv, yv + s->N);
+    const double* h = yv + 2 * s->N;
+    if (s->H > 0) s->hyd = Eigen::Map<const Eigen::VectorXd>(h, s->H);
+    for (std::size_t i = 0; i < s->root_list.size(); ++i) {
+      const System::Root& rt = s->root_list[i];
+      gout[i] = rt.kind == 3 ? hla_root_value(*s, rt, t, yv, yv + s->N, h) : s->root_value(rt, yv, yv + s->N);
+    }
     return 0;
   } catch (...) {
     return keep_callback_error(s->callback_error, "root function");
@@ -93,7 +112,10 @@ int root_callback(sunrealtype t, N_Vector y, sunrealtype* gout, void* data) {
 // one CVODE run of the flexible model
 class Run {
  public:
-  Run(System& s, const FlexibleOptions& o, FlexibleResult& out) : s_(s), opt_(o), out_(out) {}
+  // the structured Newton solver covers the mechanical states; with hydraulic states CVODE
+  // takes its dense finite-difference Jacobian
+  Run(System& s, const FlexibleOptions& o, FlexibleResult& out)
+      : s_(s), opt_(o), out_(out), analytic_(o.analytic_jacobian && s.H == 0) {}
   Status setup(double first_deg, double rpm, const Eigen::VectorXd& x0, const Eigen::VectorXd& v0);
   Status integrate(double start_deg, double stop_deg, double step_deg);
 
@@ -110,6 +132,8 @@ class Run {
   System& s_;
   const FlexibleOptions& opt_;
   FlexibleResult& out_;
+  bool analytic_ = true;
+  bool state_changed_ = false;  // a root changed the state: CVODE restarts from it
   // the Newton matrix and solver outlive CVODE (declared before it: destroyed after it)
   std::unique_ptr<_generic_SUNLinearSolver, int (*)(SUNLinearSolver)> ls_{nullptr, SUNLinSolFree};
   std::unique_ptr<_generic_SUNMatrix, void (*)(SUNMatrix)> jac_{nullptr, SUNMatDestroy};
@@ -126,17 +150,22 @@ class Run {
 Status Run::setup(double first_deg, double rpm, const Eigen::VectorXd& x0, const Eigen::VectorXd& v0) {
   first_deg_ = first_deg;
   rpm_ = rpm;
-  const int N = s_.N;
+  const int N = s_.N, size = 2 * N + s_.H;
   if (SUNContext_Create(nullptr, &su_.ctx) != 0) return {StatusCode::integrator_failure, "SUNContext_Create failed", ""};
-  su_.y = N_VNew_Serial(2 * N, su_.ctx);
-  su_.atol = N_VNew_Serial(2 * N, su_.ctx);
+  su_.y = N_VNew_Serial(size, su_.ctx);
+  su_.atol = N_VNew_Serial(size, su_.ctx);
   for (int i = 0; i < N; ++i) {
     NV_Ith_S(su_.y, i) = x0(i);
     NV_Ith_S(su_.y, N + i) = v0(i);
     NV_Ith_S(su_.atol, i) = opt_.absolute_tolerance;
     NV_Ith_S(su_.atol, N + i) = opt_.absolute_tolerance * 1e4;
   }
-  su_.quad = N_VNew_Serial(4, su_.ctx);
+  // the hydraulic states from the static start, with their own absolute tolerances
+  for (int i = 0; i < s_.H; ++i) {
+    NV_Ith_S(su_.y, 2 * N + i) = s_.hyd(i);
+    NV_Ith_S(su_.atol, 2 * N + i) = hydraulic_tolerance(s_, i);
+  }
+  su_.quad = N_VNew_Serial(kQuadratures + 2 * s_.P, su_.ctx);
   use_fast_ops(su_.quad);
   N_VConst(0.0, su_.quad);
   out_.initial_state.assign(N_VGetArrayPointer(su_.y), N_VGetArrayPointer(su_.y) + 2 * N);
@@ -144,7 +173,7 @@ Status Run::setup(double first_deg, double rpm, const Eigen::VectorXd& x0, const
   found_.assign(std::max(nroots, 1), 0);
   if (!su_.create_bdf(rhs_callback, root_callback, nroots, &s_, opt_.relative_tolerance, opt_.max_steps,
                       path_max_step_s(2.0 * pi / std::ceil(360.0 / opt_.table_step_deg - 1e-9), s_.omega),
-                      !opt_.analytic_jacobian))
+                      !analytic_))
     return {StatusCode::integrator_failure, "CVODE setup failed", ""};
   if (CVodeQuadInit(su_.cvode, quadrature_callback, su_.quad) != CV_SUCCESS)
     return {StatusCode::integrator_failure, "CVODE setup failed (quadratures)", ""};
@@ -152,7 +181,7 @@ Status Run::setup(double first_deg, double rpm, const Eigen::VectorXd& x0, const
   // surge at 1 %): stability-limit detection (CVODE guide, "BDF stability limit detection")
   if (CVodeSetStabLimDet(su_.cvode, SUNTRUE) != CV_SUCCESS)
     return {StatusCode::integrator_failure, "CVODE setup failed (stability limit detection)", ""};
-  if (opt_.analytic_jacobian) {
+  if (analytic_) {
     jac_.reset(make_newton_matrix(su_.ctx, s_));
     ls_.reset(make_newton_solver(su_.ctx, s_));
     if (!jac_ || !ls_ || CVodeSetLinearSolver(su_.cvode, ls_.get(), jac_.get()) != CV_SUCCESS ||
@@ -166,10 +195,11 @@ Status Run::setup(double first_deg, double rpm, const Eigen::VectorXd& x0, const
 Status Run::failure(const std::string& what, double t) {
   out_.steps = steps_total_ + steps_since_restart(su_.cvode);
   std::string state;
-  for (int i = 0; i < 2 * s_.N; ++i) state += (i ? ", " : "") + format_number(NV_Ith_S(su_.y, i));
+  for (int i = 0; i < 2 * s_.N + s_.H; ++i) state += (i ? ", " : "") + format_number(NV_Ith_S(su_.y, i));
   return Status{StatusCode::integrator_failure, what,
                 "t = " + format_number(t) + " s, cam " + format_number(cam_deg(t)) + " deg, " +
-                    format_number(rpm_) + " rpm, state [x; dx/dt] = [" + state + "]"};
+                    format_number(rpm_) + " rpm, state [x; dx/dt" + (s_.H > 0 ? "; hydraulics" : "") + "] = [" +
+                    state + "]"};
 }
 
 // the next kink after the last one passed: CVODE must not step across it (the path's rates
@@ -203,6 +233,16 @@ Status Run::on_roots(double t) {
   s_.evaluate(t);
   read_state(s_, su_.y, q_, qd_);
   const int nroots = static_cast<int>(s_.root_list.size());
+  // the HLAs' discrete states (ball, cavitation) change here; the stops need no change
+  for (int r = 0, k = -1; r < nroots; ++r) {
+    const System::Root& rt = s_.root_list[r];
+    if (rt.kind != 3 || rt.segment != 0 || rt.index == k) continue;
+    k = rt.index;
+    if (found_[r] == 0 && found_[r + 1] == 0 && found_[r + 2] == 0) continue;
+    double* y = N_VGetArrayPointer(su_.y);
+    on_hla_roots(s_, k, &found_[r], t, y, y + s_.N, y + 2 * s_.N);
+    state_changed_ = true;
+  }
   int last = 0;
   for (int r = 0; r < nroots; ++r) {
     if (found_[r] == 0) continue;
@@ -240,7 +280,8 @@ Status Run::advance(double tout) {
       on_kink(t_);
       last_kink_t_ = next_kink_t_;
     }
-    if (kink || opt_.restart_at_events) {
+    if (kink || opt_.restart_at_events || state_changed_) {
+      state_changed_ = false;
       steps_total_ += steps_since_restart(su_.cvode);
       long jacobians = 0;
       CVodeGetNumJacEvals(su_.cvode, &jacobians);
@@ -263,7 +304,7 @@ bool Run::periodic_check() {
   bool periodic = false;
   if (!window_start_state_.empty() && opt_.periodic_tolerance > 0.0) {
     double diff = 0.0;
-    for (int j = 0; j < 2 * s_.N; ++j) {
+    for (int j = 0; j < 2 * s_.N + s_.H; ++j) {
       const double y = NV_Ith_S(su_.y, j);
       const double weight = opt_.relative_tolerance * std::abs(y) + NV_Ith_S(su_.atol, j);
       diff = std::max(diff, std::abs(y - window_start_state_[j]) / weight);
@@ -271,7 +312,7 @@ bool Run::periodic_check() {
     out_.periodic_difference = diff;
     periodic = diff <= opt_.periodic_tolerance;
   }
-  window_start_state_.assign(N_VGetArrayPointer(su_.y), N_VGetArrayPointer(su_.y) + 2 * s_.N);
+  window_start_state_.assign(N_VGetArrayPointer(su_.y), N_VGetArrayPointer(su_.y) + 2 * s_.N + s_.H);
   return periodic;
 }
 
@@ -313,6 +354,18 @@ Status Run::record(std::size_t i, double deg, double tout) {
   if (opt_.coil_displacements)
     for (int k = 0; k < masses; ++k) out_.coil_displacement[i * masses + k] = q_(s_.core() + k);
   for (int j = 0; j < N; ++j) out_.state[i * N + j] = q_(j);
+  const double* h = N_VGetArrayPointer(su_.y) + 2 * N;
+  for (int j = 0; j < s_.H; ++j) out_.hydraulic_state[i * s_.H + j] = h[j];
+  const std::size_t np = s_.plungers.size();
+  for (std::size_t k = 0; k < np; ++k) {
+    const HlaPoint pt = hla_point(s_, s_.plungers[k], tout, q_.data(), qd_.data(), h);
+    out_.hla_plunger[i * np + k] = pt.plunger_mm;
+    out_.hla_force[i * np + k] = pt.force_N;
+    out_.hla_pressure[i * np + k] = pt.pressure_MPa;
+    out_.hla_ball_lift[i * np + k] = pt.ball_lift_mm;
+    out_.hla_leak_flow[i * np + k] = pt.leak_mm3_per_s;
+    out_.hla_refill_flow[i * np + k] = pt.refill_mm3_per_s;
+  }
   if (t_ > 0.0) {  // before the first step the integrals are their initial zeros
     double tq = tout;
     CVodeGetQuad(su_.cvode, &tq, su_.quad);
@@ -321,6 +374,10 @@ Status Run::record(std::size_t i, double deg, double tout) {
   out_.gas_work[i] = NV_Ith_S(su_.quad, 1);
   out_.viscous_loss[i] = NV_Ith_S(su_.quad, 2);
   out_.friction_loss[i] = NV_Ith_S(su_.quad, 3);
+  for (std::size_t k = 0; k < np; ++k) {
+    out_.hla_leak_volume[i * np + k] = NV_Ith_S(su_.quad, kQuadratures + 2 * k);
+    out_.hla_refill_volume[i * np + k] = NV_Ith_S(su_.quad, kQuadratures + 2 * k + 1);
+  }
   out_.energy[i] = s_.energy(q_.data(), qd_.data());
   return Status::success();
 }
@@ -348,6 +405,10 @@ Status Run::integrate(double start_deg, double stop_deg, double step_deg) {
   for (auto* vec : {&out_.coil_force_top, &out_.coil_force_base, &out_.spring_static_load}) vec->resize(points * nch);
   if (opt_.coil_displacements) out_.coil_displacement.resize(points * (N - s_.core()));
   out_.state.resize(points * N);
+  out_.hydraulic_state.resize(points * s_.H);
+  for (auto* vec : {&out_.hla_plunger, &out_.hla_force, &out_.hla_pressure, &out_.hla_ball_lift, &out_.hla_leak_flow,
+                    &out_.hla_refill_flow, &out_.hla_leak_volume, &out_.hla_refill_volume})
+    vec->resize(points * s_.plungers.size());
   for (int rev = 0; rev < windows; ++rev) {
     window_t0_ = all ? report_t0 + rev * period : report_t0 - (windows - 1 - rev) * period;
     report_deg0_ = all ? start_deg + 360.0 * rev : start_deg;

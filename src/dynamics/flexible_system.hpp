@@ -7,11 +7,13 @@
 #include <Eigen/Core>
 #include <Eigen/LU>
 #include <cmath>
+#include <cstdint>
 #include <string>
 #include <vector>
 
 #include "camopt/core/design_spec.hpp"
 #include "camopt/dynamics/flexible.hpp"
+#include "camopt/dynamics/hla.hpp"
 #include "camopt/dynamics/model.hpp"
 #include "camopt/kinematics/mechanism.hpp"
 
@@ -38,6 +40,22 @@ struct Chain {
   double solid_travel = -1.0;    // node travel at which the coils touch [mm]; < 0: unknown
   int table_index = -1;          // position in the path table
   int band = -1;                 // its band in the structured matrices (masses > 0)
+};
+
+// a hydraulic lash adjuster under a rotational node's pivot: the pivot (and the node with it)
+// moves by the plunger coordinate z along the axis; the plunger's force, its travel stops and
+// the hydraulic states are the HLA element's (hla.hpp)
+struct Plunger {
+  int hla = -1;                     // Model::hlas
+  int node = -1, row = -1;          // the supported node and its free row (near end)
+  int coord = -1;                   // z: its extended core coordinate [mm]
+  int table_index = -1;             // its columns in the path table
+  Eigen::Vector2d axis{0.0, 1.0};   // unit, the plunger's extension
+  Eigen::Vector2d pivot{0.0, 0.0};  // the node's pivot in the drawing [mm]
+  double mass = 0.0;                // plunger + node, generalized [N per mm/s^2]
+  int far = -1;                     // the node's far end (compliant node), else -1
+  std::vector<char> touches;        // per connection: on the node
+  int first_state = -1;             // its hydraulic states in the state vector after q and q'
 };
 
 // one-sided force law of a contact or a valve seat (docs/dynamics.md, "Contact laws")
@@ -79,14 +97,14 @@ struct Seat {
   mutable double start = 0.0;
 };
 
-// the path table's columns (free rows R, connections C, chains S, seats V)
+// the path table's columns (free rows R, connections C, chains S, seats V, plungers P)
 struct Layout {
-  int R = 0, C = 0, S = 0, V = 0;
+  int R = 0, C = 0, S = 0, V = 0, P = 0;
   int inertia = 0, gas = 0, other = 0, spring_k = 0, vel = 0, gn = 0, gt = 0, gap = 0, curv = 0, curv2 = 0, slide = 0,
       gn_drv = 0, gt_drv = 0, load_drv = 0, mass = 0, xs = 0, xs1 = 0, seat = 0, out = 0, out1 = 0, out2 = 0,
-      size = 0;
+      pz_gn = 0, pz_gt = 0, pz_inertia = 0, pz_mass = 0, size = 0;
   Layout() = default;
-  Layout(int r, int c, int s, int v);
+  Layout(int r, int c, int s, int v, int p);
 };
 
 // the kinematic path over one revolution, tabulated in pieces that are smooth: a lash
@@ -137,9 +155,13 @@ class System {
   const kin::Mechanism& mech;
   const FlexibleOptions& opt;
   Model flex;  // the mode (a) model without the chained springs, spring end masses on the nodes
-  int R = 0, C = 0, N = 0, E = 0;  // free rows, connections, extended size, elements
-  int core() const { return R + E; }
+  int R = 0, C = 0, N = 0, E = 0, P = 0;  // free rows, connections, extended size, elements, plungers
+  int core() const { return R + E + P; }
   std::vector<Element> elements;
+  std::vector<Plunger> plungers;          // their coordinates follow the far ends
+  int H = 0;                              // hydraulic states (after q and q' in the state vector)
+  Eigen::VectorXd hyd;                    // the hydraulic state the forces use
+  std::vector<HlaMode> hla_modes;         // per plunger: the ball's stop, cavitation
   std::vector<int> far_of_row;            // row -> far row (-1: rigid)
   std::vector<std::vector<int>> row_map;  // per connection: row -> extended row
   std::vector<Chain> chains;
@@ -184,7 +206,7 @@ class System {
 
   // root functions: contacts' penetration, seats' penetration, coil gaps
   struct Root {
-    int kind;  // 0 contact, 1 seat, 2 coil
+    int kind;  // 0 contact, 1 seat, 2 coil, 3 an HLA's root (segment: which of its roots)
     int index, segment;
   };
   std::vector<Root> root_list;
@@ -200,13 +222,26 @@ class System {
   // ---- quantities along the path (valid after evaluate) ----
   double gn(int r, int c) const { return path[L.gn + r + R * c]; }
   double gt(int r, int c) const { return path[L.gt + r + R * c]; }
+  // connection c's gap gradient on every extended row it acts on: f(row, g_n, g_t), the
+  // node rows (or their far ends) and the plungers under its nodes
+  template <class F>
+  void for_gradient(int c, F&& f) const {
+    for (int r = 0; r < R; ++r) f(row_map[c][r], gn(r, c), gt(r, c));
+    for (const Plunger& p : plungers)
+      if (p.touches[c]) f(p.coord, path[L.pz_gn + p.table_index * C + c], path[L.pz_gt + p.table_index * C + c]);
+  }
   double reduced_radius(int c) const {
     const double k = path[L.curv + c];
     return k > 1e-6 ? 1.0 / k : 1e6;  // flat on flat: a long cylinder
   }
   double normal_dot(int c, const double* q) const {
     double s = 0.0;
-    for (int r = 0; r < R; ++r) s += gn(r, c) * q[row_map[c][r]];
+    for_gradient(c, [&](int row, double g, double) { s += g * q[row]; });
+    return s;
+  }
+  double tangent_dot(int c, const double* q) const {
+    double s = 0.0;
+    for_gradient(c, [&](int row, double, double g) { s += g * q[row]; });
     return s;
   }
   double penetration(int c, const double* q) const { return -(path[L.gap + c] + normal_dot(c, q)); }
@@ -230,8 +265,8 @@ class System {
   // kinematic velocity of an extended row [per s]
   double kinematic_rate(int e) const {
     if (e < R) return path[L.vel + e] * omega;
-    if (e < core()) return path[L.vel + elements[e - R].near] * omega;
-    return 0.0;  // chain masses are absolute
+    if (e < R + E) return path[L.vel + elements[e - R].near] * omega;
+    return 0.0;  // plungers: at rest on the path; chain masses are absolute
   }
 
   // ---- forces and matrices (flexible_forces.cpp) ----
@@ -257,6 +292,43 @@ class System {
   double root_value(const Root& rt, const double* q, const double* qd) const;
   std::string root_name(const Root& rt) const;
 };
+
+// ---- the hydraulic lash adjusters (flexible_hla.cpp) ----
+// a plunger coordinate for every HLA of the model, after the far ends (s.R, s.E set; before
+// the chains); its hydraulic states counted in s.H. InputError for an HLA the flexible model
+// cannot place (not under a rotational node's fixed pivot, a link on the node)
+void add_plungers(System& s, const Model& model);
+// the plunger's force on z at (q, qd) and the current hydraulic state s.hyd: the chamber and
+// the return spring, and the travel stops [N]; its -d/dz and -d/dz' for the Newton matrices
+double plunger_force(const System& s, const Plunger& p, const double* q, const double* qd);
+double plunger_stiffness(const System& s, const Plunger& p, const double* q);
+double plunger_damping(const System& s, const Plunger& p, const double* q);
+// the hydraulic states at the start (supply pressure, ball on its seat), and the HLAs' modes
+// consistent with a state (the ball on its seat while the net force presses it there)
+void initial_hydraulics(const System& s, double t, double* h);
+void settle_hydraulics(System& s, double t, const double* q, const double* qd, double* h);
+// CVODE's absolute tolerance of hydraulic state i
+double hydraulic_tolerance(const System& s, int i);
+// the chamber stiffness A^2 beta / V plus the return spring at the current state [N/mm]
+// (the train's first mode, the damping reference)
+double hla_static_stiffness(const System& s, const Plunger& p);
+// what a run reports of one HLA at a state
+struct HlaPoint {
+  double plunger_mm = 0.0, force_N = 0.0, pressure_MPa = 0.0, ball_lift_mm = 0.0;
+  double leak_mm3_per_s = 0.0, refill_mm3_per_s = 0.0;
+};
+HlaPoint hla_point(const System& s, const Plunger& p, double t, const double* q, const double* qd, const double* h);
+// d/dt of the hydraulic states at time t, (q, qd) and h; false when not finite
+bool hydraulic_rates(const System& s, double t, const double* q, const double* qd, const double* h, double* hdot);
+// the HLA roots (ball on its seat and cage, cavitation, plunger stops): their count, values
+// and names, and the update of the HLA's discrete state at one found root
+void add_hla_roots(System& s);
+double hla_root_value(const System& s, const System::Root& rt, double t, const double* q, const double* qd,
+                      const double* h);
+std::string hla_root_name(const System& s, const System::Root& rt);
+// found: plunger's kHlaRoots flags (CVodeGetRootInfo's); returns the HlaEvent bits
+std::uint32_t on_hla_roots(System& s, int plunger, const int* found, double t, const double* q, const double* qd,
+                           double* h);
 
 // ---- the path (flexible_path.cpp) ----
 // tabulate one revolution from theta_first [rad] in smooth pieces (s.L, s.lash set): a

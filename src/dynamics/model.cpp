@@ -395,6 +395,19 @@ void check_compiled_from(const DesignSpec& spec, const kin::Mechanism& mech) {
 
 }  // namespace
 
+namespace {
+
+// every [[hla]] compiled, on a node of the mechanism
+void compile_hlas(const DesignSpec& spec, const kin::Mechanism& mech, Model& model) {
+  for (const HlaSpec& h : spec.hlas) {
+    const int node = mech.node_index(h.node);
+    if (node < 0) throw InputError(h.at("node"), "hla '" + h.name + "': no node named '" + h.node + "'");
+    model.hlas.push_back({compile_hla(h), node});
+  }
+}
+
+}  // namespace
+
 Model compile_dynamics(const DesignSpec& spec, const kin::Mechanism& mech) {
   Model model;
   // the spec is the one the mechanism was compiled from
@@ -412,8 +425,9 @@ Model compile_dynamics(const DesignSpec& spec, const kin::Mechanism& mech) {
   // compliant nodes and valve seats of the flexible model
   compile_compliances(spec, mech, model);
   compile_seats(spec, mech, model);
-  // the oil of the EHL film
+  // the oil of the EHL film, the hydraulic lash adjusters
   model.oil = spec.oil;
+  compile_hlas(spec, mech, model);
   // the rows of the force balance
   compile_free_rows(mech, model);
   return model;

@@ -79,8 +79,10 @@ struct FlexibleEvent {
 struct FlexibleLayout {
   int rows = 0;            // free node coordinates (mode (a) rows)
   int elements = 0;        // compliant nodes: far-end coordinates rows .. rows + elements
-  int spring_masses = 0;   // internal spring masses after them
-  int size() const { return rows + elements + spring_masses; }
+  int spring_masses = 0;   // internal spring masses after the plungers
+  int plungers = 0;        // HLA plunger coordinates after the far ends
+  int hydraulic_states = 0;  // first-order states after the coordinates and their rates
+  int size() const { return rows + elements + plungers + spring_masses; }
 };
 
 // one model constant as used by a run: its key, value and unit, and whether the design gave it
@@ -114,6 +116,16 @@ struct FlexibleResult {
   std::vector<double> coil_force_top, coil_force_base;  // [point * chains + s] [N]
   std::vector<double> spring_static_load;               // [point * chains + s] load at the node travel [N]
   std::vector<double> coil_displacement;  // [point * spring_masses + k] absolute [mm] (coil_displacements)
+  // hydraulic lash adjusters (hla.hpp), [point * hlas + k]
+  std::vector<std::string> hla_names;      // the nodes they support
+  std::vector<double> hla_plunger;         // plunger extension from the drawing [mm]
+  std::vector<double> hla_force;           // on the follower [N]
+  std::vector<double> hla_pressure;        // high-pressure chamber [MPa]
+  std::vector<double> hla_ball_lift;       // check-valve ball off its seat [mm]
+  std::vector<double> hla_leak_flow;       // out of the chamber: clearance and orifice [mm^3/s]
+  std::vector<double> hla_refill_flow;     // into it through the check valve [mm^3/s]
+  std::vector<double> hla_leak_volume, hla_refill_volume;  // their integrals from t = 0 [mm^3]
+  std::vector<double> hydraulic_state;     // [point * hydraulic states + i] (hla.hpp's layout)
   std::vector<double> state;          // [point * size + i] extended coordinates
   std::vector<double> initial_state;  // [2 * size]: coordinates then rates at t = 0
   // energy bookkeeping from t = 0 (quadratures), at the output points [N mm]
@@ -152,7 +164,7 @@ Status flexible_modes(const kin::Mechanism& mech, const Model& model, const std:
                       std::vector<double>& frequencies_hz);
 
 // the modes with their shapes and names: coordinates named "<node>" (a rigid node, or the near
-// end of a compliant one), "<node>.far", "<spring>.coil<j>" (j = 1 bottom .. N top)
+// end of a compliant one), "<node>.far", "<node>.hla" (the plunger of an HLA under it), "<spring>.coil<j>" (j = 1 bottom .. N top)
 struct FlexibleModes {
   std::vector<std::string> coordinates;
   std::vector<std::string> units;        // "mm" or "rad"

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "camopt/core/design_spec.hpp"
+#include "camopt/dynamics/hla.hpp"
 #include "camopt/kinematics/mechanism.hpp"
 
 namespace camopt::dynamics {
@@ -109,6 +110,12 @@ struct SeatData {
   SourceRef seat_where, node_where;  // the seat table and its node in the design file
 };
 
+// a hydraulic lash adjuster of the flexible model (hla.hpp) and the node it supports
+struct HlaData {
+  Hla hla;
+  int node = -1;
+};
+
 struct Model {
   std::vector<BodyInertia> bodies;     // per node (ground and the driver included)
   std::vector<Spring> springs;
@@ -123,6 +130,7 @@ struct Model {
   std::vector<NodeCompliance> compliances;  // nodes with a stiffness, in design order
   std::vector<SeatData> seats;         // seat candidates, by node index
   std::optional<OilSpec> oil;          // [oil]: the EHL film of the rigid model's contacts
+  std::vector<HlaData> hlas;           // [[hla]]: the flexible model's; the rigid models hold the pivot fixed
   double driver_start_deg = 0.0;       // the design's first driver angle [cam deg]
 };
 
