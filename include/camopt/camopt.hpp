@@ -8,6 +8,7 @@
 #include "camopt/core/design_spec.hpp"
 #include "camopt/core/dual.hpp"
 #include "camopt/core/error.hpp"
+#include "camopt/core/hla_spec.hpp"
 #include "camopt/core/jet.hpp"
 #include "camopt/core/printable.hpp"
 #include "camopt/core/process_memory.hpp"
@@ -39,6 +40,7 @@
 #include "camopt/dynamics/ehl.hpp"
 #include "camopt/dynamics/flexible.hpp"
 #include "camopt/dynamics/hertz.hpp"
+#include "camopt/dynamics/hla.hpp"
 #include "camopt/dynamics/model.hpp"
 #include "camopt/dynamics/rigid.hpp"
 

@@ -22,6 +22,7 @@
 
 #include "camopt/core/error.hpp"
 #include "camopt/io/csv.hpp"
+#include "design_hla.hpp"
 #include "toml_table.hpp"
 
 namespace camopt::io {
@@ -189,7 +190,7 @@ ContactLawSpec read_contact_law(const Table& t) {
 }
 
 const Keys kRootKeys = {"schema", "design", "driver", "control", "node", "profile",
-                        "connection", "material", "spring", "gas_force", "oil"};
+                        "connection", "material", "spring", "gas_force", "oil", "hla"};
 
 class Parser {
  public:
@@ -214,6 +215,7 @@ class Parser {
     for (const Table& t : root.array_of_tables("spring")) add(spec.springs, parse_spring(t), t);
     for (const Table& t : root.array_of_tables("gas_force")) spec.gas_forces.push_back(parse_gas_force(t));
     if (const auto t = root.optional_table("oil")) spec.oil = parse_oil(*t);
+    parse_hlas(root, spec);
     resolve(spec);
     return spec;
   }

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "camopt/core/error.hpp"
+#include "camopt/core/hla_spec.hpp"
 
 namespace camopt {
 
@@ -225,6 +226,7 @@ struct DesignSpec {
   std::vector<SpringSpec> springs;
   std::vector<GasForceSpec> gas_forces;
   std::optional<OilSpec> oil;
+  std::vector<HlaSpec> hlas;  // hydraulic lash adjusters (docs/hla.md)
 };
 
 const char* to_string(NodeKind kind);
