@@ -100,8 +100,14 @@ void System::forces(const double* q, const double* qd, bool powers_only) {
     f(e.far) -= fe;
     fr.viscous_power += e.c * rate * rate;
   }
-  // plungers: the node's kinematic acceleration along the axis, the HLA and its stops
-  for (const Plunger& p : plungers) f(p.coord) = -path[L.pz_inertia + p.table_index] * w2 + plunger_force(*this, p, q, qd);
+  // plungers: the node's kinematic acceleration along the axis, the HLA and its stops (the
+  // HLA's power on the train: an input, as the drive's)
+  fr.hla_power = 0.0;
+  for (const Plunger& p : plungers) {
+    const double support = plunger_force(*this, p, q, qd);
+    f(p.coord) = -path[L.pz_inertia + p.table_index] * w2 + support;
+    fr.hla_power += support * qd[p.coord];
+  }
   fr.torque = path[L.load_drv];
   for (int c = 0; c < C; ++c) {
     double fc = 0.0, mu = 0.0;

@@ -186,6 +186,7 @@ HlaPoint hla_point(const System& s, const Plunger& p, double t, const double* q,
   pt.ball_lift_mm = x[kHlaBallLift];
   pt.leak_mm3_per_s = flows.leak + flows.orifice;
   pt.refill_mm3_per_s = flows.refill;
+  pt.volume_ratio = hla_volume_ratio(hla, x[kHlaPressure]);
   return pt;
 }
 

@@ -196,6 +196,7 @@ class System {
     std::vector<double> seat;                                 // per seat [N]
     double torque = 0.0;                                      // drive torque [N mm]
     double drive_power = 0.0, gas_power = 0.0, viscous_power = 0.0, friction_total = 0.0;  // [N mm/s]
+    double hla_power = 0.0;  // the HLAs' force (chamber, spring, stops) on their plungers [N mm/s]
     std::vector<double> coil_top, coil_base, static_load;     // per chain [N]
   } fr;
   Eigen::VectorXd acc;  // the last accelerations [per s^2]
@@ -316,6 +317,7 @@ double hla_static_stiffness(const System& s, const Plunger& p);
 struct HlaPoint {
   double plunger_mm = 0.0, force_N = 0.0, pressure_MPa = 0.0, ball_lift_mm = 0.0;
   double leak_mm3_per_s = 0.0, refill_mm3_per_s = 0.0;
+  double volume_ratio = 1.0;  // the chamber oil's volume over its volume at 0 gauge (hla_volume_ratio)
 };
 HlaPoint hla_point(const System& s, const Plunger& p, double t, const double* q, const double* qd, const double* h);
 // d/dt of the hydraulic states at time t, (q, qd) and h; false when not finite

@@ -124,12 +124,15 @@ struct FlexibleResult {
   std::vector<double> hla_ball_lift;       // check-valve ball off its seat [mm]
   std::vector<double> hla_leak_flow;       // out of the chamber: clearance and orifice [mm^3/s]
   std::vector<double> hla_refill_flow;     // into it through the check valve [mm^3/s]
-  std::vector<double> hla_leak_volume, hla_refill_volume;  // their integrals from t = 0 [mm^3]
+  // their integrals from t = 0 as oil at 0 gauge [mm^3]: the chamber's content
+  // (V(z) - void) / hla_volume_ratio(p) changes by refill - leak
+  std::vector<double> hla_leak_volume, hla_refill_volume;
   std::vector<double> hydraulic_state;     // [point * hydraulic states + i] (hla.hpp's layout)
   std::vector<double> state;          // [point * size + i] extended coordinates
   std::vector<double> initial_state;  // [2 * size]: coordinates then rates at t = 0
   // energy bookkeeping from t = 0 (quadratures), at the output points [N mm]
-  std::vector<double> drive_work, gas_work, viscous_loss, friction_loss, energy;
+  // hla_work: the HLAs' force on their plungers (an input of the train, as the drive)
+  std::vector<double> drive_work, gas_work, viscous_loss, friction_loss, hla_work, energy;
   std::vector<FlexibleEvent> events;  // in the reported revolution (cam_deg within it)
   std::vector<double> contact_damping;  // per connection [N s/mm] (contacts: at reference_force)
   double train_frequency_hz = 0.0;      // first mode at peak lift, the component damping's reference
