@@ -217,6 +217,10 @@ TEST_CASE("hla mass conservation over cycles of a cam-event force with the ball 
   REQUIRE(st.ok());
   CHECK(has_event(r, "ball-open"));
   CHECK(has_event(r, "ball-seat"));
+  CHECK(has_event(r, "ball-cage"));  // the first refill opens the valve fully
+  // the ball stays between its seat and its cage
+  CHECK(*std::min_element(r.ball_lift_mm.begin(), r.ball_lift_mm.end()) >= 0.0);
+  CHECK(*std::max_element(r.ball_lift_mm.begin(), r.ball_lift_mm.end()) <= s.ball_travel_mm);
   CHECK(r.refill_mm3.back() > 0.0);
   CHECK(r.orifice_mm3.back() > 0.0);
   check_conservation(s, r);
