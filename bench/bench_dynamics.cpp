@@ -17,6 +17,9 @@
 //    (eccentric disc on a flat tappet, 40 N/mm / 250 N spring of 45 g) at 6000 rpm with
 //    surge_masses 0 .. 500, default tolerances: CPU time per cycle, steps, ratio to 10 masses.
 // usage: bench_dynamics [--repeat N] [--csv FILE] [--flexible-only] [--single RTOL ATOL [--masses N]]
+//                       [--design FILE]
+//  --design FILE: another design instead of the CVVL (e.g. designs/cvvl_swing_cam_hla.toml:
+//    the CVVL with its hydraulic lash adjuster, 4 more states and a dense Jacobian);
 //  --flexible-only: only the flexible tables (the tolerance table's reference run included);
 //    with --csv the file's other sections (modes a and b) are kept and the flexible rows replaced;
 //  --single RTOL ATOL: one flexible run at these tolerances and its counters, no reference,
@@ -203,6 +206,7 @@ struct Options {
   bool flexible_only = false, single = false;
   double single_rtol = 0, single_atol = 0;
   int single_masses = -1;  // --masses N: the direct-acting valve instead of the CVVL
+  std::string design = std::string(CAMOPT_SOURCE_DIR) + "/designs/cvvl_swing_cam.toml";
 };
 
 // the CVVL at control 0, compiled once, and the repeat count
@@ -253,10 +257,12 @@ bool parse_options(int argc, char** argv, Options& o) {
       o.single_atol = std::atof(argv[++i]);
     } else if (!std::strcmp(argv[i], "--masses") && i + 1 < argc) {
       o.single_masses = std::atoi(argv[++i]);
+    } else if (!std::strcmp(argv[i], "--design") && i + 1 < argc) {
+      o.design = argv[++i];
     } else {
       std::fprintf(stderr,
                    "usage: bench_dynamics [--repeat N] [--csv FILE] [--flexible-only] "
-                   "[--single RTOL ATOL [--masses N]]\n");
+                   "[--single RTOL ATOL [--masses N]] [--design FILE]\n");
       return false;
     }
   }
@@ -354,10 +360,10 @@ void flexible_tolerance_rows(const Context& ctx, std::vector<std::string>& rows)
   };
   const double ref_peak = peak_force(ref_flex);
   const dynamics::FlexibleEvent* ref_seat = first_seat_closing(ref_flex);
-  std::printf("\nflexible model, CVVL control 0, %g rpm, the last of %d revolutions, output every 1 cam deg;"
+  std::printf("\nflexible model, %s control 0, %g rpm, the last of %d revolutions, output every 1 cam deg;"
               " reference rtol 1e-10 / atol 1e-12 (peak contact force %.1f N, %zu events, first seating %.4f m/s"
               " at %.2f deg, train mode %.0f Hz); times: process CPU, best of %d\n",
-              kRpm, kRevolutions, ref_peak, ref_flex.events.size(), ref_seat ? ref_seat->speed_m_per_s : -1.0,
+              ctx.mech.name.c_str(), kRpm, kRevolutions, ref_peak, ref_flex.events.size(), ref_seat ? ref_seat->speed_m_per_s : -1.0,
               ref_seat ? ref_seat->cam_deg : -1.0, ref_flex.train_frequency_hz, ctx.repeat);
   std::printf("%-30s %-9s %-9s %-12s %-12s %-12s %-12s %-9s %-12s %-7s %-7s %-5s %-6s\n", "rtol / atol_mm / restart",
               "cpu ms", "wall ms", "lift err mm", "force err/pk", "peak err/pk", "event deg", "events-ref",
@@ -472,7 +478,7 @@ int main(int argc, char** argv) {
   camopt::keep_freed_memory();  // as the camopt program does
   Options o;
   if (!parse_options(argc, argv, o)) return 2;
-  const DesignSpec spec = io::load_design(std::string(CAMOPT_SOURCE_DIR) + "/designs/cvvl_swing_cam.toml");
+  const DesignSpec spec = io::load_design(o.design);
   const kin::Mechanism mech = kin::compile(spec);
   const Context c{mech, dynamics::compile_dynamics(spec, mech), {0.0}, o.repeat};
   if (o.single) return single_run(c, o), 0;

@@ -77,6 +77,16 @@ long sweep_points(const std::string& option, double start, double stop, double s
   return static_cast<long>(points);
 }
 
+std::vector<std::string> held_rigid_hlas(const DesignSpec& spec, const std::string& what) {
+  std::vector<std::string> names;
+  for (const HlaSpec& h : spec.hlas) {
+    names.push_back(h.name);
+    info(what + ": note: hla '" + h.name + "' under node '" + h.node +
+         "' is held rigid (its pivot fixed); dynamics --model flexible moves it with its oil");
+  }
+  return names;
+}
+
 LoadedDesign load_mechanism(const std::string& design_path) {
   LoadedDesign d;
   d.spec = io::load_design(design_path);

@@ -99,6 +99,11 @@ struct LoadedDesign {
 // the design file parsed and compiled; the drawing check's warnings on stderr
 LoadedDesign load_mechanism(const std::string& design_path);
 
+// the design's hydraulic lash adjusters, which every model but the flexible one holds rigid
+// (their node's pivot fixed): a note on stderr naming `what` ran, and their names for
+// summary.json's "hla_held_rigid" (empty without an HLA)
+std::vector<std::string> held_rigid_hlas(const DesignSpec& spec, const std::string& what);
+
 // the driver range of the design and the step: --step when given (> 0), else driver.step_deg;
 // InputError when the step exceeds the range
 struct DriverRange {

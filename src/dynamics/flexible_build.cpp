@@ -510,6 +510,12 @@ Status static_start(System& s, const Model& model, const std::vector<double>& co
   for (const Chain& ch : s.chains)
     for (int j = 1; j <= ch.masses; ++j)
       v0(ch.first + j - 1) = j / (ch.masses + 1.0) * s.path[s.L.xs1 + ch.table_index] * s.omega;
+  // HLAs: the pivot loads at z = 0 set their chambers' pressures, then the plungers move freely
+  if (s.P > 0) {
+    s.pin_plungers = true;
+    polish_static(s, x0, v0, 30);
+    hold_pivot_loads(s, x0);
+  }
   polish_static(s, x0, v0, 30);
   if (s.H > 0) settle_hydraulics(s, 0.0, x0.data(), v0.data(), s.hyd.data());
   s.forces(x0.data(), v0.data());

@@ -77,13 +77,14 @@ void System::forces(const double* q, const double* qd, bool powers_only) {
   Eigen::VectorXd& f = fr.f;
   f.setZero(N);
   const double w2 = omega * omega;
-  fr.viscous_power = fr.friction_total = fr.gas_power = 0.0;
+  fr.viscous_power = fr.friction_total = fr.gas_power = fr.path_spring_power = 0.0;
   // inertia of the kinematic motion, gas and the springs left in the path
   for (int r = 0; r < R; ++r) {
     const int far = far_of_row[r];
     const double inertia = path[L.inertia + r] * w2, gas = path[L.gas + r];
     double applied = path[L.other + r];
     for (int j = 0; j < R; ++j) applied += path[L.spring_k + r + R * j] * q[j];
+    fr.path_spring_power -= applied * (kinematic_rate(r) + qd[r]);
     if (far < 0) {
       f(r) = -inertia - gas - applied;
       fr.gas_power -= gas * (kinematic_rate(r) + qd[r]);

@@ -15,6 +15,8 @@ constexpr double kMilli = 1e-3;  // kg -> N s^2/mm
 // bottom or the retaining clip) [N/mm], damped at this ratio of the plunger's own mode
 constexpr double kStopStiffness = 1e5;
 constexpr double kStopDampingRatio = 0.2;
+// the static start's pin of every plunger at z = 0 [N/mm]
+constexpr double kPinStiffness = 1e9;
 
 // the crank angle at time t [deg] (the supply table's abscissa)
 double crank_deg(const System& s, double t) {
@@ -73,6 +75,7 @@ void add_plungers(System& s, const Model& model) {
 }
 
 double plunger_force(const System& s, const Plunger& p, const double* q, const double* qd) {
+  if (s.pin_plungers) return -kPinStiffness * q[p.coord];
   const Hla& hla = hla_of(s, p);
   const double z = q[p.coord];
   // evaluated at the system's current time: the path's angle
@@ -86,12 +89,14 @@ double plunger_force(const System& s, const Plunger& p, const double* q, const d
 }
 
 double plunger_stiffness(const System& s, const Plunger& p, const double* q) {
+  if (s.pin_plungers) return kPinStiffness;
   const Hla& hla = hla_of(s, p);
   double side = 0.0;
   return hla.spring_rate + (stop_overlap(hla, q[p.coord], side) > 0.0 ? kStopStiffness : 0.0);
 }
 
 double plunger_damping(const System& s, const Plunger& p, const double* q) {
+  if (s.pin_plungers) return 0.0;
   double side = 0.0;
   return stop_overlap(hla_of(s, p), q[p.coord], side) > 0.0 ? stop_damping(p) : 0.0;
 }
@@ -119,6 +124,19 @@ void settle_hydraulics(System& s, double t, const double* q, const double* qd, d
     const Plunger& p = s.plungers[k];
     s.hla_modes[k] = hla_settle_mode(hla_of(s, p), crank_deg(s, t), q[p.coord], qd[p.coord], h + p.first_state);
   }
+}
+
+void hold_pivot_loads(System& s, Eigen::VectorXd& x) {
+  for (const Plunger& p : s.plungers) {
+    const Hla& hla = hla_of(s, p);
+    const double load = -kPinStiffness * x(p.coord);  // what the pin carried along the axis [N]
+    const double supply = hla.supply_at(crank_deg(s, 0.0));
+    // (p - supply) A + F_s(0) = load
+    const double pressure = supply + (load - hla.spring_preload) / hla.plunger_area;
+    s.hyd(p.first_state + kHlaPressure) = std::max(pressure, supply);
+    x(p.coord) = 0.0;
+  }
+  s.pin_plungers = false;
 }
 
 double hydraulic_tolerance(const System& s, int i) {
@@ -162,7 +180,8 @@ double hla_root_value(const System& s, const System::Root& rt, double t, const d
 std::string hla_root_name(const System& s, const System::Root& rt) {
   static const char* const what[] = {"chamber pressure floor", "ball seat", "ball cage", "plunger bottom stop",
                                      "plunger top stop"};
-  return "hla " + hla_of(s, s.plungers[rt.index]).name + " " + what[rt.segment];
+  // named by the node it supports, as its columns
+  return "hla " + s.mech.nodes[s.plungers[rt.index].node].name + " " + what[rt.segment];
 }
 
 std::uint32_t on_hla_roots(System& s, int plunger, const int* found, double t, const double* q, const double* qd,

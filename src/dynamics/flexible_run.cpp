@@ -15,8 +15,9 @@ namespace {
 // a root this close to a kink (in revolutions) is at the kink: the contact that the lash
 // closes touches exactly there, and CVODE returns the root before the stop time
 constexpr double kKinkTime = 1e-9;
-// the energy quadratures: drive, gas, viscous, friction, the HLAs' work (then two per HLA)
-constexpr int kQuadratures = 5;
+// the energy quadratures: drive, gas, viscous, friction, the HLAs' work, the work of the
+// springs left in the path (then two per HLA)
+constexpr int kQuadratures = 6;
 
 // the coordinates and rates, and the hydraulic state into the system
 void read_state(System& s, N_Vector y, Eigen::VectorXd& q, Eigen::VectorXd& qd) {
@@ -60,6 +61,7 @@ int quadrature_callback(sunrealtype t, N_Vector y, N_Vector q_dot, void* data) {
     qd[2] = s->fr.viscous_power;
     qd[3] = s->fr.friction_total;
     qd[4] = s->fr.hla_power;
+    qd[5] = s->fr.path_spring_power;
     // the HLAs' leak and refill volumes as oil at 0 gauge: the chamber's content then changes
     // by exactly refill - leak (docs/hla.md, "Mass conservation")
     for (std::size_t k = 0; k < s->plungers.size(); ++k) {
@@ -377,6 +379,7 @@ Status Run::record(std::size_t i, double deg, double tout) {
   out_.viscous_loss[i] = NV_Ith_S(su_.quad, 2);
   out_.friction_loss[i] = NV_Ith_S(su_.quad, 3);
   out_.hla_work[i] = NV_Ith_S(su_.quad, 4);
+  out_.spring_work[i] = NV_Ith_S(su_.quad, 5);
   for (std::size_t k = 0; k < np; ++k) {
     out_.hla_leak_volume[i * np + k] = NV_Ith_S(su_.quad, kQuadratures + 2 * k);
     out_.hla_refill_volume[i * np + k] = NV_Ith_S(su_.quad, kQuadratures + 2 * k + 1);
@@ -399,7 +402,7 @@ Status Run::integrate(double start_deg, double stop_deg, double step_deg) {
   const std::size_t nch = s_.chains.size(), nseat = s_.seats.size();
   for (auto* vec : {&out_.cam_deg, &out_.lift_kinematic, &out_.lift, &out_.velocity, &out_.acceleration,
                     &out_.seat_force, &out_.cam_torque, &out_.drive_work, &out_.gas_work, &out_.viscous_loss,
-                    &out_.friction_loss, &out_.hla_work, &out_.energy})
+                    &out_.friction_loss, &out_.hla_work, &out_.spring_work, &out_.energy})
     vec->resize(points);
   out_.force.resize(points * C);
   out_.friction_power.resize(points * C);

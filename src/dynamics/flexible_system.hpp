@@ -162,6 +162,7 @@ class System {
   int H = 0;                              // hydraulic states (after q and q' in the state vector)
   Eigen::VectorXd hyd;                    // the hydraulic state the forces use
   std::vector<HlaMode> hla_modes;         // per plunger: the ball's stop, cavitation
+  bool pin_plungers = false;              // the static start: plungers held at z = 0 by a stiff spring
   std::vector<int> far_of_row;            // row -> far row (-1: rigid)
   std::vector<std::vector<int>> row_map;  // per connection: row -> extended row
   std::vector<Chain> chains;
@@ -197,6 +198,7 @@ class System {
     double torque = 0.0;                                      // drive torque [N mm]
     double drive_power = 0.0, gas_power = 0.0, viscous_power = 0.0, friction_total = 0.0;  // [N mm/s]
     double hla_power = 0.0;  // the HLAs' force (chamber, spring, stops) on their plungers [N mm/s]
+    double path_spring_power = 0.0;  // the springs left in the path (torsion, on floating bodies) [N mm/s]
     std::vector<double> coil_top, coil_base, static_load;     // per chain [N]
   } fr;
   Eigen::VectorXd acc;  // the last accelerations [per s^2]
@@ -308,6 +310,10 @@ double plunger_damping(const System& s, const Plunger& p, const double* q);
 // consistent with a state (the ball on its seat while the net force presses it there)
 void initial_hydraulics(const System& s, double t, double* h);
 void settle_hydraulics(System& s, double t, const double* q, const double* qd, double* h);
+// after a static balance with the plungers pinned: each chamber's pressure set to carry its
+// pivot's load at z = 0 (at least the gallery's: a lighter load lets the check valve refill
+// and the plunger extend), the plungers put at 0 and released
+void hold_pivot_loads(System& s, Eigen::VectorXd& x);
 // CVODE's absolute tolerance of hydraulic state i
 double hydraulic_tolerance(const System& s, int i);
 // the chamber stiffness A^2 beta / V plus the return spring at the current state [N/mm]

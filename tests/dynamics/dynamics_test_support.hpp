@@ -63,14 +63,14 @@ inline double hertz_force_fixed_point(double delta, double length, double e_star
 }
 
 // the power balance of a flexible run, point by point from its start: the work put in (drive,
-// gas and the HLAs') against the energy stored and lost (viscous, friction) [N mm], within `rel` of the
+// gas, the HLAs' and the springs' the energy leaves out) against the energy stored and lost (viscous, friction) [N mm], within `rel` of the
 // largest drive work
 inline camopt::test::Comparison power_balance(const dynamics::FlexibleResult& r, double rel) {
   std::vector<double> work_in(r.cam_deg.size()), work_out(r.cam_deg.size());
   double drive = 0.0;  // the largest |drive work| [N mm]
   for (std::size_t i = 0; i < r.cam_deg.size(); ++i) {
     work_in[i] = (r.drive_work[i] - r.drive_work[0]) + (r.gas_work[i] - r.gas_work[0]) +
-                 (r.hla_work[i] - r.hla_work[0]);
+                 (r.hla_work[i] - r.hla_work[0]) + (r.spring_work[i] - r.spring_work[0]);
     work_out[i] = (r.viscous_loss[i] - r.viscous_loss[0]) + (r.friction_loss[i] - r.friction_loss[0]) +
                   (r.energy[i] - r.energy[0]);
     drive = std::max(drive, std::abs(r.drive_work[i] - r.drive_work[0]));

@@ -501,13 +501,17 @@ TEST_CASE("flexible: the Newton matrices K = -df/dq, D = -df/dq' equal central d
   // the CVVL at 6000 rpm: in the lift (150 deg: every contact closed, the pad sliding with
   // friction) and on the seat (30 deg), at the static start with rates added so that the
   // Hunt-Crossley rate factor (1 + 1.5 alpha rate) and the friction's dmu/dv matter
-  const DesignSpec d = io::load_design(std::string(CAMOPT_SOURCE_DIR) + "/designs/cvvl_swing_cam.toml");
+  // (and with the HLA under the finger pivot: the plunger's rows, its contacts' gradients
+  // along the axis and the return spring)
+  const std::string file = GENERATE(as<std::string>{}, "cvvl_swing_cam.toml", "cvvl_swing_cam_hla.toml");
+  const DesignSpec d = io::load_design(std::string(CAMOPT_SOURCE_DIR) + "/designs/" + file);
   const kin::Mechanism mech = kin::compile(d);
   const dynamics::Model model = dynamics::compile_dynamics(d, mech);
   dynamics::FlexibleOptions opt;
   opt.table_step_deg = 4.0;  // the check holds on any path table; 16x less tabulation per call
   constexpr double kRpm = 6000;
   for (const double cam_deg : {150.0, 30.0}) {
+    INFO(file);
     dynamics::FlexibleLinearisation base;
     REQUIRE(dynamics::flexible_linearise(mech, model, {0.0}, kRpm, cam_deg, opt, {}, {}, base).ok());
     const int n = base.layout.size();

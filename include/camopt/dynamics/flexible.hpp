@@ -131,8 +131,9 @@ struct FlexibleResult {
   std::vector<double> state;          // [point * size + i] extended coordinates
   std::vector<double> initial_state;  // [2 * size]: coordinates then rates at t = 0
   // energy bookkeeping from t = 0 (quadratures), at the output points [N mm]
-  // hla_work: the HLAs' force on their plungers (an input of the train, as the drive)
-  std::vector<double> drive_work, gas_work, viscous_loss, friction_loss, hla_work, energy;
+  // hla_work: the HLAs' force on their plungers (an input of the train, as the drive);
+  // spring_work: the springs the energy leaves out (torsion springs, springs on floating bodies)
+  std::vector<double> drive_work, gas_work, viscous_loss, friction_loss, hla_work, spring_work, energy;
   std::vector<FlexibleEvent> events;  // in the reported revolution (cam_deg within it)
   std::vector<double> contact_damping;  // per connection [N s/mm] (contacts: at reference_force)
   double train_frequency_hz = 0.0;      // first mode at peak lift, the component damping's reference
