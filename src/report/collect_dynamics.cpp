@@ -62,17 +62,17 @@ std::vector<double> distinct(const nlohmann::json& entries, const std::string& k
 // a quantity over engine speed x control position: a heatmap when the run swept both, a
 // line plot over engine speed when it swept the speed alone, nothing otherwise
 void add_speed_map(ReportData& data, const nlohmann::json& entries, const std::string& title, const Axis& z,
-                   const std::function<double(const nlohmann::json&)>& value) {
+                   const std::function<double(const nlohmann::json&)>& value, const std::string& id = "speed-map") {
   const std::string control = !entries.empty() && entries.front().contains("control_mm") ? "control_mm" : "control_deg";
   const std::vector<double> rpm = distinct(entries, "rpm"), controls = distinct(entries, control);
   if (rpm.size() < 2) return;
   add_section(data, "speed-map", "Speed map");
   Plot p;
-  p.id = "speed-map";
+  p.id = id;
   p.title = title;
   p.section = "speed-map";
   p.x = axis_of("rpm");
-  p.main = true;
+  p.main = id == "speed-map";
   if (controls.size() < 2) {
     p.kind = PlotKind::line;
     p.y = z;
@@ -165,6 +165,32 @@ void collect_rigid(ReportData& data, const Folder& dir, const nlohmann::json& su
   add_results_table(data, summary, file);
 }
 
+// the hydraulic lash adjusters (hla_<node>_* columns): chamber pressure, plunger, force, flows
+// and ball lift against cam angle; the plunger's drift per revolution over the speed map
+void add_hla_plots(ReportData& data, const Runs& r, const nlohmann::json& summary) {
+  const auto hlas = columns_between(r.csv, "hla_", "_pressure_MPa");
+  if (hlas.empty()) return;
+  add_section(data, "hla", "Hydraulic lash adjusters");
+  for (const auto& [pressure, node] : hlas) {
+    const std::string n = "hla_" + node + "_", who = "HLA under " + node + ": ";
+    add_runs_plot(data, r, "hla-pressure-" + node, who + "chamber pressure", "hla", pressure, "pressure");
+    add_runs_plot(data, r, "hla-plunger-" + node, who + "plunger extension (pump-up > 0)", "hla", n + "plunger_mm",
+                  "plunger");
+    add_runs_plot(data, r, "hla-force-" + node, who + "force on the pivot", "hla", n + "force_N", "force");
+    if (Plot* p = add_runs_plot(data, r, "hla-flow-" + node, who + "leak and refill", "hla", n + "leak_mm3_per_s", "leak"))
+      add_group_series(*p, r.csv, r.groups, r.labels, "cam_deg", n + "refill_mm3_per_s", "refill");
+    add_runs_plot(data, r, "hla-ball-" + node, who + "check-valve ball lift", "hla", n + "ball_lift_mm", "ball lift");
+    const std::string key = n + "drift_mm";
+    if (summary.contains("speed_map"))
+      add_speed_map(
+          data, summary["speed_map"], who + "plunger drift per revolution (pump-up > 0, collapse < 0)", axis_of(key),
+          [key](const nlohmann::json& e) {
+            return e.contains(key) && e[key].is_number() ? e[key].get<double>() : std::numeric_limits<double>::quiet_NaN();
+          },
+          "hla-drift-map-" + node);
+  }
+}
+
 void collect_flexible(ReportData& data, const Folder& dir, const nlohmann::json& summary) {
   const std::string file = (dir / "summary.json").string();
   data.title = "camopt dynamics flexible: " + format_scalar(member(summary, "design", file));
@@ -204,6 +230,7 @@ void collect_flexible(ReportData& data, const Folder& dir, const nlohmann::json&
                                ? e["max_lift_loss_mm"].get<double>()
                                : std::numeric_limits<double>::quiet_NaN();
                   });
+  add_hla_plots(data, r, summary);
   add_results_table(data, summary, file);
 }
 

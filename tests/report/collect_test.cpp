@@ -363,5 +363,28 @@ TEST_CASE("report: a run's table in memory is taken while the folder holds the f
   for (std::size_t i = 0; i < from_file.y.size(); ++i) REQUIRE(from_file.y[i] == csv["lift_mm"][i]);
 }
 
+TEST_CASE("report: collect of flexible dynamics with an HLA plots its chamber and maps its drift") {
+  const fs::path dir = result_folder("flexible_hla");
+  const TestCsv csv = read_test_csv(dir / "dynamics.csv");
+  const report::ReportData d = report::collect(dir);
+  const report::Plot& pressure = plot_of(d, "hla-pressure-finger");
+  CHECK(pressure.section == "hla");
+  CHECK(pressure.y.unit == "MPa");
+  REQUIRE(pressure.series.size() == 2);  // 3000 and 6000 rpm
+  const std::size_t rows = csv["cam_deg"].size() / 2;
+  for (std::size_t g = 0; g < 2; ++g) {
+    REQUIRE(pressure.series[g].y.size() == rows);
+    for (std::size_t i = 0; i < rows; ++i) REQUIRE(pressure.series[g].y[i] == csv["hla_finger_pressure_MPa"][g * rows + i]);
+  }
+  CHECK(plot_of(d, "hla-flow-finger").series.size() == 4);  // leak and refill per speed
+  for (const char* id : {"hla-plunger-finger", "hla-force-finger", "hla-ball-finger"}) CHECK(plot_of(d, id).series.size() == 2);
+  // the drift over engine speed: the summary's speed map
+  const auto summary = nlohmann::json::parse(read_file(dir / "summary.json"));
+  const report::Plot& map = plot_of(d, "hla-drift-map-finger");
+  REQUIRE(map.series.size() == 1);
+  REQUIRE(map.series[0].y.size() == 2);
+  for (std::size_t k = 0; k < 2; ++k) CHECK(map.series[0].y[k] == summary["speed_map"][k]["hla_finger_drift_mm"].get<double>());
+}
+
 }  // namespace
 }  // namespace camopt::test

@@ -35,6 +35,8 @@ inline fs::path result_folder(const std::string& name) {
        {"dynamics", "designs/cvvl_swing_cam.toml", "--model", "rigid", "--rpm", "3000:6000:3", "--control", "0:16:3",
         "--out", out}},
       {"flexible", {"dynamics", "designs/roller_finger_follower.toml", "--model", "flexible", "--rpm", "6000", "--out", out}},
+      {"flexible_hla",
+       {"dynamics", "designs/cvvl_swing_cam_hla.toml", "--model", "flexible", "--rpm", "3000,6000", "--out", out}},
       {"modes", {"dynamics", "designs/roller_finger_follower.toml", "--model", "modes", "--out", out}},
       {"lift", {"lift", "--law", "cycloidal", "--lift", "9", "--duration", "120", "--step", "0.5", "--out", out + ".csv"}},
   };
