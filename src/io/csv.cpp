@@ -192,15 +192,16 @@ CsvTable parse_csv(std::string_view text, const std::string& file_name) {
       throw InputError(where(file_name, line_number) + ": expected " + std::to_string(table.columns.size()) +
                        " cells (columns: " + join(table.columns) + "), found " + std::to_string(cells.size()));
     for (std::size_t c = 0; c < cells.size(); ++c) {
-      const std::string prefix = where(file_name, line_number) + ": column '" + table.columns[c] + "'";
-      if (cells[c].empty()) throw InputError(prefix + " is empty");
+      // the location text is built only for an error
+      const auto prefix = [&] { return where(file_name, line_number) + ": column '" + table.columns[c] + "'"; };
+      if (cells[c].empty()) throw InputError(prefix() + " is empty");
       double value = 0.0;
       switch (parse_number(cells[c], value)) {
         case ParseOutcome::ok: break;
         case ParseOutcome::not_a_number:
-          throw InputError(prefix + " value '" + printable(cells[c]) + "' is not a number");
+          throw InputError(prefix() + " value '" + printable(cells[c]) + "' is not a number");
         case ParseOutcome::not_finite:
-          throw InputError(prefix + " value '" + printable(cells[c]) + "' is not finite");
+          throw InputError(prefix() + " value '" + printable(cells[c]) + "' is not finite");
       }
       table.values[c].push_back(value);
     }

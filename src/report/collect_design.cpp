@@ -245,8 +245,11 @@ void collect_synthesize(ReportData& data, const Folder& dir, const nlohmann::jso
   // the cam to scale and its curvature, the grinding table
   add_profile_plots(data, dir, report);
   add_grinding_plot(data, dir);
-  add_scene(data, SceneSource{dir / "design.toml"});
-  add_made_cam_plots(data, dir, report);
+  // the design it wrote, read once for the animation and the check of the cam
+  SceneSource scene{dir / "design.toml"};
+  scene.compiled = compile_design_file(scene.design);
+  add_scene(data, scene);
+  if (scene.compiled) add_made_cam_plots(data, *scene.compiled, report);
   // every key of report.json
   add_section(data, "summary", "Summary");
   data.tables.push_back(key_value_table("summary", "report.json", "summary", report));

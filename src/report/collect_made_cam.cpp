@@ -36,13 +36,10 @@ Target read_target(const nlohmann::json& report, const kin::Mechanism& mech) {
 
 }  // namespace
 
-void add_made_cam_plots(ReportData& data, const Folder& dir, const nlohmann::json& report) {
-  std::error_code ec;
-  const fs::path design = dir / "design.toml";
+void add_made_cam_plots(ReportData& data, const CompiledDesign& design, const nlohmann::json& report) {
   const auto connection = report.find("connection");
-  if (!fs::exists(design, ec) || connection == report.end() || !connection->is_string()) return;
-  const DesignSpec spec = io::load_design(design.string());
-  const kin::Mechanism mech = kin::compile(spec);
+  if (connection == report.end() || !connection->is_string()) return;
+  const kin::Mechanism& mech = design.mech;
   int c = -1;
   for (std::size_t i = 0; i < mech.connections.size(); ++i)
     if (mech.connections[i].name == connection->get<std::string>()) c = static_cast<int>(i);

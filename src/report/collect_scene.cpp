@@ -68,16 +68,24 @@ SceneSource scene_source_of_summary(const nlohmann::json& summary, const nlohman
   return s;
 }
 
-void add_scene(ReportData& data, const SceneSource& source) {
+std::shared_ptr<const CompiledDesign> compile_design_file(const fs::path& path) {
   std::error_code ec;
-  if (source.design.empty() || !fs::exists(source.design, ec)) {
+  if (path.empty() || !fs::exists(path, ec)) return nullptr;
+  DesignSpec spec = io::load_design(path.string());
+  kin::Mechanism mech = kin::compile(spec);
+  return std::make_shared<const CompiledDesign>(CompiledDesign{std::move(spec), std::move(mech)});
+}
+
+void add_scene(ReportData& data, const SceneSource& source) {
+  // the design as the run read it, compiled once
+  const std::shared_ptr<const CompiledDesign> compiled = source.compiled ? source.compiled : compile_design_file(source.design);
+  if (!compiled) {
     data.notes.push_back("no mechanism animation: the design file '" + source.design.string() +
                          "' is not readable from here (make the report from the folder the run was made in)");
     return;
   }
-  // the design as the run read it, compiled once
-  const DesignSpec spec = io::load_design(source.design.string());
-  const kin::Mechanism mech = kin::compile(spec);
+  const DesignSpec& spec = compiled->spec;
+  const kin::Mechanism& mech = compiled->mech;
   SceneRequest request = source.request;
   if (mech.controls.empty()) request.controls.clear();
   if (std::isnan(request.start_deg)) request.start_deg = mech.driver.start;

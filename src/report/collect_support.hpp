@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <limits>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -109,8 +110,17 @@ void collect_lift_table(ReportData& data, const fs::path& csv_path);
 // ---- the mechanism animation (collect_scene.cpp) ---------------------------------------------
 // the design a run used and the frames to draw: its control positions, its driver sweep (NaN
 // ends: the design's own) at the run's step, of which every stride-th point is drawn
+// a design file read and compiled once for the collectors that use it
+struct CompiledDesign {
+  DesignSpec spec;
+  kin::Mechanism mech;
+};
+// the design at `path`, or nothing when there is no such file
+std::shared_ptr<const CompiledDesign> compile_design_file(const fs::path& path);
+
 struct SceneSource {
   fs::path design;
+  std::shared_ptr<const CompiledDesign> compiled = nullptr;  // `design` already compiled (else read here)
   SceneRequest request{{}, std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN(), 1.0};
   std::size_t stride = 1;
 };
@@ -123,7 +133,7 @@ void add_scene(ReportData& data, const SceneSource& source);
 // synthesize: the kinematic solver on the folder's design.toml: the pressure angle and the
 // cam's radius of curvature at the contact against cam angle, and the made lift minus the
 // target (report.json's target_file, when readable from here)
-void add_made_cam_plots(ReportData& data, const Folder& dir, const nlohmann::json& report);
+void add_made_cam_plots(ReportData& data, const CompiledDesign& design, const nlohmann::json& report);
 void collect_synthesize(ReportData& data, const Folder& dir, const nlohmann::json& report);
 void collect_optimize(ReportData& data, const Folder& dir, const nlohmann::json& report);
 void collect_kinematics(ReportData& data, const Folder& dir, const nlohmann::json& summary);
