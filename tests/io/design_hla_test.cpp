@@ -8,6 +8,7 @@
 
 #include "camopt/core/error.hpp"
 #include "camopt/io/design_file.hpp"
+#include "io/design_file_test_support.hpp"
 #include "temp_dir.hpp"
 
 using camopt::InputError;
@@ -16,24 +17,11 @@ namespace io = camopt::io;
 
 namespace {
 
-const std::string kBase = R"(schema = 1
-[design]
-name = "base"
-output_node = "valve"
-[driver]
-node = "cam"
-[[node]]
-name = "cam"
-type = "rotational"
-pivot_mm = [0, 0]
-[[node]]
+// the smallest valid design of the design-file tests, with the node the HLA supports
+const std::string kBase = camopt::design_file_test::kBase + R"([[node]]
 name = "finger"
 type = "rotational"
 pivot_mm = [-35, 20]
-[[node]]
-name = "valve"
-type = "translational"
-origin_mm = [0, 40]
 )";
 
 // every key, each with a value distinct from its default
