@@ -229,3 +229,15 @@ TEST_CASE("flexible HLA: pump-up at over-speed, collapse of an unrefilled leak",
   }
 }
 
+
+TEST_CASE("flexible HLA: an HLA in series on a translational node is an input error naming its table",
+          "[dynamics][flexible][hla]") {
+  DesignSpec d = hla_design();
+  d.hlas[0].node = "valve";
+  const kin::Mechanism mech = kin::compile(d);
+  const dynamics::Model model = dynamics::compile_dynamics(d, mech);
+  dynamics::FlexibleResult res;
+  CHECK_THROWS_WITH(dynamics::run_flexible(mech, model, {0.0}, 3000, 0, 360, 1, dynamics::FlexibleOptions{}, res),
+                    Catch::Contains("cvvl_swing_cam_hla.toml:") && Catch::Contains("hla 'finger_hla' on node 'valve'") &&
+                        Catch::Contains("fixed pivot of a solved rotational node"));
+}
