@@ -1,9 +1,9 @@
 # every #include "camopt/<module>/..." follows the layer order: a module includes only
 # itself and the modules before it, and a module's detail/ headers only from that module.
-#   core < kinematics < synthesis < dynamics < opt < io < report < cli
+#   core < kinematics < synthesis < dynamics < opt < io < report < jobs < cli
 # (dynamics includes nothing of synthesis). -DSOURCE_DIR=<repo root>
 cmake_policy(SET CMP0057 NEW)
-set(order core kinematics synthesis dynamics opt io report cli)
+set(order core kinematics synthesis dynamics opt io report jobs cli)
 set(allowed_core core)
 set(allowed_kinematics core kinematics)
 set(allowed_synthesis core kinematics synthesis)
@@ -11,6 +11,7 @@ set(allowed_dynamics core kinematics dynamics)
 set(allowed_opt core kinematics synthesis dynamics opt)
 set(allowed_io core kinematics synthesis dynamics opt io)
 set(allowed_report core kinematics synthesis dynamics opt io report)
+set(allowed_jobs core kinematics synthesis dynamics opt io report jobs)
 set(allowed_cli ${order})
 set(failures "")
 foreach(module IN LISTS order)

@@ -5,12 +5,15 @@
 #include <initializer_list>
 #include <limits>
 #include <map>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "camopt/io/atomic_file.hpp"
+#include "camopt/jobs/common.hpp"
+#include "camopt/jobs/range_option.hpp"
 #include "camopt/kinematics/mechanism.hpp"
 #include "camopt/report/report.hpp"
 
@@ -62,15 +65,6 @@ struct Extremes {
 // takes one, and CLI11 would pass it on
 void check_finite_arguments(int argc, const char* const* argv);
 
-// the largest sweep a command runs: points per position, and points over every position
-// (and rpm); beyond them an InputError names the option, the count and the limit, before
-// anything is allocated (docs/cli.md, "Limits")
-inline constexpr double kMaxSweepPoints = 1e6;
-inline constexpr double kMaxTotalPoints = 2e7;
-// the point count of start..stop by step (both ends); InputError naming `option` above the limits
-long sweep_points(const std::string& option, double start, double stop, double step, double positions = 1,
-                  const std::string& positions_option = "--control");
-
 // every file a folder command may write into its --out folder: a run that succeeds removes
 // the files of its list it did not write (a previous run's), and never any other file.
 // report.html and the figures are written after the set is committed (write_run_report), so
@@ -88,43 +82,21 @@ inline const std::vector<std::string> kOptimizeOutputs = {"lift.csv",    "swing_
 // run that has to wait says so on stderr
 io::OutputTransaction open_outputs(const std::string& out_dir, const std::vector<std::string>& outputs);
 
-// the steps the commands share
-// a design file as parsed and as compiled. The spec is the source description that the
-// dynamics data and an edited recompile read; the compiled mechanism is what the kernels take.
-struct LoadedDesign {
-  DesignSpec spec;
-  kin::Mechanism mech;  // kin::compile(spec)
-};
+// the steps the commands share, from the jobs layer
+using jobs::ControlPositions;
+using jobs::DriverRange;
+using jobs::LoadedDesign;
+using jobs::driver_range;
+using jobs::fail_at_position;
+using jobs::held_rigid_hlas;
+using jobs::kMaxSweepPoints;
+using jobs::kMaxTotalPoints;
+using jobs::parse_range;
+using jobs::resolve_controls;
+using jobs::sweep_points;
 
 // the design file parsed and compiled; the drawing check's warnings on stderr
 LoadedDesign load_mechanism(const std::string& design_path);
-
-// the design's hydraulic lash adjusters, which every model but the flexible one holds rigid
-// (their node's pivot fixed): a note on stderr naming `what` ran, and their names for
-// summary.json's "hla_held_rigid" (empty without an HLA)
-std::vector<std::string> held_rigid_hlas(const DesignSpec& spec, const std::string& what);
-
-// the driver range of the design and the step: --step when given (> 0), else driver.step_deg;
-// InputError when the step exceeds the range
-struct DriverRange {
-  double start = 0.0, stop = 0.0, step = 0.0;  // [driver deg, or mm for a translational driver]
-};
-DriverRange driver_range(const kin::Mechanism& mech, double step_option);
-
-// the control positions of a run: the design's first control at each value of --control (a
-// value, a list a,b,c or START:STOP:COUNT, inside the control's range), the others at their
-// defaults; without --control the first control's default (0 without controls)
-struct ControlPositions {
-  std::vector<double> values;                  // the first control's values
-  std::vector<std::vector<double>> positions;  // every control, per value
-  std::string unit;                            // "deg" or "mm"
-};
-ControlPositions resolve_controls(const kin::Mechanism& mech, const std::string& design_path,
-                                  const std::string& control_option);
-
-// a numerical failure at one control position: its Status named with the control's value
-[[noreturn]] void fail_at_position(const kin::Mechanism& mech, const ControlPositions& controls, Status status,
-                                   std::size_t position);
 
 // the files of one output set (name, contents) staged into out_dir and committed together;
 // returns the files committed (io::OutputTransaction::committed)
@@ -156,6 +128,18 @@ class Progress {
   long total_ = 0, done_ = 0;
   int last_percent_ = -1;
   bool enabled_ = false;
+};
+
+// a job's observer on the terminal: its notes on stderr (info), its steps as a progress bar
+class TerminalObserver : public jobs::Observer {
+ public:
+  void note(const std::string& message) override;
+  void begin(const std::string& label, long steps) override;
+  void advance() override;
+  void end() override;
+
+ private:
+  std::optional<Progress> progress_;
 };
 
 // the report (report_command.cpp): what a command that writes results writes after them.

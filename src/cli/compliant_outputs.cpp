@@ -75,7 +75,8 @@ nlohmann::json compliant_summary(const DynamicsSetup& su, const std::string& des
   const std::size_t nc = mech.connections.size();
   nlohmann::json summary;
   summary["design"] = su.mech.name;
-  if (const auto held = held_rigid_hlas(su.spec, "dynamics (rigid, compliant contacts)"); !held.empty())
+  TerminalObserver terminal;
+  if (const auto held = held_rigid_hlas(su.spec, "dynamics (rigid, compliant contacts)", terminal); !held.empty())
     summary["hla_held_rigid"] = held;
   summary["design_file"] = design_file;
   summary["model"] = "rigid";

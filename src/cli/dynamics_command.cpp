@@ -12,7 +12,6 @@
 #include "dynamics_setup.hpp"
 #include "flexible_outputs.hpp"
 #include "modes_command.hpp"
-#include "range_option.hpp"
 #include "rigid_outputs.hpp"
 #include "validators.hpp"
 

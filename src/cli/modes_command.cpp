@@ -12,7 +12,6 @@
 #include "camopt/io/csv.hpp"
 #include "camopt/kinematics/sweep.hpp"
 #include "cli_common.hpp"
-#include "range_option.hpp"
 
 namespace camopt::cli {
 

@@ -352,7 +352,9 @@ nlohmann::json rigid_summary(const DynamicsSetup& su, const std::string& design_
   const dynamics::Model& model = su.model;
   nlohmann::json summary;
   summary["design"] = su.mech.name;
-  if (const auto held = held_rigid_hlas(su.spec, "dynamics (rigid)"); !held.empty()) summary["hla_held_rigid"] = held;
+  TerminalObserver terminal;
+  if (const auto held = held_rigid_hlas(su.spec, "dynamics (rigid)", terminal); !held.empty())
+    summary["hla_held_rigid"] = held;
   summary["design_file"] = design_file;
   summary["model"] = "rigid";
   summary["mode"] = "kinematically constrained inverse dynamics (a)";

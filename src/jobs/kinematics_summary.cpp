@@ -1,4 +1,4 @@
-#include "kinematics_summary.hpp"
+#include "camopt/jobs/kinematics_summary.hpp"
 
 #include <charconv>
 #include <cmath>
@@ -7,7 +7,7 @@
 #include "camopt/core/error.hpp"
 #include "camopt/core/units.hpp"
 
-namespace camopt::cli {
+namespace camopt::jobs {
 
 namespace {
 
@@ -199,4 +199,4 @@ std::string position_summary_line(const kin::PositionSummary& s, const std::vect
   return line;
 }
 
-}  // namespace camopt::cli
+}  // namespace camopt::jobs

@@ -1,4 +1,4 @@
-#include "range_option.hpp"
+#include "camopt/jobs/range_option.hpp"
 
 #include <charconv>
 #include <cmath>
@@ -6,7 +6,7 @@
 
 #include "camopt/core/error.hpp"
 
-namespace camopt::cli {
+namespace camopt::jobs {
 
 namespace {
 double number(const std::string& option, const std::string& text, const std::string& item) {
@@ -44,4 +44,4 @@ std::vector<double> parse_range(const std::string& option, const std::string& te
   return v;
 }
 
-}  // namespace camopt::cli
+}  // namespace camopt::jobs

@@ -3,8 +3,8 @@
 #include <string>
 #include <vector>
 
-namespace camopt::cli {
+namespace camopt::jobs {
 
 std::vector<double> parse_range(const std::string& option, const std::string& text);
 
-}  // namespace camopt::cli
+}  // namespace camopt::jobs

@@ -7,7 +7,7 @@
 
 #include "camopt/kinematics/sweep.hpp"
 
-namespace camopt::cli {
+namespace camopt::jobs {
 
 // a height of --duration-at: in the output's unit (mm, or deg for a rotating output) and
 // as written in the keys ("1mm", "0.04in")
@@ -46,4 +46,4 @@ nlohmann::json position_summary_json(const kin::PositionSummary& s, const std::v
 std::string position_summary_line(const kin::PositionSummary& s, const std::vector<DurationHeight>& heights,
                                   const SummaryUnits& u);
 
-}  // namespace camopt::cli
+}  // namespace camopt::jobs

@@ -1,0 +1,154 @@
+"""camopt: valvetrain cam design from Python (docs/python.md).
+
+Units are in the names: lengths mm, angles deg (cam degrees for the driver), speeds rpm of
+the crankshaft, forces N. A job returns what the CLI writes: ``columns`` holds the CSV's
+columns (a dict of name -> numpy float64 array, the names exactly the CSV headers) and
+``summary`` the summary.json content (a dict).
+
+    import camopt
+    design = camopt.Design.load("designs/roller_finger_follower.toml")
+    run = camopt.kinematics(design, step_deg=0.5, rpm=6000)
+    print(run.summary["positions"][0]["max_lift_mm"])
+    lift = run.columns["lift_mm"]
+
+Errors: camopt.InputError (the CLI's exit 3 messages: file, line, key; option, value, rule)
+and camopt.NumericalError (exit 4: the angle and the residual), both camopt.Error. A long
+solve releases the GIL and stops on Ctrl-C (KeyboardInterrupt) between control positions.
+"""
+
+import json as _json
+import os as _os
+
+from . import _camopt
+from ._camopt import Error, InputError, NumericalError
+
+__all__ = ["Design", "Result", "kinematics", "Error", "InputError", "NumericalError", "__version__"]
+
+__version__ = _camopt.version
+
+
+class Design:
+    """A design: its TOML text and the file it came from (or the name it is given).
+
+    Build one with ``Design.load(path)`` or ``Design.from_text(text, path=...)``. The text is
+    what a job compiles; ``compile()`` parses and compiles it once (and again after the text
+    changes). Relative ``file = ...`` references in the text resolve from the file's folder.
+    """
+
+    def __init__(self, text, path="<text>"):
+        """A design from its TOML text; ``path`` names it in messages and summary.json."""
+        self._text = str(text)
+        self._path = _os.fspath(path)
+        self._compiled = None
+
+    @classmethod
+    def load(cls, path):
+        """The design file at ``path`` (TOML). InputError when it cannot be read."""
+        path = _os.fspath(path)
+        return cls(_camopt.read_design_file(path), path)
+
+    @classmethod
+    def from_text(cls, text, path="<text>"):
+        """A design from TOML text; ``path`` names it in messages (default ``<text>``)."""
+        return cls(text, path)
+
+    @property
+    def text(self):
+        """The design's TOML text."""
+        return self._text
+
+    @property
+    def path(self):
+        """The file the design came from, as messages and summary.json name it."""
+        return self._path
+
+    @property
+    def name(self):
+        """The design's name (its ``name`` key), from the compiled design."""
+        return self.compile().name
+
+    @property
+    def notes(self):
+        """The drawing check's warnings (a list of str), as the CLI prints them on stderr."""
+        return list(self.compile().notes)
+
+    def compile(self):
+        """The design parsed, checked and compiled (cached). InputError names the file, the
+        line and the key path of a bad value, as ``camopt validate`` does."""
+        if self._compiled is None:
+            self._compiled = _camopt.compile_design(self._text, self._path)
+        return self._compiled
+
+    def __repr__(self):
+        return "camopt.Design(path=%r)" % self._path
+
+
+class Result:
+    """What a job writes, in memory.
+
+    ``columns``: dict of CSV header (with its unit, e.g. ``lift_mm``, ``vel_mm_per_deg``) ->
+    numpy float64 array, in the CSV's column order; ``summary``: the summary.json content;
+    ``notes``: the lines the CLI prints on stderr (per control position, warnings).
+    """
+
+    def __init__(self, columns, summary, notes):
+        self.columns = columns
+        self.summary = summary
+        self.notes = notes
+
+    def __repr__(self):
+        return "camopt.Result(columns=[%s])" % ", ".join(self.columns)
+
+
+def _design(design):
+    """A Design from a Design, a path or a path-like."""
+    if isinstance(design, Design):
+        return design
+    return Design.load(design)
+
+
+def _range_text(value):
+    """A control option (``--control``): a number, a sequence of numbers or the CLI's text."""
+    if value is None:
+        return ""
+    if isinstance(value, str):
+        return value
+    if isinstance(value, (list, tuple)):
+        return ",".join(repr(float(v)) for v in value)
+    return repr(float(value))
+
+
+def _list_text(value, default):
+    """A comma list option: a str, or a sequence of str or numbers."""
+    if value is None:
+        return default
+    if isinstance(value, str):
+        return value
+    return ",".join(str(v) for v in value)
+
+
+def kinematics(design, step_deg=None, control=None, outputs=None, rpm=None, duration_at=None, threads=None):
+    """The kinematic sweep of a design, as ``camopt kinematics`` writes it.
+
+    design: a Design or a design file's path.
+    step_deg: driver step [cam deg, or mm for a translating driver]; default: the design's
+        driver.step_deg (--step).
+    control: positions of the design's first control [deg or mm]: a number, a list of numbers,
+        or "START:STOP:COUNT" (--control); default: the control's default.
+    outputs: "lift", "velocity", "acceleration", "jerk", "nodes", "contacts", "all", a comma
+        list or a list of them (--outputs); default lift, velocity, acceleration, jerk.
+    rpm: engine speed [rpm, crankshaft], up to 1e6: adds SI columns (m/s, m/s^2, m/s^3, rpm).
+    duration_at: lift heights for the summary's durations [mm, "0.040in", or deg for a rotating
+        output node], a comma list (--duration-at); default 1,0.1.
+    threads: worker threads (one per control position at most); default every core.
+
+    Returns a Result: ``columns`` exactly kinematics.csv's (one row per control position and
+    driver point), ``summary`` summary.json's content. Raises InputError or NumericalError
+    with the CLI's messages; KeyboardInterrupt on Ctrl-C (checked between control positions).
+    """
+    design = _design(design)
+    columns, summary, notes = _camopt.kinematics(
+        design.compile(), _range_text(control), _list_text(outputs, "lift,velocity,acceleration,jerk"),
+        None if step_deg is None else float(step_deg), None if rpm is None else float(rpm),
+        _list_text(duration_at, ""), threads)
+    return Result(columns, _json.loads(summary), notes)

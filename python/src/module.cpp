@@ -1,0 +1,228 @@
+// camopt._camopt: the jobs layer for Python (docs/python.md). The pure-Python package
+// python/camopt wraps these functions with keyword arguments and docstrings; this file maps
+// a job's options from Python values, its results to numpy arrays and JSON text, and the
+// error channels to Python exceptions. Long solves run without the GIL; Ctrl-C cancels them
+// between steps (control positions, engine speeds).
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cstring>
+#include <filesystem>
+#include <memory>
+#include <mutex>
+#include <new>
+#include <optional>
+#include <set>
+#include <string>
+#include <thread>
+#include <utility>
+#include <vector>
+
+#include "camopt/core/error.hpp"
+#include "camopt/io/csv.hpp"
+#include "camopt/io/design_file.hpp"
+#include "camopt/io/input_file.hpp"
+#include "camopt/jobs/common.hpp"
+#include "camopt/jobs/kinematics.hpp"
+
+namespace py = pybind11;
+
+namespace camopt::python {
+
+namespace {
+
+// the module's exception types (created once, alive as long as the interpreter)
+PyObject* error_type = nullptr;            // camopt.Error
+PyObject* input_error_type = nullptr;      // camopt.InputError: the CLI's exit 3
+PyObject* numerical_error_type = nullptr;  // camopt.NumericalError: the CLI's exit 4
+
+// a job's observer from Python: it keeps the notes, and between steps asks the interpreter
+// for a pending signal on the thread that called the job (the only thread that may run
+// Python's signal handlers); Ctrl-C leaves KeyboardInterrupt set and cancels the job
+class PythonObserver : public jobs::Observer {
+ public:
+  void note(const std::string& message) override {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    notes_.push_back(message);
+  }
+  bool cancel_requested() override {
+    if (std::this_thread::get_id() != caller_) return false;
+    const py::gil_scoped_acquire gil;
+    return PyErr_CheckSignals() != 0;
+  }
+  std::vector<std::string> take_notes() {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    return std::move(notes_);
+  }
+
+ private:
+  std::thread::id caller_ = std::this_thread::get_id();
+  std::mutex mutex_;
+  std::vector<std::string> notes_;
+};
+
+// `job()` run without the GIL; a cancelled job raises the Python error its observer left
+// (KeyboardInterrupt), or KeyboardInterrupt
+template <class Job>
+auto without_gil(Job&& job) -> decltype(job()) {
+  std::optional<decltype(job())> result;
+  {
+    const py::gil_scoped_release release;
+    try {
+      result.emplace(job());
+    } catch (const jobs::Cancelled&) {
+    }
+  }
+  if (!result) {
+    if (!PyErr_Occurred()) PyErr_SetNone(PyExc_KeyboardInterrupt);
+    throw py::error_already_set();
+  }
+  return std::move(*result);
+}
+
+// a compiled design: the spec and the mechanism the jobs take, the file it names, and the
+// drawing check's warnings
+struct CompiledDesign {
+  jobs::LoadedDesign design;
+  std::string path;
+  std::vector<std::string> notes;
+};
+
+// a table's columns as a dict of name -> float64 array, in the table's order
+py::dict columns_dict(const io::Columns& table) {
+  py::dict out;
+  std::set<std::string> seen;
+  for (std::size_t c = 0; c < table.header.size(); ++c) {
+    if (!seen.insert(table.header[c]).second)
+      throw std::logic_error("the table has two columns named '" + table.header[c] + "'");
+    const std::vector<double>& values = table.values[c];
+    py::array_t<double> array(static_cast<py::ssize_t>(values.size()));
+    if (!values.empty()) std::memcpy(array.mutable_data(), values.data(), values.size() * sizeof(double));
+    out[py::str(table.header[c])] = std::move(array);
+  }
+  return out;
+}
+
+// the design file's text, read as the CLI reads it (the same messages)
+std::string read_design_file(const std::string& path) { return io::read_input_file(path, "design file"); }
+
+// a design's text parsed and compiled; `path` names it in messages and resolves its relative
+// `file = ...` references
+std::shared_ptr<CompiledDesign> compile_design(const std::string& text, const std::string& path) {
+  std::string directory = std::filesystem::path(path).parent_path().string();
+  if (directory.empty()) directory = ".";
+  PythonObserver observer;
+  auto compiled = std::make_shared<CompiledDesign>();
+  compiled->design = jobs::compile_design(io::parse_design(text, path, directory), path, observer);
+  compiled->path = path;
+  compiled->notes = observer.take_notes();
+  return compiled;
+}
+
+// a step or speed the caller gave (not None) is > 0, as the CLI checks its options
+double given_positive(const char* option, const std::optional<double>& value) {
+  if (!value) return 0.0;
+  jobs::check_positive(option, *value);
+  return *value;
+}
+
+// worker threads: the caller's count, or every hardware thread
+int worker_threads(const std::optional<int>& threads) {
+  if (threads) {
+    CAMOPT_THROW_UNLESS(*threads >= 1, "threads: value " + std::to_string(*threads) + " must be >= 1");
+    return *threads;
+  }
+  const unsigned hw = std::thread::hardware_concurrency();
+  return hw == 0 ? 1 : static_cast<int>(hw);
+}
+
+// the kinematics job: (columns, summary as JSON text, notes)
+py::tuple kinematics(const CompiledDesign& compiled, const std::string& control, const std::string& outputs,
+                     std::optional<double> step_deg, std::optional<double> rpm, const std::string& duration_at,
+                     std::optional<int> threads) {
+  jobs::KinematicsOptions options;
+  options.design_file = compiled.path;
+  options.control = control;
+  options.outputs = outputs;
+  options.step_deg = given_positive("--step", step_deg);
+  options.rpm = given_positive("--rpm", rpm);
+  options.duration_at = duration_at;
+  options.threads = worker_threads(threads);
+  jobs::validate(options);
+  PythonObserver observer;
+  const jobs::KinematicsResult result =
+      without_gil([&] { return jobs::run_kinematics(compiled.design, options, observer); });
+  return py::make_tuple(columns_dict(result.columns), result.summary.dump(), observer.take_notes());
+}
+
+// camopt.NumericalError with its status: code, message and where (the angle, the residual)
+void raise_numerical(const NumericalError& e) {
+  const Status& s = e.status();
+  py::object error = py::reinterpret_borrow<py::object>(numerical_error_type)(e.what());
+  error.attr("code") = to_string(s.code);
+  error.attr("detail") = s.message;
+  error.attr("where") = s.where;
+  PyErr_SetObject(numerical_error_type, error.ptr());
+}
+
+// every C++ exception a job throws, as its Python exception: nothing escapes unmapped
+void translate(std::exception_ptr p) {
+  try {
+    if (p) std::rethrow_exception(p);
+  } catch (const InputError& e) {
+    PyErr_SetString(input_error_type, e.what());
+  } catch (const NumericalError& e) {
+    raise_numerical(e);
+  } catch (const jobs::Cancelled&) {
+    PyErr_SetNone(PyExc_KeyboardInterrupt);
+  } catch (const std::bad_alloc&) {
+    PyErr_NoMemory();
+  } catch (const py::builtin_exception&) {
+    throw;  // pybind11's own (a wrong argument type): its translator
+  } catch (const std::exception& e) {
+    PyErr_SetString(error_type, (std::string("internal error: ") + e.what()).c_str());
+  }
+}
+
+// the exception types: Error, and InputError and NumericalError under it
+void add_exceptions(py::module_& m) {
+  error_type = PyErr_NewExceptionWithDoc("camopt.Error", "Every error camopt raises.", PyExc_Exception, nullptr);
+  input_error_type = PyErr_NewExceptionWithDoc(
+      "camopt.InputError",
+      "Bad input: a design key, an option value, a table. The message is the CLI's (exit 3): the file, "
+      "line and key path, or the option, the value and the rule.",
+      error_type, nullptr);
+  numerical_error_type = PyErr_NewExceptionWithDoc(
+      "camopt.NumericalError",
+      "A numerical failure (the CLI's exit 4): no convergence, cannot assemble, undercut, integrator "
+      "failure. The message names where (the angle, the residual); attributes code, detail, where.",
+      error_type, nullptr);
+  m.attr("Error") = py::handle(error_type);
+  m.attr("InputError") = py::handle(input_error_type);
+  m.attr("NumericalError") = py::handle(numerical_error_type);
+  py::register_exception_translator(&translate);
+}
+
+}  // namespace
+
+}  // namespace camopt::python
+
+PYBIND11_MODULE(_camopt, m) {
+  using namespace camopt::python;
+  m.doc() = "camopt's jobs for Python (use the package camopt, which wraps them)";
+  m.attr("version") = CAMOPT_VERSION;
+  add_exceptions(m);
+  py::class_<CompiledDesign, std::shared_ptr<CompiledDesign>>(m, "CompiledDesign",
+                                                              "A design parsed and compiled (camopt.Design.compile).")
+      .def_property_readonly("name", [](const CompiledDesign& c) { return c.design.mech.name; },
+                             "the design's name")
+      .def_property_readonly("notes", [](const CompiledDesign& c) { return c.notes; },
+                             "the drawing check's warnings, as the CLI prints them");
+  m.def("read_design_file", &read_design_file, py::arg("path"), "A design file's text (the CLI's checks).");
+  m.def("compile_design", &compile_design, py::arg("text"), py::arg("path"),
+        "A design's TOML text parsed and compiled; path names it in messages.");
+  m.def("kinematics", &kinematics, py::arg("design"), py::arg("control"), py::arg("outputs"), py::arg("step_deg"),
+        py::arg("rpm"), py::arg("duration_at"), py::arg("threads"),
+        "The kinematics job: (columns, summary JSON text, notes).");
+}

@@ -1,0 +1,67 @@
+"""A long solve releases the GIL (another Python thread runs meanwhile) and stops on Ctrl-C
+with KeyboardInterrupt, checked between control positions."""
+
+import _thread
+import os
+import threading
+import time
+
+import pytest
+
+import camopt
+from conftest import SOURCE_DIR
+
+# the variable valve lift over 300 control positions at 0.25 deg, on one thread: a few
+# seconds of solving, one cancellation check per position
+LONG = dict(control="0:16:300", step_deg=0.25, outputs="lift", threads=1)
+
+
+@pytest.fixture(scope="module")
+def cvvl():
+    os.chdir(SOURCE_DIR)
+    return camopt.Design.load("designs/cvvl_swing_cam.toml")
+
+
+def timed_sweep(design, **options):
+    t0 = time.monotonic()
+    run = camopt.kinematics(design, **options)
+    return run, time.monotonic() - t0
+
+
+def test_another_python_thread_runs_during_a_long_sweep(cvvl):
+    ticks = []
+    stop = threading.Event()
+
+    def ticker():
+        while not stop.is_set():
+            ticks.append(time.monotonic())
+            time.sleep(0.001)
+
+    t = threading.Thread(target=ticker)
+    t.start()
+    time.sleep(0.05)
+    try:
+        t0 = time.monotonic()
+        _, seconds = timed_sweep(cvvl, **LONG)
+    finally:
+        stop.set()
+        t.join()
+    during = [x for x in ticks if t0 < x < t0 + seconds]
+    assert seconds > 0.5
+    # the ticker sleeps 1 ms a tick: with the GIL held by the sweep it would make none
+    assert len(during) > 50 * seconds, (len(during), seconds)
+
+
+def test_ctrl_c_stops_a_long_sweep_between_control_positions(cvvl):
+    _, full = timed_sweep(cvvl, **LONG)
+    assert full > 1.0
+    timer = threading.Timer(0.2, _thread.interrupt_main)
+    timer.start()
+    t0 = time.monotonic()
+    with pytest.raises(KeyboardInterrupt):
+        camopt.kinematics(cvvl, **LONG)
+    stopped = time.monotonic() - t0
+    timer.join()
+    assert stopped < 0.2 + full / 4, (stopped, full)
+    # the module is usable after the interrupt
+    assert camopt.kinematics(cvvl, step_deg=1.0).summary["positions"][0]["status"] == "ok"

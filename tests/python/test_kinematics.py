@@ -1,0 +1,48 @@
+"""camopt.kinematics equals `camopt kinematics` bit for bit: every column of kinematics.csv
+and every key of summary.json, on every bundled design and on a control family."""
+
+import os
+import pathlib
+
+import pytest
+
+import camopt
+from conftest import SOURCE_DIR, assert_same_columns, read_csv, read_summary, run_cli, without_times
+
+DESIGNS = sorted(p.name for p in (SOURCE_DIR / "designs").glob("*.toml"))
+
+
+@pytest.mark.parametrize("design", DESIGNS)
+def test_every_bundled_design_equals_the_cli_bit_for_bit(design, tmp_path):
+    path = "designs/" + design
+    code, stderr = run_cli("kinematics", path, "--outputs", "all", "--rpm", "6000", "--no-report", "--out", tmp_path)
+    assert code == 0, stderr
+    os.chdir(SOURCE_DIR)
+    run = camopt.kinematics(path, outputs="all", rpm=6000, threads=2)
+    assert_same_columns(run.columns, read_csv(tmp_path / "kinematics.csv"))
+    assert without_times(run.summary) == read_summary(tmp_path / "summary.json")
+
+
+def test_a_control_family_at_a_step_equals_the_cli(tmp_path):
+    path = "designs/cvvl_swing_cam.toml"
+    code, stderr = run_cli("kinematics", path, "--control", "0:16:5", "--step", "0.5", "--outputs", "lift,contacts",
+                           "--duration-at", "0.5,0.05", "--no-report", "--out", tmp_path)
+    assert code == 0, stderr
+    os.chdir(SOURCE_DIR)
+    design = camopt.Design.load(path)
+    run = camopt.kinematics(design, control="0:16:5", step_deg=0.5, outputs=["lift", "contacts"],
+                            duration_at=[0.5, 0.05])
+    assert_same_columns(run.columns, read_csv(tmp_path / "kinematics.csv"))
+    assert without_times(run.summary) == read_summary(tmp_path / "summary.json")
+    # one note per control position, as the CLI prints them
+    assert sum(n.startswith("kinematics: control ") for n in run.notes) == 5
+
+
+def test_a_design_from_text_names_its_path_and_gives_the_same_columns():
+    # its profile table (file = "profiles/...") resolves from the folder of the path it is given
+    text = (SOURCE_DIR / "designs/bucket_tappet.toml").read_text()
+    named = str(SOURCE_DIR / "designs/tappet_from_text.toml")
+    from_text = camopt.kinematics(camopt.Design.from_text(text, path=named), step_deg=1.0)
+    from_file = camopt.kinematics(str(SOURCE_DIR / "designs/bucket_tappet.toml"), step_deg=1.0)
+    assert from_text.summary["design_file"] == named
+    assert_same_columns(from_text.columns, from_file.columns)
