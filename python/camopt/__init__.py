@@ -22,7 +22,7 @@ import os as _os
 from . import _camopt
 from ._camopt import Error, InputError, NumericalError
 
-__all__ = ["Design", "Result", "kinematics", "Error", "InputError", "NumericalError", "__version__"]
+__all__ = ["Design", "Result", "kinematics", "dynamics", "Error", "InputError", "NumericalError", "__version__"]
 
 __version__ = _camopt.version
 
@@ -151,4 +151,39 @@ def kinematics(design, step_deg=None, control=None, outputs=None, rpm=None, dura
         design.compile(), _range_text(control), _list_text(outputs, "lift,velocity,acceleration,jerk"),
         None if step_deg is None else float(step_deg), None if rpm is None else float(rpm),
         _list_text(duration_at, ""), threads)
+    return Result(columns, _json.loads(summary), notes)
+
+
+def dynamics(design, rpm, model="rigid", control=None, step_deg=None, contacts=None, revolutions=None, start=None,
+             coil_displacements=None, rtol=None, atol=None):
+    """Valvetrain dynamics of a design, as ``camopt dynamics --model rigid|flexible`` writes them
+    (docs/dynamics.md).
+
+    design: a Design or a design file's path.
+    rpm: engine speeds [rpm, crankshaft]: a number, a list of numbers or "START:STOP:COUNT",
+        each in (0, 1e6] (--rpm).
+    model: "rigid" (kinematically constrained inverse dynamics) or "flexible" (the compliant
+        train integrated in time, the last revolution reported).
+    control: positions of the design's first control [deg or mm] (--control).
+    step_deg: cam angle step [cam deg]; default the design's driver.step_deg (--step).
+    contacts: rigid model only: "rigid" (mode a, the default) or "compliant" (stiff separable
+        Hertz contacts integrated in time, mode b).
+    revolutions: flexible only: cam revolutions integrated at most [1..1000], default 3.
+    start: flexible only: "static" (default) or "rest" (every body at rest, every revolution
+        reported).
+    coil_displacements: flexible only: add every spring coil mass's displacement [mm].
+    rtol, atol: flexible only: CVODE relative tolerance (default 1e-6) and absolute tolerance
+        on deviations [mm or rad] (default 1e-7).
+
+    An option of the other model raises InputError, as the CLI does. Returns a Result:
+    ``columns`` exactly dynamics.csv's (one row per rpm, control position and cam angle; a
+    cell the CSV leaves empty is NaN), ``summary`` summary.json's content. Raises InputError
+    or NumericalError with the CLI's messages; KeyboardInterrupt on Ctrl-C (checked between
+    runs: control positions, or speeds x positions).
+    """
+    design = _design(design)
+    columns, summary, notes = _camopt.dynamics(
+        design.compile(), model, _range_text(rpm), _range_text(control), None if step_deg is None else float(step_deg),
+        contacts, revolutions, start, coil_displacements, None if rtol is None else float(rtol),
+        None if atol is None else float(atol))
     return Result(columns, _json.loads(summary), notes)

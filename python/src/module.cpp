@@ -24,6 +24,7 @@
 #include "camopt/io/design_file.hpp"
 #include "camopt/io/input_file.hpp"
 #include "camopt/jobs/common.hpp"
+#include "camopt/jobs/dynamics.hpp"
 #include "camopt/jobs/kinematics.hpp"
 
 namespace py = pybind11;
@@ -156,6 +157,56 @@ py::tuple kinematics(const CompiledDesign& compiled, const std::string& control,
   return py::make_tuple(columns_dict(result.columns), result.summary.dump(), observer.take_notes());
 }
 
+// the options of `camopt dynamics` that only one model takes, given for another: the CLI's
+// InputError "OPTION: does nothing with --model M (... only)"
+struct ModelOptions {
+  std::optional<std::string> contacts;  // the rigid model's
+  std::optional<int> revolutions;       // the flexible model's, and below
+  std::optional<std::string> start;
+  std::optional<bool> coil_displacements;
+  std::optional<double> rtol, atol;
+};
+void reject_unused(const std::string& model, const ModelOptions& m) {
+  const auto unused = [&model](bool given, const char* option, const char* only) {
+    if (given) throw InputError(std::string(option) + ": does nothing with --model " + model + " (" + only + ")");
+  };
+  if (model != "flexible") {
+    unused(m.revolutions.has_value(), "--revolutions", "flexible model only");
+    unused(m.start.has_value(), "--start", "flexible model only");
+    unused(m.coil_displacements.has_value(), "--coil-displacements", "flexible model only");
+    unused(m.rtol.has_value(), "--rtol", "flexible model only");
+    unused(m.atol.has_value(), "--atol", "flexible model only");
+  }
+  if (model != "rigid") unused(m.contacts.has_value(), "--contacts", "rigid model only");
+}
+
+// the dynamics job, rigid or flexible: (columns, summary as JSON text, notes)
+py::tuple dynamics(const CompiledDesign& compiled, const std::string& model, const std::string& rpm,
+                   const std::string& control, std::optional<double> step_deg, const ModelOptions& m) {
+  reject_unused(model, m);
+  jobs::DynamicsOptions options;
+  options.design_file = compiled.path;
+  options.model = model;
+  options.contacts = m.contacts.value_or("rigid");
+  options.rpm = rpm;
+  options.control = control;
+  options.step_deg = given_positive("--step", step_deg);
+  dynamics::FlexibleOptions& f = options.flexible;
+  f.revolutions = m.revolutions.value_or(f.revolutions);
+  const std::string start = m.start.value_or("static");
+  if (start != "static" && start != "rest")
+    throw InputError("--start: value '" + start + "' is not one of static, rest");
+  f.start_at_rest = start == "rest";
+  f.coil_displacements = m.coil_displacements.value_or(false);
+  f.relative_tolerance = m.rtol.value_or(f.relative_tolerance);
+  f.absolute_tolerance = m.atol.value_or(f.absolute_tolerance);
+  jobs::validate(options);
+  PythonObserver observer;
+  const jobs::DynamicsResult result =
+      without_gil([&] { return jobs::run_dynamics(compiled.design, options, observer); });
+  return py::make_tuple(columns_dict(result.columns), result.summary.dump(), observer.take_notes());
+}
+
 // camopt.NumericalError with its status: code, message and where (the angle, the residual)
 void raise_numerical(const NumericalError& e) {
   const Status& s = e.status();
@@ -225,4 +276,16 @@ PYBIND11_MODULE(_camopt, m) {
   m.def("kinematics", &kinematics, py::arg("design"), py::arg("control"), py::arg("outputs"), py::arg("step_deg"),
         py::arg("rpm"), py::arg("duration_at"), py::arg("threads"),
         "The kinematics job: (columns, summary JSON text, notes).");
+  m.def(
+      "dynamics",
+      [](const CompiledDesign& design, const std::string& model, const std::string& rpm, const std::string& control,
+         std::optional<double> step_deg, std::optional<std::string> contacts, std::optional<int> revolutions,
+         std::optional<std::string> start, std::optional<bool> coil_displacements, std::optional<double> rtol,
+         std::optional<double> atol) {
+        return dynamics(design, model, rpm, control, step_deg,
+                        {std::move(contacts), revolutions, std::move(start), coil_displacements, rtol, atol});
+      },
+      py::arg("design"), py::arg("model"), py::arg("rpm"), py::arg("control"), py::arg("step_deg"), py::arg("contacts"),
+      py::arg("revolutions"), py::arg("start"), py::arg("coil_displacements"), py::arg("rtol"), py::arg("atol"),
+      "The dynamics job (rigid or flexible): (columns, summary JSON text, notes).");
 }

@@ -50,16 +50,6 @@ GlobalOptions& global_options();
 bool progress_line_wanted();  // draw progress lines in place on stderr (--progress, --quiet)
 int thread_count();  // resolved --threads
 
-// largest and smallest value of a series and where (e.g. the cam angle) each occurred
-struct Extremes {
-  double max = -std::numeric_limits<double>::infinity(), min = std::numeric_limits<double>::infinity();
-  double max_at = 0, min_at = 0;
-  void add(double v, double at) {
-    if (v > max) max = v, max_at = at;
-    if (v < min) min = v, min_at = at;
-  }
-};
-
 // InputError naming the option when a command-line value (or an item of a list "a,b" or a
 // range "a:b:n") reads as a number that is not finite ("nan", "inf", "1e999"): no option
 // takes one, and CLI11 would pass it on
@@ -85,6 +75,7 @@ io::OutputTransaction open_outputs(const std::string& out_dir, const std::vector
 // the steps the commands share, from the jobs layer
 using jobs::ControlPositions;
 using jobs::DriverRange;
+using jobs::Extremes;
 using jobs::LoadedDesign;
 using jobs::driver_range;
 using jobs::fail_at_position;

@@ -11,7 +11,7 @@
 #include "camopt/kinematics/mechanism.hpp"
 #include "camopt/kinematics/sweep.hpp"
 #include "cli_common.hpp"
-#include "flexible_summary.hpp"
+#include "camopt/jobs/flexible_summary.hpp"
 
 namespace camopt::cli {
 
@@ -86,7 +86,7 @@ nlohmann::json check_flexible(const kin::Mechanism& mech, const dynamics::Model&
     verdict.failed("flexible", "flexible run", st.str());
     return "failed: " + st.str();
   }
-  nlohmann::json flex = flexible_run_summary(mech, model, fr);
+  nlohmann::json flex = jobs::flexible_run_summary(mech, model, fr);
   flex["model"] = "flexible";
   flex["rpm"] = set.rpm;
   flex.erase("events");

@@ -30,11 +30,13 @@ def cli_error(*args, kind):
 
 
 def read_csv(path):
-    """A CSV written by camopt: dict of header -> float64 array (every value read with float())."""
+    """A CSV written by camopt: dict of header -> float64 array (every value read with float(); an
+    empty cell, a quantity that does not exist there, is NaN)."""
     with open(path, newline="") as f:
         rows = list(csv.reader(f))
     header, body = rows[0], rows[1:]
-    return {name: np.array([float(r[i]) for r in body], dtype=np.float64) for i, name in enumerate(header)}
+    return {name: np.array([float(r[i]) if r[i] else np.nan for r in body], dtype=np.float64)
+            for i, name in enumerate(header)}
 
 
 def read_summary(path):

@@ -5,6 +5,7 @@
 // CLI subcommand without its files: the CLI writes what it returns, the Python module hands
 // it over as arrays and dicts. Messages name the CLI's options (--step, --control, ...).
 #include <cstddef>
+#include <limits>
 #include <mutex>
 #include <stdexcept>
 #include <string>
@@ -50,6 +51,16 @@ class StepCounter {
  private:
   Observer& observer_;
   std::mutex mutex_;
+};
+
+// largest and smallest value of a series and where (e.g. the cam angle) each occurred
+struct Extremes {
+  double max = -std::numeric_limits<double>::infinity(), min = std::numeric_limits<double>::infinity();
+  double max_at = 0, min_at = 0;
+  void add(double v, double at) {
+    if (v > max) max = v, max_at = at;
+    if (v < min) min = v, min_at = at;
+  }
 };
 
 // the largest sweep a job runs: points per position, and points over every position (and

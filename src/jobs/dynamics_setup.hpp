@@ -1,5 +1,5 @@
 #pragma once
-// what every `camopt dynamics` model reads from the design and the options, and the grid of
+// what every dynamics model reads from the design and the options, and the grid of
 // time-integrated runs (rpm x control position) of the compliant and flexible models
 #include <cstddef>
 #include <string>
@@ -8,13 +8,14 @@
 #include "camopt/core/error.hpp"
 #include "camopt/dynamics/model.hpp"
 #include "camopt/kinematics/mechanism.hpp"
-#include "cli_common.hpp"
+#include "camopt/jobs/common.hpp"
 
-namespace camopt::cli {
+namespace camopt::jobs {
 
 struct DynamicsSetup {
-  DesignSpec spec;             // the design as parsed
-  kin::Mechanism mech;         // compiled from it
+  const DesignSpec& spec;      // the design as parsed
+  const kin::Mechanism& mech;  // compiled from it
+  Observer& observer;          // the job's notes and steps
   dynamics::Model model;       // its dynamics data
   std::vector<double> rpms;    // engine speeds [rpm]
   ControlPositions controls;   // the first control's positions, every control per position
@@ -29,21 +30,23 @@ struct GridRun {
   Result result;
 };
 
-// runs `integrate(rpm, controls, result)` over the grid with a progress bar; a failure stops
-// with its control position named
+// runs `integrate(rpm, controls, result)` over the grid, one observer step per run (a cancel
+// stops it there); a failure stops with its control position named
 template <class Result, class Integrate>
 std::vector<GridRun<Result>> run_grid(const DynamicsSetup& su, Integrate&& integrate) {
   std::vector<GridRun<Result>> runs;
-  Progress progress("dynamics", static_cast<long>(su.rpms.size() * su.controls.positions.size()));
+  su.observer.begin("dynamics", static_cast<long>(su.rpms.size() * su.controls.positions.size()));
+  StepCounter steps(su.observer);
   for (double rpm : su.rpms)
     for (std::size_t p = 0; p < su.controls.positions.size(); ++p) {
       GridRun<Result> r{rpm, p, {}};
       const Status st = integrate(rpm, su.controls.positions[p], r.result);
       if (!st.ok()) fail_at_position(su.mech, su.controls, st, p);
       runs.push_back(std::move(r));
-      progress.advance();
+      steps.step_done();
     }
+  su.observer.end();
   return runs;
 }
 
-}  // namespace camopt::cli
+}  // namespace camopt::jobs

@@ -10,7 +10,7 @@
 #include "camopt/io/csv.hpp"
 #include "dynamics_setup.hpp"
 
-namespace camopt::cli {
+namespace camopt::jobs {
 
 using FlexibleRun = GridRun<dynamics::FlexibleResult>;
 
@@ -23,4 +23,4 @@ nlohmann::json flexible_summary(const DynamicsSetup& su, const std::string& desi
                                 const dynamics::FlexibleOptions& options, const std::vector<FlexibleRun>& runs,
                                 double seconds);
 
-}  // namespace camopt::cli
+}  // namespace camopt::jobs

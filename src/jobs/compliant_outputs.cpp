@@ -7,7 +7,7 @@
 #include "camopt/dynamics/hertz.hpp"
 #include "camopt/io/csv.hpp"
 
-namespace camopt::cli {
+namespace camopt::jobs {
 
 io::Columns compliant_columns(const DynamicsSetup& su, const std::vector<CompliantRun>& runs,
                                 const std::vector<dynamics::RigidSweep>& rigid) {
@@ -75,8 +75,7 @@ nlohmann::json compliant_summary(const DynamicsSetup& su, const std::string& des
   const std::size_t nc = mech.connections.size();
   nlohmann::json summary;
   summary["design"] = su.mech.name;
-  TerminalObserver terminal;
-  if (const auto held = held_rigid_hlas(su.spec, "dynamics (rigid, compliant contacts)", terminal); !held.empty())
+  if (const auto held = held_rigid_hlas(su.spec, "dynamics (rigid, compliant contacts)", su.observer); !held.empty())
     summary["hla_held_rigid"] = held;
   summary["design_file"] = design_file;
   summary["model"] = "rigid";
@@ -109,4 +108,4 @@ nlohmann::json compliant_summary(const DynamicsSetup& su, const std::string& des
   return summary;
 }
 
-}  // namespace camopt::cli
+}  // namespace camopt::jobs

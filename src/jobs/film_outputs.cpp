@@ -5,7 +5,7 @@
 
 #include "camopt/dynamics/ehl.hpp"
 
-namespace camopt::cli {
+namespace camopt::jobs {
 
 namespace {
 
@@ -91,4 +91,4 @@ nlohmann::json film_summary(const kin::Mechanism& mech, const dynamics::Model& m
   return out;
 }
 
-}  // namespace camopt::cli
+}  // namespace camopt::jobs

@@ -1,13 +1,13 @@
-#include "flexible_summary.hpp"
+#include "camopt/jobs/flexible_summary.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
 #include "camopt/core/units.hpp"
-#include "cli_common.hpp"
+#include "camopt/jobs/common.hpp"
 
-namespace camopt::cli {
+namespace camopt::jobs {
 
 namespace {
 
@@ -173,4 +173,4 @@ nlohmann::json flexible_run_summary(const kin::Mechanism& mech, const dynamics::
   return j;
 }
 
-}  // namespace camopt::cli
+}  // namespace camopt::jobs

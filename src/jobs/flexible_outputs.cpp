@@ -5,9 +5,9 @@
 
 #include "camopt/core/units.hpp"
 #include "camopt/io/csv.hpp"
-#include "flexible_summary.hpp"
+#include "camopt/jobs/flexible_summary.hpp"
 
-namespace camopt::cli {
+namespace camopt::jobs {
 
 namespace {
 
@@ -146,13 +146,15 @@ nlohmann::json flexible_summary(const DynamicsSetup& su, const std::string& desi
     j["control_" + su.controls.unit] = su.controls.values[run.position];
     j.update(flexible_run_summary(mech, model, r));
     if (r.gap_error_mm > 0.01)
-      info("dynamics (flexible): warning: at " + shortest_number(run.rpm) + " rpm contact '" + r.gap_error_contact +
-           "' carries force " + shortest_number(r.gap_error_mm) + " mm off its linearised gap (cam " +
-           shortest_number(r.gap_error_at_cam_deg) + " deg): the bodies have left their kinematic path far");
+      su.observer.note("dynamics (flexible): warning: at " + shortest_number(run.rpm) + " rpm contact '" +
+                       r.gap_error_contact + "' carries force " + shortest_number(r.gap_error_mm) +
+                       " mm off its linearised gap (cam " + shortest_number(r.gap_error_at_cam_deg) +
+                       " deg): the bodies have left their kinematic path far");
     if (!r.periodic && !options.start_at_rest)
-      info("dynamics (flexible): warning: no periodic steady state at " + shortest_number(run.rpm) + " rpm after " +
-           std::to_string(r.revolutions_integrated) + " revolutions (start-state difference " +
-           shortest_number(r.periodic_difference) + " tolerances); the last revolution is reported: raise --revolutions");
+      su.observer.note("dynamics (flexible): warning: no periodic steady state at " + shortest_number(run.rpm) +
+                       " rpm after " + std::to_string(r.revolutions_integrated) +
+                       " revolutions (start-state difference " + shortest_number(r.periodic_difference) +
+                       " tolerances); the last revolution is reported: raise --revolutions");
     const bool separates = j["any_contact_separates"].get<bool>();
     nlohmann::json point = {{"rpm", run.rpm},
                             {"control_" + su.controls.unit, su.controls.values[run.position]},
@@ -171,4 +173,4 @@ nlohmann::json flexible_summary(const DynamicsSetup& su, const std::string& desi
   return summary;
 }
 
-}  // namespace camopt::cli
+}  // namespace camopt::jobs

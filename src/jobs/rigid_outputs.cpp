@@ -7,10 +7,9 @@
 #include "camopt/dynamics/ehl.hpp"
 #include "camopt/dynamics/hertz.hpp"
 #include "camopt/io/csv.hpp"
-#include "cli_common.hpp"
 #include "film_outputs.hpp"
 
-namespace camopt::cli {
+namespace camopt::jobs {
 
 namespace {
 
@@ -352,8 +351,7 @@ nlohmann::json rigid_summary(const DynamicsSetup& su, const std::string& design_
   const dynamics::Model& model = su.model;
   nlohmann::json summary;
   summary["design"] = su.mech.name;
-  TerminalObserver terminal;
-  if (const auto held = held_rigid_hlas(su.spec, "dynamics (rigid)", terminal); !held.empty())
+  if (const auto held = held_rigid_hlas(su.spec, "dynamics (rigid)", su.observer); !held.empty())
     summary["hla_held_rigid"] = held;
   summary["design_file"] = design_file;
   summary["model"] = "rigid";
@@ -385,4 +383,4 @@ nlohmann::json rigid_summary(const DynamicsSetup& su, const std::string& design_
   return summary;
 }
 
-}  // namespace camopt::cli
+}  // namespace camopt::jobs

@@ -9,7 +9,7 @@
 #include "camopt/io/csv.hpp"
 #include "dynamics_setup.hpp"
 
-namespace camopt::cli {
+namespace camopt::jobs {
 
 // dynamics.csv's columns: long format, one row per (rpm, control position, cam angle)
 io::Columns rigid_columns(const DynamicsSetup& su, const std::vector<dynamics::RigidSweep>& sweeps);
@@ -19,4 +19,4 @@ io::Columns rigid_columns(const DynamicsSetup& su, const std::vector<dynamics::R
 nlohmann::json rigid_summary(const DynamicsSetup& su, const std::string& design_file,
                              const std::vector<dynamics::RigidSweep>& sweeps, double seconds);
 
-}  // namespace camopt::cli
+}  // namespace camopt::jobs

@@ -11,7 +11,7 @@
 #include "camopt/io/csv.hpp"
 #include "dynamics_setup.hpp"
 
-namespace camopt::cli {
+namespace camopt::jobs {
 
 using CompliantRun = GridRun<dynamics::CompliantResult>;
 
@@ -25,4 +25,4 @@ io::Columns compliant_columns(const DynamicsSetup& su, const std::vector<Complia
 nlohmann::json compliant_summary(const DynamicsSetup& su, const std::string& design_file,
                                  const std::vector<CompliantRun>& runs, double seconds);
 
-}  // namespace camopt::cli
+}  // namespace camopt::jobs

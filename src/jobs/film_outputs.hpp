@@ -11,7 +11,7 @@
 #include "camopt/dynamics/rigid.hpp"
 #include "camopt/kinematics/mechanism.hpp"
 
-namespace camopt::cli {
+namespace camopt::jobs {
 
 // contacts that get film columns: every contact with Hertz data, when the design has [oil]
 bool has_film(const dynamics::Model& model, const std::optional<OilSpec>& oil, std::size_t connection);
@@ -37,4 +37,4 @@ nlohmann::json film_summary(const kin::Mechanism& mech, const dynamics::Model& m
                             const std::vector<dynamics::RigidSweep>& sweeps, const std::vector<double>& rpms,
                             const std::vector<double>& control_values, const std::string& control_key);
 
-}  // namespace camopt::cli
+}  // namespace camopt::jobs

@@ -7,7 +7,7 @@
 #include "camopt/dynamics/model.hpp"
 #include "camopt/kinematics/mechanism.hpp"
 
-namespace camopt::cli {
+namespace camopt::jobs {
 
 // lift against kinematic lift (max loss), cam torque, friction power; per connection the
 // force extremes and open intervals; seating velocity, bounce count and height (designs
@@ -16,4 +16,4 @@ namespace camopt::cli {
 nlohmann::json flexible_run_summary(const kin::Mechanism& mech, const dynamics::Model& model,
                                     const dynamics::FlexibleResult& r);
 
-}  // namespace camopt::cli
+}  // namespace camopt::jobs
