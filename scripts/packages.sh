@@ -3,14 +3,17 @@
 # packages of package-lock.json
 
 # Debian 12 packages needed to build and test; nodejs and npm install the report page's
-# charting library (package-lock.json), libcairo2-dev draws the static figures
+# charting library (package-lock.json), libcairo2-dev draws the static figures, pybind11-dev,
+# python3-dev and python3-numpy build the Python module (docs/python.md)
 PACKAGES=(build-essential cmake ninja-build pkg-config libeigen3-dev libnlopt-cxx-dev coinor-libipopt-dev
-          libsundials-dev libcli11-dev catch2 libtomlplusplus-dev nlohmann-json3-dev nodejs libcairo2-dev)
+          libsundials-dev libcli11-dev catch2 libtomlplusplus-dev nlohmann-json3-dev nodejs libcairo2-dev
+          pybind11-dev python3-dev python3-numpy)
 # Debian's npm, unless an npm is already there: a nodejs from another source (NodeSource's
 # packages bring their own npm and conflict with Debian's)
 command -v npm >/dev/null 2>&1 || PACKAGES+=(npm)
-# only for the tests: the headless browser that opens the reports
-TEST_PACKAGES=(chromium)
+# only for the tests: the headless browser that opens the reports, and pytest for the Python
+# module's tests
+TEST_PACKAGES=(chromium python3-pytest)
 # clang, its sanitizer and libFuzzer runtimes, and its OpenMP runtime (SUNDIALSConfig.cmake asks
 # for OpenMP_CXX): the sanitizer build (setup.sh --sanitize) and the fuzz build (fuzz.sh)
 CLANG_PACKAGES=(clang libclang-rt-14-dev libomp-14-dev)

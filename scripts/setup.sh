@@ -134,10 +134,13 @@ else
   echo "== configuring: $build_dir is up to date ($build_type, sanitize $sanitize)"
 fi
 
-# --- build: ninja rebuilds only what changed; the main job alone needs only camopt --------
+# --- build: ninja rebuilds only what changed; the main job alone needs only camopt (and the
+# Python module, build/python/camopt, when it is built) --------------------------------------
 if ((run_default && !run_tests)); then
-  echo "== building camopt in $build_dir ($jobs jobs)"
-  cmake --build "$build_dir" --parallel "$jobs" --target camopt
+  targets=(camopt)
+  [[ "$(as_bool "$(cache_get CAMOPT_BUILD_PYTHON)")" == ON ]] && targets+=(camopt_python)
+  echo "== building ${targets[*]} in $build_dir ($jobs jobs)"
+  cmake --build "$build_dir" --parallel "$jobs" --target "${targets[@]}"
 else
   echo "== building $build_dir ($jobs jobs)"
   cmake --build "$build_dir" --parallel "$jobs"
@@ -169,4 +172,7 @@ if ((run_default)); then
   echo "== results in $REPO/$DEFAULT_OUT/:"
   ls -l "$DEFAULT_OUT"
   echo "== open the report in a browser: $REPO/$DEFAULT_OUT/kinematics/report.html"
+  if [[ -f "$build_dir/python/camopt/__init__.py" ]]; then
+    echo "== the Python module: PYTHONPATH=$build_dir/python python3 -c \"import camopt\" (docs/python.md)"
+  fi
 fi

@@ -79,6 +79,14 @@ class Design:
             self._compiled = _camopt.compile_design(self._text, self._path)
         return self._compiled
 
+    def validate(self):
+        """The findings of ``camopt validate``: a dict with ``description`` (the compiled
+        mechanism: nodes, connections, solve order; the flexible model's parameters with their
+        units, each marked [default] when not in the design; the oil), and ``warnings`` (the
+        drawing check's, a list of str). InputError names a bad key (file, line, key path)."""
+        description, warnings = _camopt.validate_design(self.compile())
+        return {"description": description, "warnings": list(warnings)}
+
     def __repr__(self):
         return "camopt.Design(path=%r)" % self._path
 

@@ -26,6 +26,7 @@
 #include "camopt/jobs/common.hpp"
 #include "camopt/jobs/dynamics.hpp"
 #include "camopt/jobs/kinematics.hpp"
+#include "camopt/jobs/validate.hpp"
 
 namespace py = pybind11;
 
@@ -119,6 +120,12 @@ std::shared_ptr<CompiledDesign> compile_design(const std::string& text, const st
   compiled->path = path;
   compiled->notes = observer.take_notes();
   return compiled;
+}
+
+// the validate job: (description, drawing warnings)
+py::tuple validate_design(const CompiledDesign& compiled) {
+  jobs::DesignFindings f = jobs::validate_design(compiled.design.spec, compiled.design.mech);
+  return py::make_tuple(std::move(f.description), std::move(f.warnings));
 }
 
 // a step or speed the caller gave (not None) is > 0, as the CLI checks its options
@@ -273,6 +280,8 @@ PYBIND11_MODULE(_camopt, m) {
   m.def("read_design_file", &read_design_file, py::arg("path"), "A design file's text (the CLI's checks).");
   m.def("compile_design", &compile_design, py::arg("text"), py::arg("path"),
         "A design's TOML text parsed and compiled; path names it in messages.");
+  m.def("validate_design", &validate_design, py::arg("design"),
+        "The validate job: (description, drawing warnings).");
   m.def("kinematics", &kinematics, py::arg("design"), py::arg("control"), py::arg("outputs"), py::arg("step_deg"),
         py::arg("rpm"), py::arg("duration_at"), py::arg("threads"),
         "The kinematics job: (columns, summary JSON text, notes).");

@@ -2,47 +2,12 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
-#include "camopt/dynamics/flexible.hpp"
-#include "camopt/dynamics/model.hpp"
 #include "camopt/io/design_file.hpp"
-#include "camopt/kinematics/drawing_check.hpp"
+#include "camopt/jobs/validate.hpp"
 #include "camopt/kinematics/mechanism.hpp"
 #include "cli_common.hpp"
 
 namespace camopt::cli {
-
-namespace {
-
-// the flexible model's laws, stiffnesses and damping, each marked when it is a default; a
-// design without the dynamics data (masses) has none
-std::string describe_flexible(const DesignSpec& spec, const kin::Mechanism& mech) {
-  dynamics::Model model;
-  try {
-    model = dynamics::compile_dynamics(spec, mech);
-  } catch (const InputError& e) {
-    return "flexible model: not available (" + std::string(e.what()) + ")\n";
-  }
-  const std::vector<double> controls = mech.default_controls();
-  const auto parameters = dynamics::flexible_parameters(mech, model, controls, dynamics::FlexibleOptions{});
-  if (parameters.empty()) return "flexible model: not available (its kinematic path does not assemble)\n";
-  std::string out = "flexible model (docs/dynamics.md; [default] = not in the design):\n";
-  for (const auto& p : parameters)
-    out += "  " + p.key + " = " + p.value + (p.unit.empty() ? "" : " " + p.unit) + (p.from_design ? "" : "  [default]") + "\n";
-  return out;
-}
-
-// the engine oil of the EHL film thickness ([oil]), or nothing without one
-std::string describe_oil(const DesignSpec& spec) {
-  if (!spec.oil) return {};
-  const OilSpec& o = *spec.oil;
-  std::string out = "oil: viscosity " + format_value(o.viscosity_mPa_s) + " mPa s, pressure-viscosity " +
-                    format_value(o.pressure_viscosity_per_GPa) + " /GPa";
-  out += o.composite_roughness_um ? ", composite roughness " + format_value(*o.composite_roughness_um) + " um"
-                                  : ", no composite roughness (no lambda)";
-  return out + "\n";
-}
-
-}  // namespace
 
 void setup_validate(CLI::App& app) {
   auto files = std::make_shared<std::vector<std::string>>();
@@ -53,9 +18,9 @@ void setup_validate(CLI::App& app) {
     for (const auto& f : *files) {
       const DesignSpec spec = io::load_design(f);
       const kin::Mechanism mech = kin::compile(spec);
-      const std::string flexible = describe_flexible(spec, mech);  // throws for bad flexible-model data
-      if (!global_options().quiet) std::cout << f << ": ok\n" << kin::describe(mech) << flexible << describe_oil(spec);
-      for (const auto& note : kin::check_drawing(mech)) info(f + ": warning: " + note);
+      const jobs::DesignFindings findings = jobs::validate_design(spec, mech);
+      if (!global_options().quiet) std::cout << f << ": ok\n" << findings.description;
+      for (const auto& note : findings.warnings) info(f + ": warning: " + note);
       if (!global_options().quiet) std::cout << "\n";
     }
   });

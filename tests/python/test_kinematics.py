@@ -46,3 +46,15 @@ def test_a_design_from_text_names_its_path_and_gives_the_same_columns():
     from_file = camopt.kinematics(str(SOURCE_DIR / "designs/bucket_tappet.toml"), step_deg=1.0)
     assert from_text.summary["design_file"] == named
     assert_same_columns(from_text.columns, from_file.columns)
+
+
+@pytest.mark.parametrize("design", ["designs/cvvl_swing_cam.toml", "designs/four_bar.toml"])
+def test_validate_gives_what_the_cli_prints(design):
+    import subprocess
+    from conftest import CAMOPT
+    p = subprocess.run([CAMOPT, "validate", design], cwd=SOURCE_DIR, capture_output=True, text=True)
+    assert p.returncode == 0, p.stderr
+    os.chdir(SOURCE_DIR)
+    findings = camopt.Design.load(design).validate()
+    assert p.stdout == design + ": ok\n" + findings["description"] + "\n"
+    assert p.stderr == "".join(design + ": warning: " + w + "\n" for w in findings["warnings"])
