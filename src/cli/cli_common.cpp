@@ -74,6 +74,13 @@ std::map<std::string, io::FileId> write_outputs(const std::string& out_dir, cons
   return out.committed();
 }
 
+std::map<std::string, io::FileId> write_table_and_summary(const std::string& out_dir,
+                                                          const std::vector<std::string>& output_set,
+                                                          const std::string& csv_name, const io::Columns& table,
+                                                          const nlohmann::json& summary) {
+  return write_outputs(out_dir, output_set, {{csv_name, io::format_csv(table)}, {"summary.json", summary.dump(2) + "\n"}});
+}
+
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }

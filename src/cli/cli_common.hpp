@@ -5,6 +5,7 @@
 #include <initializer_list>
 #include <limits>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -12,6 +13,7 @@
 #include <vector>
 
 #include "camopt/io/atomic_file.hpp"
+#include "camopt/io/csv.hpp"
 #include "camopt/jobs/common.hpp"
 #include "camopt/jobs/range_option.hpp"
 #include "camopt/kinematics/mechanism.hpp"
@@ -93,6 +95,13 @@ LoadedDesign load_mechanism(const std::string& design_path);
 // returns the files committed (io::OutputTransaction::committed)
 std::map<std::string, io::FileId> write_outputs(const std::string& out_dir, const std::vector<std::string>& output_set,
                                                 const std::vector<std::pair<std::string, std::string>>& files);
+
+// a job's table as `csv_name` and its summary as summary.json (indented by 2), committed
+// together into out_dir (write_outputs)
+std::map<std::string, io::FileId> write_table_and_summary(const std::string& out_dir,
+                                                          const std::vector<std::string>& output_set,
+                                                          const std::string& csv_name, const io::Columns& table,
+                                                          const nlohmann::json& summary);
 
 // seconds of wall time since t0
 double seconds_since(std::chrono::steady_clock::time_point t0);

@@ -26,8 +26,7 @@ report::WrittenTables run_dynamics(const DynamicsOptions& o) {
   jobs::DynamicsResult result = jobs::run_dynamics(design, o.job, terminal);
   // dynamics.csv and summary.json, committed together
   const auto committed =
-      write_outputs(o.out_dir, kDynamicsOutputs,
-                    {{"dynamics.csv", io::format_csv(result.columns)}, {"summary.json", result.summary.dump(2) + "\n"}});
+      write_table_and_summary(o.out_dir, kDynamicsOutputs, "dynamics.csv", result.columns, result.summary);
   const std::string ms = std::to_string(result.seconds * 1e3);
   const std::string files = " -> " + o.out_dir + "/dynamics.csv, summary.json";
   if (o.job.model == "flexible")

@@ -27,8 +27,7 @@ void run_kinematics(KinematicsOptions& o) {
   jobs::KinematicsResult result = jobs::run_kinematics(design, o.job, terminal);
   // kinematics.csv and summary.json, committed together
   const auto committed =
-      write_outputs(o.out_dir, kKinematicsOutputs,
-                    {{"kinematics.csv", io::format_csv(result.columns)}, {"summary.json", result.summary.dump(2) + "\n"}});
+      write_table_and_summary(o.out_dir, kKinematicsOutputs, "kinematics.csv", result.columns, result.summary);
   info("kinematics: " + std::to_string(result.positions) + " position(s) x " + std::to_string(result.points) +
        " points in " + std::to_string(result.seconds * 1e3) + " ms -> " + o.out_dir +
        "/kinematics.csv, summary.json");

@@ -73,14 +73,8 @@ nlohmann::json compliant_summary(const DynamicsSetup& su, const std::string& des
   using Run = CompliantRun;
   const kin::Mechanism& mech = su.mech;
   const std::size_t nc = mech.connections.size();
-  nlohmann::json summary;
-  summary["design"] = su.mech.name;
-  if (const auto held = held_rigid_hlas(su.spec, "dynamics (rigid, compliant contacts)", su.observer); !held.empty())
-    summary["hla_held_rigid"] = held;
-  summary["design_file"] = design_file;
-  summary["model"] = "rigid";
-  summary["mode"] = "stiff separable contacts, CVODE (b)";
-  summary["step_cam_deg"] = su.range.step;
+  nlohmann::json summary = rigid_summary_head(su, design_file, "dynamics (rigid, compliant contacts)",
+                                              "stiff separable contacts, CVODE (b)");
   summary["run_time_s"] = seconds;
   nlohmann::json results = nlohmann::json::array();
   for (const Run& r : runs) {

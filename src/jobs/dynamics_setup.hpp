@@ -2,6 +2,7 @@
 // what every dynamics model reads from the design and the options, and the grid of
 // time-integrated runs (rpm x control position) of the compliant and flexible models
 #include <cstddef>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,11 @@ struct DynamicsSetup {
   ControlPositions controls;   // the first control's positions, every control per position
   DriverRange range;           // cam angle range and step [cam deg]
 };
+
+// summary.json's keys of the rigid model's two modes: the design, its HLAs held rigid (a note
+// naming `what` ran), the design file, the model, `mode` and the step
+nlohmann::json rigid_summary_head(const DynamicsSetup& su, const std::string& design_file, const std::string& what,
+                                  const std::string& mode);
 
 // one time-integrated run per (rpm, control position) of the setup, in that nesting order
 template <class Result>

@@ -345,18 +345,24 @@ io::Columns rigid_columns(const DynamicsSetup& su, const std::vector<Sweep>& swe
   return rigid_table(su, sweeps).take();
 }
 
+nlohmann::json rigid_summary_head(const DynamicsSetup& su, const std::string& design_file, const std::string& what,
+                                  const std::string& mode) {
+  nlohmann::json summary;
+  summary["design"] = su.mech.name;
+  if (const auto held = held_rigid_hlas(su.spec, what, su.observer); !held.empty()) summary["hla_held_rigid"] = held;
+  summary["design_file"] = design_file;
+  summary["model"] = "rigid";
+  summary["mode"] = mode;
+  summary["step_cam_deg"] = su.range.step;
+  return summary;
+}
+
 nlohmann::json rigid_summary(const DynamicsSetup& su, const std::string& design_file, const std::vector<Sweep>& sweeps,
                              double seconds) {
   const kin::Mechanism& mech = su.mech;
   const dynamics::Model& model = su.model;
-  nlohmann::json summary;
-  summary["design"] = su.mech.name;
-  if (const auto held = held_rigid_hlas(su.spec, "dynamics (rigid)", su.observer); !held.empty())
-    summary["hla_held_rigid"] = held;
-  summary["design_file"] = design_file;
-  summary["model"] = "rigid";
-  summary["mode"] = "kinematically constrained inverse dynamics (a)";
-  summary["step_cam_deg"] = su.range.step;
+  nlohmann::json summary =
+      rigid_summary_head(su, design_file, "dynamics (rigid)", "kinematically constrained inverse dynamics (a)");
   summary["points_per_position"] = sweeps[0].points();
   summary["run_time_s"] = seconds;
   nlohmann::json separation = nlohmann::json::array();
