@@ -4,8 +4,8 @@
 #include <nlohmann/json.hpp>
 
 #include "camopt/jobs/dynamics.hpp"
+#include "camopt/jobs/modes.hpp"
 #include "cli_common.hpp"
-#include "modes_command.hpp"
 #include "validators.hpp"
 
 namespace camopt::cli {
@@ -37,6 +37,33 @@ report::WrittenTables run_dynamics(const DynamicsOptions& o) {
     info("dynamics (rigid): " + std::to_string(result.positions) + " position(s) x " + std::to_string(result.points) +
          " points in " + ms + " ms, " + std::to_string(result.speeds) + " speed(s)" + files);
   return hand_over(committed, "dynamics.csv", std::move(result.columns));
+}
+
+// --model modes: the job, its modes.csv and summary.json
+report::WrittenTables run_modes(const DynamicsOptions& o, jobs::ModesOptions modes) {
+  // the design, then the job
+  modes.design_file = o.job.design_file;
+  modes.control = o.job.control;
+  modes.flexible = o.job.flexible;
+  modes.threads = thread_count();
+  const LoadedDesign design = load_mechanism(o.job.design_file);
+  if (!o.job.rpm.empty()) info("dynamics (modes): note: --rpm is not used (the modes are at no speed)");
+  TerminalObserver terminal;
+  jobs::ModesResult result = jobs::run_modes(design, modes, terminal);
+  // modes.csv and summary.json, committed together
+  write_table_and_summary(o.out_dir, kDynamicsOutputs, "modes.csv", result.columns, result.summary);
+  info("dynamics (modes): " + std::to_string(result.linearisations) + " linearisation(s), " +
+       std::to_string(result.coordinates) + " coordinates -> " + o.out_dir + "/modes.csv, summary.json");
+  return {};
+}
+
+// the options only --model modes reads
+void add_modes_options(CLI::App& cmd, jobs::ModesOptions& options) {
+  cmd.add_option("--cam-deg", options.cam_deg,
+                 "modes: cam angles [cam deg] at which to linearise: a value, a list a,b,c or START:STOP:COUNT "
+                 "(default: the driver's start angle and the angle of peak kinematic lift)");
+  cmd.add_flag("--release-cam", options.release_cam,
+               "modes: the contacts on the driver carry no stiffness (the cam force is the input)");
 }
 
 }  // namespace
@@ -78,7 +105,7 @@ void setup_dynamics(CLI::App& app) {
   cmd->add_option("--atol", opts->job.flexible.absolute_tolerance,
                   "flexible: CVODE absolute tolerance on deviations [mm or rad] (default 1e-7)")
       ->check(CLI::Range(1e-16, 1.0));
-  auto modes = std::make_shared<ModesOptions>();
+  auto modes = std::make_shared<jobs::ModesOptions>();
   add_modes_options(*cmd, *modes);
   cmd->callback([opts, modes, cmd] {
     // options the chosen model does not use
@@ -92,7 +119,7 @@ void setup_dynamics(CLI::App& app) {
     // the run, then its report (from the run's table in memory)
     report::WrittenTables written;
     if (opts->job.model == "modes") {
-      run_modes({opts->job.design_file, opts->out_dir, opts->job.control, opts->job.rpm, opts->job.flexible, *modes});
+      written = run_modes(*opts, *modes);
     } else {
       if (opts->job.rpm.empty()) throw CLI::RequiredError("--rpm");
       opts->job.flexible.start_at_rest = opts->start == "rest";

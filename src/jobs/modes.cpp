@@ -1,8 +1,7 @@
-// camopt dynamics --model modes: the flexible model linearised about its static equilibrium
-// at chosen cam angles (dynamics::flexible_modes), written as modes.csv and summary.json.
-#include "modes_command.hpp"
+// the modes job (camopt dynamics --model modes): the flexible model linearised about its static
+// equilibrium at chosen cam angles (dynamics::flexible_modes), as modes.csv's columns and summary.json.
+#include "camopt/jobs/modes.hpp"
 
-#include <CLI/CLI.hpp>
 #include <cmath>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
@@ -10,10 +9,10 @@
 #include "camopt/core/units.hpp"
 #include "camopt/dynamics/model.hpp"
 #include "camopt/io/csv.hpp"
+#include "camopt/jobs/range_option.hpp"
 #include "camopt/kinematics/sweep.hpp"
-#include "cli_common.hpp"
 
-namespace camopt::cli {
+namespace camopt::jobs {
 
 namespace {
 
@@ -33,14 +32,14 @@ struct Point {
 // kinematic displacement of the output node from its rest position at every driver grid
 // point, or at one angle (start == stop) [mm or deg]
 kin::SweepResult output_sweep(const kin::Mechanism& mech, const std::vector<std::vector<double>>& positions,
-                              double start, double stop, double step) {
+                              double start, double stop, double step, int threads) {
   kin::SweepSpec spec;
   spec.start = start;
   spec.stop = stop;
   spec.step = step;
   spec.control_positions = positions;
   spec.request.derivative_order = 0;
-  spec.threads = thread_count();
+  spec.threads = threads;
   return kin::sweep(mech, spec);
 }
 
@@ -64,7 +63,7 @@ std::string number_text(double v) { return format_value(v, 12); }
 // the cam angles: --cam-deg at every control position, or the driver's start (the valve on
 // its seat) and the grid angle of the largest kinematic lift at each position
 std::vector<Point> linearisation_points(const kin::Mechanism& mech, const ControlPositions& controls,
-                                        const std::vector<double>& angles) {
+                                        const std::vector<double>& angles, int threads) {
   std::vector<Point> points;
   const std::vector<std::vector<double>>& positions = controls.positions;
   if (!angles.empty()) {
@@ -73,7 +72,7 @@ std::vector<Point> linearisation_points(const kin::Mechanism& mech, const Contro
     return points;
   }
   const kin::DriverDefaults& d = mech.driver;
-  const kin::SweepResult grid = output_sweep(mech, positions, d.start, d.stop, d.step);
+  const kin::SweepResult grid = output_sweep(mech, positions, d.start, d.stop, d.step, threads);
   for (std::size_t p = 0; p < positions.size(); ++p) {
     const kin::PositionResult& r = grid.positions[p];
     if (!r.status.ok()) fail_at(mech, controls, r.status, p, std::nan(""));
@@ -89,25 +88,25 @@ std::vector<Point> linearisation_points(const kin::Mechanism& mech, const Contro
 // the modes and the kinematic lift at every point; the coordinates follow from the design
 // alone, the same at every point
 void compute_modes(const kin::Mechanism& mech, const dynamics::Model& model, const ControlPositions& controls,
-                   const ModesRequest& rq, std::vector<Point>& points) {
-  Progress progress("modes", static_cast<long>(points.size()));
+                   const ModesOptions& o, std::vector<Point>& points, Observer& observer) {
+  StepCounter steps(observer);
   for (Point& pt : points) {
     const std::vector<double>& position = controls.positions[pt.position];
-    const kin::SweepResult one = output_sweep(mech, {position}, pt.cam_deg, pt.cam_deg, 1.0);
+    const kin::SweepResult one = output_sweep(mech, {position}, pt.cam_deg, pt.cam_deg, 1.0, 1);
     if (!one.positions[0].status.ok()) fail_at(mech, controls, one.positions[0].status, pt.position, pt.cam_deg);
     pt.lift = lift_from_rest(mech, one.positions[0], 0);
     const Status st =
-        dynamics::flexible_modes(mech, model, position, pt.cam_deg, rq.flexible, rq.modes.release_cam, pt.modes);
+        dynamics::flexible_modes(mech, model, position, pt.cam_deg, o.flexible, o.release_cam, pt.modes);
     if (!st.ok()) fail_at(mech, controls, st, pt.position, pt.cam_deg);
     if (pt.modes.coordinates != points.front().modes.coordinates || pt.modes.units != points.front().modes.units)
       throw std::logic_error("dynamics (modes): the coordinates differ between cam angles");
-    progress.advance();
+    steps.step_done();
   }
 }
 
 // modes.csv: one row per (control, cam angle, mode); mass-normalised shapes (x^T M x = 1, M in
 // kg and kg mm^2): [mm or rad] per sqrt(kg)
-std::string modes_csv(const std::vector<Point>& points, const ControlPositions& controls,
+io::Columns modes_columns(const std::vector<Point>& points, const ControlPositions& controls,
                       const std::string& control_key) {
   const std::vector<std::string>& coordinates = points.front().modes.coordinates;
   const std::vector<std::string>& units = points.front().modes.units;
@@ -123,7 +122,7 @@ std::string modes_csv(const std::vector<Point>& points, const ControlPositions& 
       cols[3].push_back(pt.modes.frequencies_hz[k]);
       for (std::size_t i = 0; i < n; ++i) cols[4 + i].push_back(pt.modes.shapes[k * n + i] * kShapeToKg);
     }
-  return io::format_csv(header, cols);
+  return {std::move(header), std::move(cols), {}};
 }
 
 // every compression spring with a mass alone, both ends held: a fixed-fixed chain of its
@@ -153,7 +152,7 @@ nlohmann::json springs_alone(const dynamics::Model& model) {
 }
 
 // summary.json: the linearisation, per point the frequencies, and the springs alone
-nlohmann::json modes_summary(const kin::Mechanism& mech, const dynamics::Model& model, const ModesRequest& rq,
+nlohmann::json modes_summary(const kin::Mechanism& mech, const dynamics::Model& model, const ModesOptions& o,
                              const std::vector<Point>& points, const ControlPositions& controls,
                              const std::string& control_key) {
   const std::vector<std::string>& coordinates = points.front().modes.coordinates;
@@ -162,12 +161,12 @@ nlohmann::json modes_summary(const kin::Mechanism& mech, const dynamics::Model& 
   const std::string lift_unit = angle_out ? "deg" : "mm";
   nlohmann::json summary;
   summary["design"] = mech.name;
-  summary["design_file"] = rq.design;
+  summary["design_file"] = o.design_file;
   summary["model"] = "modes";
   summary["linearisation"] =
       "flexible model at its static equilibrium at each cam angle, no speed: K x = w^2 M x with the spring "
       "coil masses, the seat and the contacts at their tangent stiffness";
-  summary["driver_contacts"] = rq.modes.release_cam ? "released" : "held";
+  summary["driver_contacts"] = o.release_cam ? "released" : "held";
   summary["mode_shape_normalisation"] =
       "x^T M x = 1 with M in kg for mm coordinates and kg mm^2 for rad coordinates";
   nlohmann::json coords = nlohmann::json::array();
@@ -192,35 +191,26 @@ nlohmann::json modes_summary(const kin::Mechanism& mech, const dynamics::Model& 
 
 }  // namespace
 
-void add_modes_options(CLI::App& cmd, ModesOptions& options) {
-  cmd.add_option("--cam-deg", options.cam_deg,
-                 "modes: cam angles [cam deg] at which to linearise: a value, a list a,b,c or START:STOP:COUNT "
-                 "(default: the driver's start angle and the angle of peak kinematic lift)");
-  cmd.add_flag("--release-cam", options.release_cam,
-               "modes: the contacts on the driver carry no stiffness (the cam force is the input)");
-}
-
-void run_modes(const ModesRequest& rq) {
-  // the cam angles of --cam-deg, the design and its dynamics model
-  const std::vector<double> angles =
-      rq.modes.cam_deg.empty() ? std::vector<double>{} : parse_range("--cam-deg", rq.modes.cam_deg);
-  const LoadedDesign design = load_mechanism(rq.design);
+ModesResult run_modes(const LoadedDesign& design, const ModesOptions& o, Observer& observer) {
+  // the cam angles of --cam-deg, and the design's dynamics model
+  const std::vector<double> angles = o.cam_deg.empty() ? std::vector<double>{} : parse_range("--cam-deg", o.cam_deg);
   const kin::Mechanism& mech = design.mech;
   const dynamics::Model model = dynamics::compile_dynamics(design.spec, mech);
-  if (!rq.rpm.empty()) info("dynamics (modes): note: --rpm is not used (the modes are at no speed)");
   // the control positions and the cam angles at each
-  const ControlPositions controls = resolve_controls(mech, rq.design, rq.control);
+  const ControlPositions controls = resolve_controls(mech, o.design_file, o.control);
   const std::string control_key = "control_" + controls.unit;
-  std::vector<Point> points = linearisation_points(mech, controls, angles);
+  std::vector<Point> points = linearisation_points(mech, controls, angles, o.threads);
   // the modes at every point
-  compute_modes(mech, model, controls, rq, points);
+  observer.begin("modes", static_cast<long>(points.size()));
+  compute_modes(mech, model, controls, o, points, observer);
+  observer.end();
   // modes.csv and summary.json
-  const std::string csv = modes_csv(points, controls, control_key);
-  const nlohmann::json summary = modes_summary(mech, model, rq, points, controls, control_key);
-  write_outputs(rq.out_dir, kDynamicsOutputs, {{"modes.csv", csv}, {"summary.json", summary.dump(2) + "\n"}});
-  info("dynamics (modes): " + std::to_string(points.size()) + " linearisation(s), " +
-       std::to_string(points.front().modes.coordinates.size()) + " coordinates -> " + rq.out_dir +
-       "/modes.csv, summary.json");
+  ModesResult result;
+  result.columns = modes_columns(points, controls, control_key);
+  result.summary = modes_summary(mech, model, o, points, controls, control_key);
+  result.linearisations = points.size();
+  result.coordinates = points.front().modes.coordinates.size();
+  return result;
 }
 
-}  // namespace camopt::cli
+}  // namespace camopt::jobs

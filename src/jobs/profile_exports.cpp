@@ -1,15 +1,16 @@
 #include "profile_exports.hpp"
 
+#include <utility>
+
 #include "camopt/io/csv.hpp"
 #include "camopt/io/design_rewrite.hpp"
 #include "camopt/io/dxf.hpp"
 
-namespace camopt::cli {
+namespace camopt::jobs {
 
-void stage_profile_exports(io::OutputTransaction& out, const std::string& out_dir, const std::string& design_path,
-                           const DesignSpec& spec, const synthesis::SynthesisResult& res,
-                           std::optional<double> master_radius_mm, double grinding_step_deg, nlohmann::json& report,
-                           bool grinding_optional) {
+ProfileExports profile_exports(const std::string& out_dir, const std::string& design_path, const DesignSpec& spec,
+                               const synthesis::SynthesisResult& res, std::optional<double> master_radius_mm,
+                               double grinding_step_deg, nlohmann::json& report, bool grinding_optional) {
   std::vector<double> excess(res.radius_mm.size());
   for (std::size_t i = 0; i < excess.size(); ++i) excess[i] = res.radius_mm[i] - res.base_radius_mm;
   report["profile"] = {{"name", res.profile.name},
@@ -37,13 +38,23 @@ void stage_profile_exports(io::OutputTransaction& out, const std::string& out_di
                        {"grinding_master_radius_mm", master},
                        {"grinding_master", master > 0 ? "roller" : "flat"}};
 
-  out.stage("profile.dxf", io::dxf_closed_polyline(res.x_mm, res.y_mm, "CAM_" + res.profile.name));
-  if (st.ok()) out.stage("grinding.csv", io::format_csv({"cam_deg", "master_lift_mm"}, {grind_deg, grind_lift}));
-  out.stage("profile.csv",
-            io::format_csv({"angle_deg", "radius_mm", "excess_radius_mm", "x_mm", "y_mm", "radius_of_curvature_mm"},
-                           {res.angle_deg, res.radius_mm, excess, res.x_mm, res.y_mm, res.radius_of_curvature_mm}));
+  ProfileExports files;
+  files.dxf = io::dxf_closed_polyline(res.x_mm, res.y_mm, "CAM_" + res.profile.name);
+  if (st.ok()) files.grinding = {{"cam_deg", "master_lift_mm"}, {std::move(grind_deg), std::move(grind_lift)}, {}};
+  files.profile = {{"angle_deg", "radius_mm", "excess_radius_mm", "x_mm", "y_mm", "radius_of_curvature_mm"},
+                   {res.angle_deg, res.radius_mm, excess, res.x_mm, res.y_mm, res.radius_of_curvature_mm},
+                   {}};
   // design.toml names profile.csv beside it, so the folder can be moved or handed on
-  out.stage("design.toml", io::design_with_profile_file(design_path, res.profile.name, "profile.csv", out_dir));
+  files.design_toml = io::design_with_profile_file(design_path, res.profile.name, "profile.csv", out_dir);
+  return files;
 }
 
-}  // namespace camopt::cli
+std::vector<std::pair<std::string, std::string>> export_files(const ProfileExports& exports) {
+  std::vector<std::pair<std::string, std::string>> files = {{"profile.dxf", exports.dxf}};
+  if (!exports.grinding.header.empty()) files.emplace_back("grinding.csv", io::format_csv(exports.grinding));
+  files.emplace_back("profile.csv", io::format_csv(exports.profile));
+  files.emplace_back("design.toml", exports.design_toml);
+  return files;
+}
+
+}  // namespace camopt::jobs

@@ -1,12 +1,12 @@
-// camopt synthesize: envelope-theory cam synthesis from a target valve lift.
-#include <CLI/CLI.hpp>
+// the synthesize job: envelope-theory cam synthesis from a target valve lift (synthesize.hpp).
+#include "camopt/jobs/synthesize.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
 #include "camopt/core/units.hpp"
-#include "camopt/io/atomic_file.hpp"
 #include "camopt/io/csv.hpp"
 #include "camopt/io/design_file.hpp"
 #include "camopt/io/design_rewrite.hpp"
@@ -14,12 +14,10 @@
 #include "camopt/kinematics/sweep.hpp"
 #include "camopt/synthesis/envelope.hpp"
 #include "camopt/synthesis/target_lift.hpp"
-#include "cli_common.hpp"
-#include "validators.hpp"
 #include "profile_exports.hpp"
 #include "target_input.hpp"
 
-namespace camopt::cli {
+namespace camopt::jobs {
 
 namespace {
 
@@ -27,25 +25,6 @@ namespace {
 // its steepest slope (the bundled lifts computed with lash: 0.32 to 0.34; smooth tables
 // ~1e-3; the real ICESym table's bump at 125 cam deg: 0.82, which synthesizes)
 constexpr double kSlopeStepHint = 0.1;
-
-struct SynthesizeOptions {
-  std::string target_csv, design, out_dir, cam = "rotational";
-  ReportOptions report;  // --no-report, --figures
-  std::optional<double> control;
-  int points = 1440;
-  bool smooth = false;
-  double knot_spacing_deg = 4.0;
-  double wheel_radius_mm = 0.0;
-  double min_radius_mm = 0.0;
-  double closure_tolerance_mm = 0.05;
-  // largest round-trip error accepted, in the target's unit (mm; deg for a rotational
-  // --target-node): 5 um, the grinding accuracy (the bundled designs round-trip to < 1e-6 mm
-  // at 0.25 deg, < 1e-4 mm at 1 deg)
-  double max_round_trip_error = 0.005;
-  std::string target_node;  // empty: the valve
-  std::optional<double> master_radius_mm;  // grinding table master roller
-  double grinding_step_deg = 0.25;
-};
 
 // a target motion of another node than the valve (e.g. the swing cam's angle): exact
 // periodic interpolation of one full cycle, in the node's internal unit (rad or mm)
@@ -106,8 +85,8 @@ struct Target {
   const PeriodicSpline& motion() const { return valve ? lift.lift : node_motion; }
 };
 
-Target read_target(const SynthesizeOptions& o, const DesignSpec& spec, const kin::Mechanism& mech) {
-  const io::CsvTable table = io::read_csv(o.target_csv);
+Target read_target(const SynthesizeOptions& o, const io::CsvTable& table, const DesignSpec& spec,
+                   const kin::Mechanism& mech, Observer& observer) {
   Target t;
   t.valve = o.target_node.empty() || o.target_node == spec.output_node;
   if (t.valve && mech.nodes[mech.output_node].kind != NodeKind::translational)
@@ -120,7 +99,7 @@ Target read_target(const SynthesizeOptions& o, const DesignSpec& spec, const kin
     fit.smooth = o.smooth;
     fit.smoothing_knot_spacing_deg = o.knot_spacing_deg;
     fit.closure_tolerance_mm = o.closure_tolerance_mm;
-    ValveTarget vt = read_valve_target(table, o.target_csv, spec, fit);
+    ValveTarget vt = read_valve_target(table, o.target_file, spec, fit, observer);
     t.basis = vt.basis;
     t.lift = std::move(vt.fit);
   } else {
@@ -131,7 +110,8 @@ Target read_target(const SynthesizeOptions& o, const DesignSpec& spec, const kin
 
 // the synthesis options: the cam, the resolution, the radius limits and the control
 // position (--control, else the position of largest lift)
-synthesis::SynthesisOptions synthesis_options(const SynthesizeOptions& o, const kin::Mechanism& mech, bool valve) {
+synthesis::SynthesisOptions synthesis_options(const SynthesizeOptions& o, const kin::Mechanism& mech, bool valve,
+                                              Observer& observer) {
   synthesis::SynthesisOptions opt;
   opt.cam = o.cam;
   opt.points = o.points;
@@ -149,11 +129,11 @@ synthesis::SynthesisOptions synthesis_options(const SynthesizeOptions& o, const 
       opt.controls[0] = *o.control;
     } else {
       opt.controls[0] = max_lift_control(mech);
-      info("synthesize: control '" + c0.name + "' at " + std::to_string(opt.controls[0]) +
+      observer.note("synthesize: control '" + c0.name + "' at " + std::to_string(opt.controls[0]) +
            " (the position of largest lift of the current design)");
     }
   } else if (o.control) {
-    throw InputError("--control: design '" + o.design + "' has no [[control]]");
+    throw InputError("--control: design '" + o.design_file + "' has no [[control]]");
   }
   return opt;
 }
@@ -253,8 +233,8 @@ nlohmann::json report_json(const SynthesizeOptions& o, const kin::Mechanism& mec
                            nlohmann::json checks) {
   nlohmann::json report;
   report["design"] = mech.name;
-  report["design_file"] = o.design;
-  report["target_file"] = o.target_csv;
+  report["design_file"] = o.design_file;
+  report["target_file"] = o.target_file;
   report["target_angle_basis"] = io::to_string(target.basis);
   report["target_node"] = target.valve ? mech.nodes[mech.output_node].name : o.target_node;
   report["cam"] = o.cam;
@@ -279,100 +259,63 @@ nlohmann::json report_json(const SynthesizeOptions& o, const kin::Mechanism& mec
 }
 
 // each window of profile angle where a radius is too small, with the smallest there
-void warn_radii(const SynthesizeOptions& o, const synthesis::SynthesisResult& res, const nlohmann::json& checks) {
+void warn_radii(const SynthesizeOptions& o, const synthesis::SynthesisResult& res, const nlohmann::json& checks,
+                Observer& observer) {
   auto smallest = [](const synthesis::FailureWindow& w) {
     return "down to " + format_value(w.worst, 4) + " mm at " + format_value(w.worst_at_deg, 5) + " deg";
   };
   if (!checks["min_radius_ok"].get<bool>())
-    info("warning: radius of curvature below the allowed " + std::to_string(o.min_radius_mm) + " mm in " +
+    observer.note("warning: radius of curvature below the allowed " + std::to_string(o.min_radius_mm) + " mm in " +
          synthesis::describe_windows(res.below_min_radius, smallest) + " of profile angle");
   if (!checks["concave_ok"].get<bool>())
-    info("warning: concave radius " + std::to_string(res.min_concave_radius_mm) + " mm is below the grinding wheel "
+    observer.note("warning: concave radius " + std::to_string(res.min_concave_radius_mm) + " mm is below the grinding wheel "
          "radius " + std::to_string(o.wheel_radius_mm) + " mm in " +
          synthesis::describe_windows(res.concave_below_wheel, smallest) + " of profile angle");
 }
 
-void run_synthesize(const SynthesizeOptions& o) {
-  // the design, and the target motion (inputs outside the output folder)
-  const DesignSpec spec = io::load_design(o.design);
+}  // namespace
+
+void validate(const SynthesizeOptions& o) {
+  if (o.cam != "rotational" && o.cam != "swing")
+    throw InputError("--cam: value '" + o.cam + "' is not one of rotational, swing");
+  if (o.points < 36 || o.points > 36000)
+    throw InputError("--points: value " + std::to_string(o.points) + " must be in [36, 36000]");
+  check_positive("--knot-spacing", o.knot_spacing_deg);
+  check_positive("--wheel-radius", o.wheel_radius_mm, false);
+  check_positive("--min-radius", o.min_radius_mm, false);
+  check_positive("--closure-tolerance", o.closure_tolerance_mm, false);
+  check_positive("--max-round-trip-error", o.max_round_trip_error);
+  if (o.master_radius_mm) check_positive("--master-radius", *o.master_radius_mm, false);
+  if (!(o.grinding_step_deg >= 0.01 && o.grinding_step_deg <= 10.0))
+    throw InputError("--grinding-step: value " + format_value(o.grinding_step_deg) + " must be in [0.01, 10]");
+}
+
+SynthesizeResult run_synthesize(const DesignSpec& spec, const io::CsvTable& table, const SynthesizeOptions& o,
+                                Observer& observer) {
+  // the design, and the target motion
   const kin::Mechanism mech = kin::compile(spec);
-  check_inputs_outside(o.out_dir, {o.design, o.target_csv}, kSynthesizeOutputs);
-  const Target target = read_target(o, spec, mech);
+  const Target target = read_target(o, table, spec, mech, observer);
   // the synthesis at the chosen control position
-  const synthesis::SynthesisOptions opt = synthesis_options(o, mech, target.valve);
+  const synthesis::SynthesisOptions opt = synthesis_options(o, mech, target.valve, observer);
   synthesis::SynthesisResult res;
   if (const Status st = synthesis::synthesize(spec, target.motion(), opt, res); !st.ok())
     throw NumericalError(with_slope_step(target, st));
   // the forward kinematics of the profile against the target
   const RoundTripUnit unit = round_trip_unit(o, spec, target.valve);
   const synthesis::RoundTrip rt = check_round_trip(o, spec, target, opt, res, unit);
-  // the checks and the report
+  // the checks, the report and the files of the profile
   const nlohmann::json checks = checks_json(o, spec, res, rt, unit);
-  nlohmann::json report = report_json(o, mech, target, opt, res, checks);
-  // profile.csv, profile.dxf, grinding.csv, design.toml and report.json, committed together
-  io::OutputTransaction out = open_outputs(o.out_dir, kSynthesizeOutputs);
-  stage_profile_exports(out, o.out_dir, o.design, spec, res, o.master_radius_mm, o.grinding_step_deg, report);
-  out.stage("report.json", report.dump(2) + "\n");
-  out.commit();
+  SynthesizeResult result;
+  result.report = report_json(o, mech, target, opt, res, checks);
+  result.exports =
+      profile_exports(o.out_dir, o.design_file, spec, res, o.master_radius_mm, o.grinding_step_deg, result.report);
   // warnings on the radii, and the summary line
-  warn_radii(o, res, checks);
-  info("synthesize: profile '" + res.profile.name + "' on '" + res.cam_node + "' (" + res.connection + "), base circle " +
-       std::to_string(res.base_radius_mm) + " mm, min radius of curvature " +
-       std::to_string(res.min_radius_of_curvature_mm) + " mm; round trip max error " +
-       std::to_string(rt.max_error_mm * unit.scale) + " " + unit.name + " -> " + o.out_dir +
-       "/profile.csv, report.json, design.toml, profile.dxf, grinding.csv");
-  // the page of the results
-  write_run_report(o.out_dir, o.report);
+  warn_radii(o, res, checks, observer);
+  result.summary = "synthesize: profile '" + res.profile.name + "' on '" + res.cam_node + "' (" + res.connection +
+                   "), base circle " + std::to_string(res.base_radius_mm) + " mm, min radius of curvature " +
+                   std::to_string(res.min_radius_of_curvature_mm) + " mm; round trip max error " +
+                   std::to_string(rt.max_error_mm * unit.scale) + " " + unit.name;
+  return result;
 }
 
-}  // namespace
-
-void setup_synthesize(CLI::App& app) {
-  auto opts = std::make_shared<SynthesizeOptions>();
-  auto* cmd = app.add_subcommand("synthesize", "compute the cam profile that produces a target valve lift "
-                                               "(theory of envelopes)");
-  cmd->add_option("target", opts->target_csv,
-                  "target lift CSV: cam_deg|crank_deg (explicit basis) and lift_mm [mm]")->required();
-  cmd->add_option("--design", opts->design, "design file (TOML); its profile on the cam is replaced")->required();
-  cmd->add_option("--out", opts->out_dir,
-                  "output directory (profile.csv, report.json, design.toml, profile.dxf, grinding.csv, report.html)")
-      ->required();
-  add_report_options(*cmd, opts->report);
-  cmd->add_option("--cam", opts->cam, "which cam to synthesize: rotational (the driver's) or swing")
-      ->check(CLI::IsMember({"rotational", "swing"}));
-  cmd->add_option("--control", opts->control,
-                  "control position [deg or mm, per the design's control unit] (default: the position of largest lift)");
-  cmd->add_option("--points", opts->points, "profile resolution [count per revolution]: neighbouring points at most 360/N deg apart in "
-                  "polar angle, cam angle and tangent turn (a sharp nose gets more points)")
-      ->check(CLI::Range(36, 36000));
-  cmd->add_flag("--smooth", opts->smooth, "smooth a measured, noisy target by least squares (residual reported)");
-  cmd->add_option("--knot-spacing", opts->knot_spacing_deg, "knot spacing of the smoothing spline [cam deg]")
-      ->check(positive_number());
-  cmd->add_option("--wheel-radius", opts->wheel_radius_mm,
-                  "grinding wheel radius [mm]: concave radii must be at least this (0: no check)")
-      ->check(non_negative_number());
-  cmd->add_option("--target-node", opts->target_node,
-                  "node whose motion the target gives (default: the valve); e.g. the swing cam, with a column "
-                  "<node>_angle_deg [deg] (or <node>_disp_mm [mm]) against cam_deg|crank_deg");
-  cmd->add_option("--master-radius", opts->master_radius_mm,
-                  "radius of the master roller or grinding wheel of the grinding table [mm] (0: flat; default: the "
-                  "follower's roller radius, or flat for a flat follower)")
-      ->check(non_negative_number());
-  cmd->add_option("--grinding-step", opts->grinding_step_deg, "cam angle step of the grinding table [cam deg]")
-      ->check(CLI::Range(0.01, 10.0));
-  cmd->add_option("--closure-tolerance", opts->closure_tolerance_mm,
-                  "largest lift at the ends of a partial table, or step at the seam, closed on the base circle [mm]")
-      ->check(non_negative_number());
-  cmd->add_option("--min-radius", opts->min_radius_mm, "smallest allowed radius of curvature of the cam [mm]")
-      ->check(non_negative_number());
-  cmd->add_option("--max-round-trip-error", opts->max_round_trip_error,
-                  "largest error of the synthesized profile's forward kinematics against the target, else no output "
-                  "and exit 4 [mm; deg for a rotational --target-node]")
-      ->check(positive_number());
-  cmd->callback([opts, cmd] {
-    if (!opts->smooth) reject_unused(*cmd, {"--knot-spacing"}, "without --smooth");
-    run_synthesize(*opts);
-  });
-}
-
-}  // namespace camopt::cli
+}  // namespace camopt::jobs

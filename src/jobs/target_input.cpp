@@ -1,11 +1,10 @@
 #include "target_input.hpp"
 
-#include "cli_common.hpp"
 
-namespace camopt::cli {
+namespace camopt::jobs {
 
 ValveTarget read_valve_target(const io::CsvTable& table, const std::string& path, const DesignSpec& spec,
-                              const synthesis::TargetLiftOptions& options) {
+                              const synthesis::TargetLiftOptions& options, Observer& observer) {
   ValveTarget t;
   t.rows = table.rows();
   const io::AngleTable at = io::read_angle_table(table, {"lift_mm", "valve_lift_mm", "tappet_lift_mm"});
@@ -17,8 +16,8 @@ ValveTarget read_valve_target(const io::CsvTable& table, const std::string& path
   fit.source = path;
   if (const Status st = synthesis::fit_target_lift(cam_deg, at.value, at.lines, fit, t.fit); !st.ok())
     throw NumericalError(st);
-  if (t.fit.closed_on_base_circle) info("target " + path + ": " + t.fit.closure_message);
+  if (t.fit.closed_on_base_circle) observer.note("target " + path + ": " + t.fit.closure_message);
   return t;
 }
 
-}  // namespace camopt::cli
+}  // namespace camopt::jobs

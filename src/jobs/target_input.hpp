@@ -5,9 +5,10 @@
 
 #include "camopt/core/design_spec.hpp"
 #include "camopt/io/csv.hpp"
+#include "camopt/jobs/common.hpp"
 #include "camopt/synthesis/target_lift.hpp"
 
-namespace camopt::cli {
+namespace camopt::jobs {
 
 struct ValveTarget {
   synthesis::TargetLift fit;
@@ -16,6 +17,6 @@ struct ValveTarget {
 };
 
 ValveTarget read_valve_target(const io::CsvTable& table, const std::string& path, const DesignSpec& spec,
-                              const synthesis::TargetLiftOptions& options);
+                              const synthesis::TargetLiftOptions& options, Observer& observer);
 
-}  // namespace camopt::cli
+}  // namespace camopt::jobs

@@ -12,7 +12,9 @@ namespace camopt::opt::detail {
 class ProgressReporter {
  public:
   explicit ProgressReporter(const SolverOptions& options)
-      : callback_(options.progress ? &options.progress : nullptr), t0_(std::chrono::steady_clock::now()) {}
+      : callback_(options.progress ? &options.progress : nullptr),
+        stop_(options.stop_requested ? &options.stop_requested : nullptr),
+        t0_(std::chrono::steady_clock::now()) {}
   bool enabled() const noexcept { return callback_ != nullptr; }
   void begin(const std::string& phase) noexcept;
   // every call (ipopt), or throttled to kProgressInterval (nlopt: throttled = true)
@@ -21,10 +23,14 @@ class ProgressReporter {
   // an nlopt report is due (the phase's first, or kProgressInterval after the last)
   bool due() const noexcept;
   double elapsed() const noexcept;
+  // SolverOptions::stop_requested asked (once it says stop, stopped without asking again)
+  bool stopped() noexcept;
 
  private:
   void send(SolverProgress::Event event, int iteration, double objective, double violation) noexcept;
   const std::function<void(const SolverProgress&)>* callback_;
+  const std::function<bool()>* stop_;
+  bool stopped_ = false;
   std::chrono::steady_clock::time_point t0_;
   std::string phase_;
   double last_ = -1.0;  // elapsed time of the phase's last iteration report (-1: none yet)

@@ -233,7 +233,8 @@ class CamTnlp : public Ipopt::TNLP {
       last_violation_ = inf_pr;
       progress_.iteration(iter, last_objective_, last_violation_, false);
     }
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count() < time_limit_;
+    return !progress_.stopped() &&
+           std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count() < time_limit_;
   }
 
   void finalize_solution(Ipopt::SolverReturn status, Index n, const Number* x, const Number* z_l, const Number* z_u,

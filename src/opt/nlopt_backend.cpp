@@ -51,6 +51,7 @@ double objective(unsigned n, const double* x, double* grad, void* data) {
   Context& c = *static_cast<Context*>(data);
   if (!ok_at(c, x, grad != nullptr)) return HUGE_VAL;
   report(c);
+  if (c.progress->stopped()) nlopt_force_stop(c.opt);
   const Evaluation& e = c.cache->eval();
   if (grad)
     for (unsigned j = 0; j < n; ++j) grad[j] = e.gradient(j);

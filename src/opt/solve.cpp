@@ -77,6 +77,16 @@ void ProgressReporter::end(int iteration, double objective, double violation) no
   send(SolverProgress::Event::end, iteration, objective, violation);
 }
 
+bool ProgressReporter::stopped() noexcept {
+  if (stopped_ || stop_ == nullptr) return stopped_;
+  try {
+    stopped_ = (*stop_)();
+  } catch (...) {
+    stopped_ = true;
+  }
+  return stopped_;
+}
+
 bool ProgressReporter::due() const noexcept { return last_ < 0.0 || elapsed() - last_ >= kProgressInterval; }
 
 double ProgressReporter::elapsed() const noexcept {
@@ -167,7 +177,7 @@ void run_global(CamProblem& problem, const SolverOptions& options, const std::ve
   SolveResult best;
   bool have = false;
   int iterations = 0, evaluations = 0;
-  for (int s = 0; s < starts; ++s) {
+  for (int s = 0; s < starts && !progress.stopped(); ++s) {
     std::vector<double> start = start0;
     if (s > 0) {
       static constexpr int primes[] = {2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37, 41, 43, 47, 53, 59, 61, 67, 71,
@@ -298,7 +308,8 @@ SolveResult optimize(CamProblem& problem, const SolverOptions& options) {
   detail::ProgressReporter progress(options);
   SolveResult result;
   run_solver(problem, options, problem.start(), progress, "", result);
-  if (options.feasibility_phase && !found_feasible(result, options)) explain(problem, options, progress, result);
+  if (options.feasibility_phase && !progress.stopped() && !found_feasible(result, options))
+    explain(problem, options, progress, result);
   result.seconds = progress.elapsed();
   return result;
 }

@@ -68,6 +68,10 @@ struct SolverOptions {
   // most every kProgressInterval s. called from inside the solvers' callbacks: an exception
   // it throws is caught there and ends the reports (never the solve)
   std::function<void(const SolverProgress&)> progress;
+  // asked at every ipopt iteration, nlopt evaluation and between phases: true stops the run
+  // (ipopt's user stop, nlopt's forced stop), no later phase starts and the feasibility phase
+  // is skipped; the result is then the run's as it stood. an exception it throws counts as true
+  std::function<bool()> stop_requested;
   // a run without a feasible design goes through the feasibility phase (feasibility.hpp)
   bool feasibility_phase = true;
 };

@@ -2,21 +2,25 @@
 // optimize --verify: the made design through the kinematic solver, the rigid and the flexible
 // model at the set's speed, every figure held to the set's limits ([limits], [verify]); the
 // verdict goes to report.json ("verified", "verification") and, when a check fails, to
-// stderr as a table, and the run exits with exit_verification_failed after writing its outputs.
+// the caller as a failure table (the CLI exits with exit_verification_failed after writing its
+// outputs).
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
 #include "camopt/core/design_spec.hpp"
 #include "camopt/core/spline.hpp"
+#include "camopt/jobs/common.hpp"
 #include "camopt/opt/problem.hpp"
 #include "camopt/synthesis/envelope.hpp"
 
-namespace camopt::cli {
+namespace camopt::jobs {
 
 class Verdict {
  public:
-  explicit Verdict(double relative_tolerance) : tolerance_(relative_tolerance) {}
+  // the checks' notes ("optimize --verify: ...") go to `observer`
+  Verdict(double relative_tolerance, Observer& observer) : tolerance_(relative_tolerance), observer_(observer) {}
+  void note(const std::string& message) { observer_.note(message); }
   // value <= limit (upper) or value >= limit, within the relative tolerance of the limit
   void bound(const std::string& model, const std::string& check, const std::string& unit, double value, double limit,
              bool upper, const std::string& at = "");
@@ -35,6 +39,7 @@ class Verdict {
     bool upper = true, passed = true, counted = false;
   };
   double tolerance_;
+  Observer& observer_;
   std::vector<Check> checks_;
 };
 
@@ -52,7 +57,4 @@ void verify_swing_dynamics(const DesignSpec& made, const opt::CamProblem& proble
 // report["verified"] and report["verification"]
 void record_verdict(const Verdict& verdict, nlohmann::json& report);
 
-// after the outputs are committed: the failure table on stderr and VerificationFailed
-void raise_if_failed(const Verdict& verdict);
-
-}  // namespace camopt::cli
+}  // namespace camopt::jobs

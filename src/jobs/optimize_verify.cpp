@@ -10,10 +10,9 @@
 #include "camopt/dynamics/rigid.hpp"
 #include "camopt/kinematics/mechanism.hpp"
 #include "camopt/kinematics/sweep.hpp"
-#include "cli_common.hpp"
 #include "camopt/jobs/flexible_summary.hpp"
 
-namespace camopt::cli {
+namespace camopt::jobs {
 
 namespace {
 
@@ -79,7 +78,7 @@ nlohmann::json check_rigid(const kin::Mechanism& mech, const dynamics::Model& mo
 // seat bounce, no coil clash, the seating velocity and the lift loss within their limits
 nlohmann::json check_flexible(const kin::Mechanism& mech, const dynamics::Model& model, const std::vector<double>& controls,
                               const opt::OptimizationSpec& set, const std::string& at, Verdict& verdict) {
-  info("optimize --verify: " + at + "flexible model at " + fmt(set.rpm) + " rpm ...");
+  verdict.note("optimize --verify: " + at + "flexible model at " + fmt(set.rpm) + " rpm ...");
   dynamics::FlexibleResult fr;
   if (Status st = dynamics::run_flexible(mech, model, controls, set.rpm, 0.0, 360.0, 0.5, dynamics::FlexibleOptions{}, fr);
       !st.ok()) {
@@ -223,7 +222,7 @@ void verify_rotational(const DesignSpec& made, const synthesis::SynthesisResult&
     verdict.bound("kinematic", "pressure angle", "deg", s.max_pressure_angle_deg, *l.max_pressure_angle_deg, true,
                   "cam " + fmt(s.max_pressure_angle_at) + " deg");
   if (l.max_roller_speed_rpm) verdict.bound("kinematic", "roller speed", "rpm", roller_rpm, *l.max_roller_speed_rpm, true);
-  info("optimize --verify: kinematic lift matches the optimised lift to " + fmt(rt.max_error_mm) +
+  verdict.note("optimize --verify: kinematic lift matches the optimised lift to " + fmt(rt.max_error_mm) +
        " mm; max pressure angle " + fmt(s.max_pressure_angle_deg) + " deg");
 
   // rigid and flexible dynamics at the set's speed
@@ -270,10 +269,4 @@ void record_verdict(const Verdict& verdict, nlohmann::json& report) {
   report["verification"] = verdict.json();
 }
 
-void raise_if_failed(const Verdict& verdict) {
-  if (verdict.passed()) return;
-  std::fprintf(stderr, "camopt: optimize --verify: the optimised design fails its checks:\n%s", verdict.failure_table().c_str());
-  throw VerificationFailed("the optimised design fails verification (report.json \"verification\")");
-}
-
-}  // namespace camopt::cli
+}  // namespace camopt::jobs
