@@ -18,11 +18,13 @@ solve releases the GIL and stops on Ctrl-C (KeyboardInterrupt) between control p
 
 import json as _json
 import os as _os
+import tempfile as _tempfile
 
 from . import _camopt
 from ._camopt import Error, InputError, NumericalError
 
-__all__ = ["Design", "Result", "kinematics", "dynamics", "Error", "InputError", "NumericalError", "__version__"]
+__all__ = ["Design", "Result", "kinematics", "dynamics", "synthesize", "optimize", "Error", "InputError",
+           "NumericalError", "__version__"]
 
 __version__ = _camopt.version
 
@@ -97,12 +99,21 @@ class Result:
     ``columns``: dict of CSV header (with its unit, e.g. ``lift_mm``, ``vel_mm_per_deg``) ->
     numpy float64 array, in the CSV's column order; ``summary``: the summary.json content;
     ``notes``: the lines the CLI prints on stderr (per control position, warnings).
+
+    synthesize and optimize write several tables: ``tables`` maps each CSV's name
+    (``"profile.csv"``, ``"grinding.csv"``, optimize's ``"lift.csv"``) to its columns, and
+    ``columns`` is profile.csv's; ``summary`` is report.json; ``files`` maps every file the CLI
+    writes but report.json (profile.dxf, design.toml, ...) to its bytes; ``design`` is the
+    written design.toml as a ``Design`` (see ``synthesize``).
     """
 
-    def __init__(self, columns, summary, notes):
+    def __init__(self, columns, summary, notes, tables=None, design=None, files=None):
         self.columns = columns
         self.summary = summary
         self.notes = notes
+        self.tables = tables if tables is not None else {}
+        self.design = design
+        self.files = files if files is not None else {}
 
     def __repr__(self):
         return "camopt.Result(columns=[%s])" % ", ".join(self.columns)
@@ -162,16 +173,18 @@ def kinematics(design, step_deg=None, control=None, outputs=None, rpm=None, dura
     return Result(columns, _json.loads(summary), notes)
 
 
-def dynamics(design, rpm, model="rigid", control=None, step_deg=None, contacts=None, revolutions=None, start=None,
-             coil_displacements=None, rtol=None, atol=None):
-    """Valvetrain dynamics of a design, as ``camopt dynamics --model rigid|flexible`` writes them
-    (docs/dynamics.md).
+def dynamics(design, rpm=None, model="rigid", control=None, step_deg=None, contacts=None, revolutions=None,
+             start=None, coil_displacements=None, rtol=None, atol=None, cam_deg=None, release_cam=None, threads=None):
+    """Valvetrain dynamics of a design, as ``camopt dynamics --model rigid|flexible|modes`` writes
+    them (docs/dynamics.md).
 
     design: a Design or a design file's path.
     rpm: engine speeds [rpm, crankshaft]: a number, a list of numbers or "START:STOP:COUNT",
         each in (0, 1e6] (--rpm).
-    model: "rigid" (kinematically constrained inverse dynamics) or "flexible" (the compliant
-        train integrated in time, the last revolution reported).
+    model: "rigid" (kinematically constrained inverse dynamics), "flexible" (the compliant
+        train integrated in time, the last revolution reported) or "modes" (natural frequencies
+        and mass-normalised mode shapes of the flexible model at its static equilibrium, no
+        speed: rpm is not used; ``columns`` is modes.csv).
     control: positions of the design's first control [deg or mm] (--control).
     step_deg: cam angle step [cam deg]; default the design's driver.step_deg (--step).
     contacts: rigid model only: "rigid" (mode a, the default) or "compliant" (stiff separable
@@ -182,6 +195,10 @@ def dynamics(design, rpm, model="rigid", control=None, step_deg=None, contacts=N
     coil_displacements: flexible only: add every spring coil mass's displacement [mm].
     rtol, atol: flexible only: CVODE relative tolerance (default 1e-6) and absolute tolerance
         on deviations [mm or rad] (default 1e-7).
+    cam_deg: modes only: cam angles [cam deg] at which to linearise: a number, a list or
+        "START:STOP:COUNT" (--cam-deg); default the driver's start and the angle of peak lift.
+    release_cam: modes only: the contacts on the driver carry no stiffness (--release-cam).
+    threads: modes only: worker threads of the kinematic sweep; default every core.
 
     An option of the other model raises InputError, as the CLI does. Returns a Result:
     ``columns`` exactly dynamics.csv's (one row per rpm, control position and cam angle; a
@@ -190,8 +207,140 @@ def dynamics(design, rpm, model="rigid", control=None, step_deg=None, contacts=N
     runs: control positions, or speeds x positions).
     """
     design = _design(design)
+    if model == "modes":
+        return _modes(design, rpm, control, cam_deg, release_cam, threads,
+                      dict(contacts=contacts, revolutions=revolutions, start=start,
+                           coil_displacements=coil_displacements, rtol=rtol, atol=atol, step_deg=step_deg))
+    _reject_unused(model, "--model modes only", cam_deg=cam_deg, release_cam=release_cam)
+    if rpm is None:
+        raise TypeError("camopt.dynamics: rpm is required with model=%r (the CLI's --rpm)" % model)
     columns, summary, notes = _camopt.dynamics(
         design.compile(), model, _range_text(rpm), _range_text(control), None if step_deg is None else float(step_deg),
         contacts, revolutions, start, coil_displacements, None if rtol is None else float(rtol),
         None if atol is None else float(atol))
     return Result(columns, _json.loads(summary), notes)
+
+
+# the CLI's names of the keyword options, for its messages
+_CLI_NAMES = {"contacts": "--contacts", "revolutions": "--revolutions", "start": "--start",
+              "coil_displacements": "--coil-displacements", "rtol": "--rtol", "atol": "--atol",
+              "cam_deg": "--cam-deg", "release_cam": "--release-cam", "step_deg": "--step"}
+
+
+def _reject_unused(model, only, **given):
+    """InputError, as the CLI's, for an option given (not None) that the model does not take."""
+    for name, value in given.items():
+        if value is not None:
+            raise InputError("%s: does nothing with --model %s (%s)" % (_CLI_NAMES[name], model, only))
+
+
+def _modes(design, rpm, control, cam_deg, release_cam, threads, others):
+    """dynamics(model="modes"): the flexible and rigid models' options refused as the CLI does."""
+    flexible = {k: others.pop(k) for k in ("revolutions", "start", "coil_displacements", "rtol", "atol")}
+    _reject_unused("modes", "flexible model only", **flexible)
+    _reject_unused("modes", "rigid model only", contacts=others.pop("contacts"))
+    notes = []
+    if rpm is not None:
+        notes.append("dynamics (modes): note: --rpm is not used (the modes are at no speed)")
+    columns, summary, more = _camopt.modes(design.compile(), _range_text(control), _range_text(cam_deg),
+                                           bool(release_cam), threads)
+    return Result(columns, _json.loads(summary), notes + list(more))
+
+
+def _number(value):
+    return None if value is None else float(value)
+
+
+def _target(target):
+    """The target table: (name, header, columns); a path is read by the C++ CSV reader
+    (header None), a dict {column: numbers} is a table in memory named "<target>"."""
+    if isinstance(target, dict):
+        header = [str(k) for k in target]
+        return "<target>", header, [[float(v) for v in target[k]] for k in target]
+    return _os.fspath(target), None, None
+
+
+def synthesize(target, design, cam="rotational", control=None, points=1440, smooth=False, knot_spacing_deg=None,
+               wheel_radius_mm=0.0, min_radius_mm=0.0, closure_tolerance_mm=0.05, max_round_trip_error=0.005,
+               target_node="", master_radius_mm=None, grinding_step_deg=0.25):
+    """The cam profile that gives a target motion (theory of envelopes), as ``camopt synthesize``
+    writes it.
+
+    target: the target lift: a CSV file's path (cam_deg or crank_deg, and lift_mm [mm]; or
+        <node>_angle_deg [deg] with target_node), or the same table in memory, a dict of column
+        name -> numbers, e.g. {"cam_deg": angles, "lift_mm": lifts} (messages name it
+        "<target>").
+    design: a Design loaded from a file, or a design file's path; its profile on the cam is
+        replaced (--design).
+    cam: "rotational" (the driver's) or "swing" (--cam).
+    control: control position [deg or mm]; default the position of largest lift (--control).
+    points: profile resolution [count per revolution], 36..36000 (--points).
+    smooth: least-squares fit of a noisy target (--smooth); knot_spacing_deg: its knot spacing
+        [cam deg], default 4 (--knot-spacing, only with smooth).
+    wheel_radius_mm: grinding wheel radius [mm] (0: no check); min_radius_mm: smallest allowed
+        radius of curvature [mm]; closure_tolerance_mm: largest lift at a partial table's ends
+        closed on the base circle [mm]; max_round_trip_error: largest error of the profile's
+        forward kinematics against the target [mm; deg for a rotational target_node].
+    target_node: the node whose motion the target gives (default the valve).
+    master_radius_mm: grinding table master [mm] (0: flat; default the follower's roller);
+        grinding_step_deg: its cam angle step [cam deg], 0.01..10.
+
+    Returns a Result: ``tables["profile.csv"]`` (also ``columns``) and ``tables["grinding.csv"]``
+    exactly the CLI's, ``summary`` report.json, ``files`` profile.dxf, design.toml, ...;
+    ``design`` the written design.toml as a Design that the next job runs directly (its
+    profile.csv in a temporary folder the Design owns). Raises InputError or NumericalError
+    with the CLI's messages.
+    """
+    design = _design(design)
+    if not smooth and knot_spacing_deg is not None:
+        raise InputError("--knot-spacing: does nothing without --smooth")
+    name, header, values = _target(target)
+    folder = _tempfile.TemporaryDirectory(prefix="camopt-")
+    tables, report, notes, files = _camopt.synthesize(
+        design.compile(), name, header, values, folder.name, cam, _number(control), int(points), bool(smooth),
+        4.0 if knot_spacing_deg is None else float(knot_spacing_deg), float(wheel_radius_mm), float(min_radius_mm),
+        float(closure_tolerance_mm), float(max_round_trip_error), target_node, _number(master_radius_mm),
+        float(grinding_step_deg))
+    return Result(tables["profile.csv"], _json.loads(report), list(notes), tables, _folder_design(files, folder), files)
+
+
+def _folder_design(files, folder):
+    """design.toml as a Design, its profile.csv written into `folder` (a TemporaryDirectory the
+    Design keeps, removed with it): the folder the job wrote design.toml for."""
+    with open(_os.path.join(folder.name, "profile.csv"), "wb") as f:
+        f.write(files["profile.csv"])
+    written = Design(files["design.toml"].decode(), _os.path.join(folder.name, "design.toml"))
+    written._folder = folder
+    return written
+
+
+def optimize(design, constraints, cam="rotational", solver="ipopt", points=1440, max_iterations=3000, starts=None,
+             verify=False):
+    """A cam's lift optimised under a constraint set, and its profile, as ``camopt optimize``
+    writes them (docs/optimisation.md).
+
+    design: a Design loaded from a file, or a design file's path.
+    constraints: the constraint set's TOML file (--constraints; see constraints/).
+    cam: "rotational" (the driver's, [event] lift model) or "swing" (--cam).
+    solver: "ipopt", "slsqp", "mma", "cobyla" or "global" (--solver).
+    points: profile resolution [count per revolution], 36..100000 (--points).
+    max_iterations: ipopt iterations or nlopt evaluations, 1..1e6 (--max-iterations).
+    starts: global only: number of starts, 1..1000 (--starts; default 6).
+    verify: run the made design through kinematics, rigid and flexible dynamics (--verify):
+        ``summary["verified"]`` and ``summary["verification"]`` say how it did (the CLI exits
+        5 when it fails; here the result is returned).
+
+    Returns a Result: ``tables`` lift.csv (a swing cam: also swing_pitch.csv), profile.csv and
+    grinding.csv; ``columns`` lift.csv's; ``summary`` report.json; ``files`` and ``design`` as
+    synthesize's. Raises InputError, or NumericalError when the solver fails (an infeasible
+    set: its message names the conflicting limits); KeyboardInterrupt on Ctrl-C (checked at
+    every solver iteration).
+    """
+    design = _design(design)
+    if solver != "global" and starts is not None:
+        raise InputError("--starts: does nothing with --solver %s (global only)" % solver)
+    folder = _tempfile.TemporaryDirectory(prefix="camopt-")
+    tables, report, notes, files, verified, failures = _camopt.optimize(
+        design.compile(), _os.fspath(constraints), folder.name, solver, cam, bool(verify), int(points),
+        int(max_iterations), 6 if starts is None else int(starts))
+    return Result(tables["lift.csv"], _json.loads(report), list(notes), tables, _folder_design(files, folder), files)

@@ -7,7 +7,9 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <cmath>
 #include <cstring>
+#include <tuple>
 #include <filesystem>
 #include <memory>
 #include <mutex>
@@ -26,7 +28,11 @@
 #include "camopt/jobs/common.hpp"
 #include "camopt/jobs/dynamics.hpp"
 #include "camopt/jobs/kinematics.hpp"
+#include "camopt/jobs/modes.hpp"
+#include "camopt/jobs/optimize.hpp"
+#include "camopt/jobs/synthesize.hpp"
 #include "camopt/jobs/validate.hpp"
+#include "camopt/io/constraint_file.hpp"
 
 namespace py = pybind11;
 
@@ -214,6 +220,89 @@ py::tuple dynamics(const CompiledDesign& compiled, const std::string& model, con
   return py::make_tuple(columns_dict(result.columns), result.summary.dump(), observer.take_notes());
 }
 
+// the modes job (dynamics --model modes): (columns, summary as JSON text, notes)
+py::tuple modes(const CompiledDesign& compiled, const std::string& control, const std::string& cam_deg,
+                bool release_cam, std::optional<int> threads) {
+  jobs::ModesOptions options;
+  options.design_file = compiled.path;
+  options.control = control;
+  options.cam_deg = cam_deg;
+  options.release_cam = release_cam;
+  options.threads = worker_threads(threads);
+  PythonObserver observer;
+  const jobs::ModesResult result = without_gil([&] { return jobs::run_modes(compiled.design, options, observer); });
+  return py::make_tuple(columns_dict(result.columns), result.summary.dump(), observer.take_notes());
+}
+
+// a target table given in memory: (column names, columns of numbers), as a CSV file of that
+// header would read (its rows numbered from line 2); `name` stands for the file in messages
+io::CsvTable table_in_memory(const std::string& name, std::vector<std::string> header,
+                             std::vector<std::vector<double>> values) {
+  io::CsvTable table;
+  table.file = name;
+  table.columns = std::move(header);
+  table.values = std::move(values);
+  const std::size_t rows = table.values.empty() ? 0 : table.values.front().size();
+  for (std::size_t c = 0; c < table.values.size(); ++c)
+    if (table.values[c].size() != rows)
+      throw InputError(name + ": column '" + table.columns[c] + "' has " + std::to_string(table.values[c].size()) +
+                       " values, the first " + std::to_string(rows));
+  for (std::size_t r = 0; r < rows; ++r) {
+    table.lines.push_back(static_cast<int>(r) + 2);
+    for (std::size_t c = 0; c < table.values.size(); ++c)
+      if (!std::isfinite(table.values[c][r]))
+        throw InputError(name + ":" + std::to_string(r + 2) + ": column '" + table.columns[c] + "' value " +
+                         format_value(table.values[c][r]) + " is not a finite number");
+  }
+  return table;
+}
+
+// a profile's files: the tables as columns ({"profile.csv": ..., "grinding.csv": ...}) and
+// every file's text by name (profile.dxf, grinding.csv, profile.csv, design.toml)
+std::pair<py::dict, py::dict> exports_dicts(const jobs::ProfileExports& exports) {
+  py::dict tables, files;
+  tables["profile.csv"] = columns_dict(exports.profile);
+  if (!exports.grinding.header.empty()) tables["grinding.csv"] = columns_dict(exports.grinding);
+  for (const auto& [name, text] : jobs::export_files(exports)) files[py::str(name)] = py::bytes(text);
+  return {tables, files};
+}
+
+// the synthesize job: (tables, report as JSON text, notes, files); the target is a CSV file
+// (target_path) or a table in memory (target_header, target_values)
+py::tuple synthesize(const CompiledDesign& compiled, const std::string& target_name,
+                     std::optional<std::vector<std::string>> target_header,
+                     std::optional<std::vector<std::vector<double>>> target_values, jobs::SynthesizeOptions options) {
+  options.design_file = compiled.path;
+  options.target_file = target_name;
+  jobs::validate(options);
+  const io::CsvTable target = target_header ? table_in_memory(target_name, std::move(*target_header),
+                                                              std::move(*target_values))
+                                            : io::read_csv(target_name);
+  PythonObserver observer;
+  const jobs::SynthesizeResult result =
+      without_gil([&] { return jobs::run_synthesize(compiled.design.spec, target, options, observer); });
+  auto [tables, files] = exports_dicts(result.exports);
+  return py::make_tuple(tables, result.report.dump(), observer.take_notes(), files);
+}
+
+// the optimize job: (tables, report as JSON text, notes, files, verified, the failed checks);
+// a solver failure raises NumericalError (the CLI's exit 4, once it wrote report.json)
+py::tuple optimize(const CompiledDesign& compiled, const std::string& constraints, jobs::OptimizeOptions options) {
+  options.design_file = compiled.path;
+  options.constraints_file = constraints;
+  jobs::validate(options);
+  opt::OptimizationSpec set = io::load_constraints(constraints);
+  PythonObserver observer;
+  const jobs::OptimizeResult result =
+      without_gil([&] { return jobs::run_optimize(compiled.design.spec, std::move(set), options, observer); });
+  if (!result.status.ok()) throw NumericalError(result.status);
+  py::dict tables, files;
+  if (result.exports) std::tie(tables, files) = exports_dicts(*result.exports);
+  for (const auto& [name, table] : result.tables) tables[py::str(name)] = columns_dict(table);
+  return py::make_tuple(tables, result.report.dump(), observer.take_notes(), files, result.verified,
+                        result.verification_failures);
+}
+
 // camopt.NumericalError with its status: code, message and where (the angle, the residual)
 void raise_numerical(const NumericalError& e) {
   const Status& s = e.status();
@@ -297,4 +386,51 @@ PYBIND11_MODULE(_camopt, m) {
       py::arg("design"), py::arg("model"), py::arg("rpm"), py::arg("control"), py::arg("step_deg"), py::arg("contacts"),
       py::arg("revolutions"), py::arg("start"), py::arg("coil_displacements"), py::arg("rtol"), py::arg("atol"),
       "The dynamics job (rigid or flexible): (columns, summary JSON text, notes).");
+  m.def("modes", &modes, py::arg("design"), py::arg("control"), py::arg("cam_deg"), py::arg("release_cam"),
+        py::arg("threads"), "The modes job (dynamics --model modes): (columns, summary JSON text, notes).");
+  m.def(
+      "synthesize",
+      [](const CompiledDesign& design, const std::string& target_name, std::optional<std::vector<std::string>> header,
+         std::optional<std::vector<std::vector<double>>> values, const std::string& out_dir, const std::string& cam,
+         std::optional<double> control, int points, bool smooth, double knot_spacing_deg, double wheel_radius_mm,
+         double min_radius_mm, double closure_tolerance_mm, double max_round_trip_error, const std::string& target_node,
+         std::optional<double> master_radius_mm, double grinding_step_deg) {
+        camopt::jobs::SynthesizeOptions o;
+        o.out_dir = out_dir;
+        o.cam = cam;
+        o.control = control;
+        o.points = points;
+        o.smooth = smooth;
+        o.knot_spacing_deg = knot_spacing_deg;
+        o.wheel_radius_mm = wheel_radius_mm;
+        o.min_radius_mm = min_radius_mm;
+        o.closure_tolerance_mm = closure_tolerance_mm;
+        o.max_round_trip_error = max_round_trip_error;
+        o.target_node = target_node;
+        o.master_radius_mm = master_radius_mm;
+        o.grinding_step_deg = grinding_step_deg;
+        return synthesize(design, target_name, std::move(header), std::move(values), std::move(o));
+      },
+      py::arg("design"), py::arg("target_name"), py::arg("target_header"), py::arg("target_values"), py::arg("out_dir"),
+      py::arg("cam"), py::arg("control"), py::arg("points"), py::arg("smooth"), py::arg("knot_spacing_deg"),
+      py::arg("wheel_radius_mm"), py::arg("min_radius_mm"), py::arg("closure_tolerance_mm"),
+      py::arg("max_round_trip_error"), py::arg("target_node"), py::arg("master_radius_mm"),
+      py::arg("grinding_step_deg"), "The synthesize job: (tables, report JSON text, notes, files).");
+  m.def(
+      "optimize",
+      [](const CompiledDesign& design, const std::string& constraints, const std::string& out_dir,
+         const std::string& solver, const std::string& cam, bool verify, int points, int max_iterations, int starts) {
+        camopt::jobs::OptimizeOptions o;
+        o.out_dir = out_dir;
+        o.solver = solver;
+        o.cam = cam;
+        o.verify = verify;
+        o.points = points;
+        o.max_iterations = max_iterations;
+        o.starts = starts;
+        return optimize(design, constraints, std::move(o));
+      },
+      py::arg("design"), py::arg("constraints"), py::arg("out_dir"), py::arg("solver"), py::arg("cam"),
+      py::arg("verify"), py::arg("points"), py::arg("max_iterations"), py::arg("starts"),
+      "The optimize job: (tables, report JSON text, notes, files, verified, failed checks).");
 }
