@@ -480,7 +480,7 @@ int main(int argc, char** argv) {
   if (!parse_options(argc, argv, o)) return 2;
   const DesignSpec spec = io::load_design(o.design);
   const kin::Mechanism mech = kin::compile(spec);
-  const Context c{mech, dynamics::compile_dynamics(spec, mech), {0.0}, o.repeat};
+  const Context c{mech, dynamics::compile_dynamics(spec, mech), std::vector<double>(mech.controls.size(), 0.0), o.repeat};
   if (o.single) return single_run(c, o), 0;
   std::vector<std::string> rows{"mode,setting,ms_per_cycle,error_metric,error,steps,rhs_evaluations"};
   if (!o.flexible_only) {

@@ -153,8 +153,16 @@ if ((run_tests)); then
   # cairo when a figure draws text) are not leaks of ours
   # (print_suppressions=0: nothing added to the stderr the CLI tests read)
   [[ "$sanitize" == ON ]] && export LSAN_OPTIONS="suppressions=$REPO/tests/lsan.supp:print_suppressions=0${LSAN_OPTIONS:+:$LSAN_OPTIONS}"
+  # the sanitizer build leaves out the tests labelled release_only: long sweeps and external
+  # processes (Chromium, a consumer project's build) whose C++ paths the rest of the suite runs
+  # (tests/release_only.cmake, docs/testing.md "CI")
+  ctest_args=()
+  if [[ "$sanitize" == ON ]]; then
+    ctest_args=(--label-exclude release_only)
+    echo "== the sanitizer build skips the tests labelled release_only (they run in the Release suite)"
+  fi
   test_status=0
-  ctest --test-dir "$build_dir" --output-on-failure --parallel "$jobs" || test_status=$?
+  ctest --test-dir "$build_dir" --output-on-failure --parallel "$jobs" "${ctest_args[@]}" || test_status=$?
   if ((test_status != 0 || !run_default)); then
     exit "$test_status"
   fi

@@ -108,6 +108,12 @@ void System::forces(const double* q, const double* qd, bool powers_only) {
     const double support = plunger_force(*this, p, q, qd);
     f(p.coord) = -path[L.pz_inertia + p.table_index] * w2 + support;
     fr.hla_power += support * qd[p.coord];
+    if (p.series && p.far >= 0) {
+      // a series body rides on the near end: its inertia leaves the far half (as its mass)
+      const double shift = 0.5 * p.along * path[L.pz_inertia + p.table_index] * w2;
+      f(p.row) -= shift;
+      f(p.far) += shift;
+    }
   }
   fr.torque = path[L.load_drv];
   for (int c = 0; c < C; ++c) {
@@ -320,10 +326,17 @@ void System::mass_matrix(Structured& out) const {
     out.core(e.far, e.far) = half;
   }
   // a plunger carries the node's mass and its own; the node's centre of gravity couples it
-  // with the node's angle (split between the halves of a compliant node, as its mass)
+  // with the node's angle (split between the halves of a compliant node, as its mass). In
+  // series it carries the contact side, which rides on the near end: the valve side's mass
+  // M - m_b is split between the halves
   for (const Plunger& p : plungers) {
     out.core(p.coord, p.coord) = p.mass;
     const double couple = path[L.pz_mass + p.table_index];
+    if (p.series) {
+      out.core(p.coord, p.row) = out.core(p.row, p.coord) = couple;
+      if (p.far >= 0) out.core(p.row, p.row) += 0.5 * p.mass, out.core(p.far, p.far) -= 0.5 * p.mass;
+      continue;
+    }
     for (int end : {p.row, p.far}) {
       if (end < 0) continue;
       const double share = p.far < 0 ? couple : 0.5 * couple;

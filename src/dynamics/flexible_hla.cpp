@@ -1,5 +1,6 @@
 // the hydraulic lash adjusters of the flexible model (flexible_system.hpp, docs/hla.md): a
-// plunger coordinate under a rotational node's pivot, the HLA element's force and hydraulic
+// plunger coordinate under a rotational node's pivot or in series on a translational node
+// (between its contact side and its valve side), the HLA element's force and hydraulic
 // states (hla.hpp) in the same CVODE system, its roots and the plunger's travel stops
 #include <cmath>
 
@@ -36,16 +37,50 @@ double stop_damping(const Plunger& p) { return 2.0 * kStopDampingRatio * std::sq
 
 }  // namespace
 
+namespace {
+
+std::string vec_text(const Eigen::Vector2d& v) { return "(" + format_value(v.x()) + ", " + format_value(v.y()) + ")"; }
+
+// an HLA in series on a solved translational node: its contact side of mass series_body_mass
+// moves by z along the axis from the valve side, which keeps the rest of the node's mass
+void place_in_series(const System& s, const Model& model, const HlaData& data, Plunger& p) {
+  const kin::Node& node = s.mech.nodes[data.node];
+  const Hla& hla = data.hla;
+  const std::string who = "hla '" + hla.name + "' in series on node '" + node.name + "'";
+  if (!(hla.series_body_mass > 0.0))
+    throw InputError(hla.where, who + ": series_body_mass_kg is required (the mass of the part on the contacts' side)");
+  const double whole = kMilli * model.bodies[data.node].mass;
+  if (!(hla.series_body_mass < whole))
+    throw InputError(hla.where, who + ": series_body_mass_kg " + format_value(hla.series_body_mass / kMilli) +
+                                    " must be < the node's mass " + format_value(whole / kMilli) +
+                                    " kg (the valve side keeps the rest)");
+  const double along = hla.axis.dot(node.direction.normalized());
+  if (!(std::abs(along) > 1.0 - 1e-9))
+    throw InputError(hla.where, who + ": axis " + vec_text(hla.axis) + " must be along the node's direction " +
+                                    vec_text(node.direction) + " (the plunger moves the contact side along the node)");
+  p.series = true;
+  p.along = along > 0.0 ? 1.0 : -1.0;
+  p.mass = hla.series_body_mass;
+}
+
+}  // namespace
+
 void add_plungers(System& s, const Model& model) {
   const kin::Mechanism& mech = s.mech;
   int next = s.R + s.E;
   for (std::size_t i = 0; i < model.hlas.size(); ++i) {
     const HlaData& data = model.hlas[i];
     const kin::Node& node = mech.nodes[data.node];
-    if (node.kind != NodeKind::rotational || node.control >= 0 || node.pivot_control >= 0 || data.node == mech.driver_node)
+    const bool solved = node.control < 0 && node.pivot_control < 0 && data.node != mech.driver_node &&
+                        node.first_variable >= 0 && model.row_of_variable[node.first_variable] >= 0;
+    const bool pivot = node.kind == NodeKind::rotational && data.hla.series_body_mass == 0.0;
+    const bool series = node.kind == NodeKind::translational;
+    if (!solved || !(pivot || series))
       throw InputError(data.hla.where, "hla '" + data.hla.name + "' on node '" + node.name +
                                            "': the flexible model places an HLA under the fixed pivot of a solved "
-                                           "rotational node (an end-pivot finger follower or a rocker arm)");
+                                           "rotational node (an end-pivot finger follower or a rocker arm), or in "
+                                           "series on a solved translational node with series_body_mass_kg (a bucket "
+                                           "tappet, a rocker arm's valve-side insert)");
     Plunger p;
     p.hla = static_cast<int>(i);
     p.node = data.node;
@@ -56,6 +91,7 @@ void add_plungers(System& s, const Model& model) {
     p.axis = data.hla.axis;
     p.pivot = node.pivot;
     p.mass = kMilli * model.bodies[data.node].mass + data.hla.plunger_mass;
+    if (series) place_in_series(s, model, data, p);
     p.touches.assign(s.C, 0);
     for (int c = 0; c < s.C; ++c) {
       const kin::Connection& conn = mech.connections[c];
@@ -126,14 +162,27 @@ void settle_hydraulics(System& s, double t, const double* q, const double* qd, d
   }
 }
 
+namespace {
+
+// a series HLA's valve side on its seat (after forces): the load between the bodies is then
+// shared with the seat by the contacts' approaches, not set by the train
+bool seated(const System& s, const Plunger& p) {
+  for (std::size_t k = 0; k < s.seats.size(); ++k)
+    if (s.seats[k].node == p.node && s.fr.seat[k] > 0.0) return true;
+  return false;
+}
+
+}  // namespace
+
 void hold_pivot_loads(System& s, Eigen::VectorXd& x) {
   for (const Plunger& p : s.plungers) {
     const Hla& hla = hla_of(s, p);
     const double load = -kPinStiffness * x(p.coord);  // what the pin carried along the axis [N]
     const double supply = hla.supply_at(crank_deg(s, 0.0));
-    // (p - supply) A + F_s(0) = load
+    // (p - supply) A + F_s(0) = load; a seated series HLA at the gallery's pressure (the state
+    // leak-down and refill settle to: the seat carries what the return spring does not)
     const double pressure = supply + (load - hla.spring_preload) / hla.plunger_area;
-    s.hyd(p.first_state + kHlaPressure) = std::max(pressure, supply);
+    s.hyd(p.first_state + kHlaPressure) = p.series && seated(s, p) ? supply : std::max(pressure, supply);
     x(p.coord) = 0.0;
   }
   s.pin_plungers = false;

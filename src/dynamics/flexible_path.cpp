@@ -54,10 +54,11 @@ std::vector<char> lash_flags(const System& s, const RigidWorkspace& ws) {
   return f;
 }
 
-// a plunger's columns: moving the pivot by z along the axis moves the whole node, so a
-// contact's gap changes by +-n.axis z (b side +, a side -, as the gradients of rigid.cpp), its
-// tangent coordinate by +-t.axis z; the node's centre of gravity couples z with the node's
-// angle (m (k x r_cg) . axis) and its kinematic acceleration loads z (m a_cg . axis)
+// a plunger's columns: moving the pivot by z along the axis moves the whole node (in series:
+// the node's contact side), so a contact's gap changes by +-n.axis z (b side +, a side -, as
+// the gradients of rigid.cpp), its tangent coordinate by +-t.axis z; the moved mass couples z
+// with the node's row (under a pivot m (k x r_cg) . axis, in series m_b direction . axis) and
+// its kinematic acceleration loads z (m a_cg . axis)
 void fill_plunger(const System& s, const RigidWorkspace& ws, const Plunger& p, double* row) {
   constexpr double kMilli = 1e-3;  // kg mm/s^2 -> N
   const kin::Mechanism& mech = s.mech;
@@ -69,10 +70,10 @@ void fill_plunger(const System& s, const RigidWorkspace& ws, const Plunger& p, d
     row[s.L.pz_gn + p.table_index * s.C + c] = side * n.dot(p.axis);
     row[s.L.pz_gt + p.table_index * s.C + c] = side * t.dot(p.axis);
   }
-  const double m = kMilli * s.flex.bodies[p.node].mass;
+  const double m = p.series ? p.mass : kMilli * s.flex.bodies[p.node].mass;
   const Eigen::Vector2d arm = ws.cg_pos[p.node] - p.pivot;
   row[s.L.pz_inertia + p.table_index] = m * ws.cg_acc[p.node].dot(p.axis);
-  row[s.L.pz_mass + p.table_index] = m * Eigen::Vector2d(-arm.y(), arm.x()).dot(p.axis);
+  row[s.L.pz_mass + p.table_index] = p.series ? m * p.along : m * Eigen::Vector2d(-arm.y(), arm.x()).dot(p.axis);
 }
 
 // one table row: what the model needs of the kinematic path at the workspace's angle

@@ -42,9 +42,10 @@ struct Chain {
   int band = -1;                 // its band in the structured matrices (masses > 0)
 };
 
-// a hydraulic lash adjuster under a rotational node's pivot: the pivot (and the node with it)
-// moves by the plunger coordinate z along the axis; the plunger's force, its travel stops and
-// the hydraulic states are the HLA element's (hla.hpp)
+// a hydraulic lash adjuster, under a rotational node's pivot: the pivot (and the node with it)
+// moves by the plunger coordinate z along the axis; or in series on a translational node: the
+// node's contact side (bucket, insert) moves by z along the axis from its valve side. The
+// plunger's force, its travel stops and the hydraulic states are the HLA element's (hla.hpp)
 struct Plunger {
   int hla = -1;                     // Model::hlas
   int node = -1, row = -1;          // the supported node and its free row (near end)
@@ -52,7 +53,9 @@ struct Plunger {
   int table_index = -1;             // its columns in the path table
   Eigen::Vector2d axis{0.0, 1.0};   // unit, the plunger's extension
   Eigen::Vector2d pivot{0.0, 0.0};  // the node's pivot in the drawing [mm]
-  double mass = 0.0;                // plunger + node, generalized [N per mm/s^2]
+  double mass = 0.0;                // z's own: plunger + node, or the series body [N per mm/s^2]
+  bool series = false;              // in series on a translational node
+  double along = 0.0;               // in series: axis . the node's direction (+-1)
   int far = -1;                     // the node's far end (compliant node), else -1
   std::vector<char> touches;        // per connection: on the node
   int first_state = -1;             // its hydraulic states in the state vector after q and q'
@@ -299,7 +302,8 @@ class System {
 // ---- the hydraulic lash adjusters (flexible_hla.cpp) ----
 // a plunger coordinate for every HLA of the model, after the far ends (s.R, s.E set; before
 // the chains); its hydraulic states counted in s.H. InputError for an HLA the flexible model
-// cannot place (not under a rotational node's fixed pivot, a link on the node)
+// cannot place (neither under a rotational node's fixed pivot nor in series on a solved
+// translational node along its direction, a link on the node)
 void add_plungers(System& s, const Model& model);
 // the plunger's force on z at (q, qd) and the current hydraulic state s.hyd: the chamber and
 // the return spring, and the travel stops [N]; its -d/dz and -d/dz' for the Newton matrices
@@ -312,7 +316,8 @@ void initial_hydraulics(const System& s, double t, double* h);
 void settle_hydraulics(System& s, double t, const double* q, const double* qd, double* h);
 // after a static balance with the plungers pinned: each chamber's pressure set to carry its
 // pivot's load at z = 0 (at least the gallery's: a lighter load lets the check valve refill
-// and the plunger extend), the plungers put at 0 and released
+// and the plunger extend; the gallery's for a series HLA on a seated valve, whose load the
+// seat shares), the plungers put at 0 and released
 void hold_pivot_loads(System& s, Eigen::VectorXd& x);
 // CVODE's absolute tolerance of hydraulic state i
 double hydraulic_tolerance(const System& s, int i);

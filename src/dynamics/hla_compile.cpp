@@ -37,6 +37,8 @@ void check_plunger(const HlaSpec& s) {
           "> travel_min_mm (" + format_value(s.travel_min_mm) + ")");
   require(s.return_spring_rate_N_per_mm >= 0.0, s, "return_spring_rate_N_per_mm", s.return_spring_rate_N_per_mm, ">= 0");
   require(s.return_spring_preload_N >= 0.0, s, "return_spring_preload_N", s.return_spring_preload_N, ">= 0");
+  if (s.series_body_mass_kg)
+    require(*s.series_body_mass_kg > 0.0, s, "series_body_mass_kg", *s.series_body_mass_kg, "> 0");
 }
 
 void check_oil(const HlaSpec& s) {
@@ -162,6 +164,7 @@ Hla compile_hla(const HlaSpec& s) {
   h.plunger_diameter = s.plunger_diameter_mm;
   h.plunger_area = std::numbers::pi / 4.0 * s.plunger_diameter_mm * s.plunger_diameter_mm;
   h.plunger_mass = s.plunger_mass_kg * 1e-3;
+  h.series_body_mass = s.series_body_mass_kg.value_or(0.0) * 1e-3;
   h.travel_min = s.travel_min_mm;
   h.travel_max = s.travel_max_mm;
   h.spring_preload = s.return_spring_preload_N;

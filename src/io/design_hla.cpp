@@ -19,7 +19,7 @@ const Keys kHlaKeys = {
     "name", "node", "axis",
     // plunger and body
     "plunger_diameter_mm", "plunger_mass_kg", "travel_min_mm", "travel_max_mm", "return_spring_rate_N_per_mm",
-    "return_spring_preload_N",
+    "return_spring_preload_N", "series_body_mass_kg",
     // chamber and oil
     "chamber_volume_mm3", "bulk_modulus_MPa", "bulk_modulus_pressure_slope", "air_volume_fraction",
     "air_polytropic_index", "atmospheric_pressure_MPa", "cavitation_pressure_MPa", "oil_density_kg_per_m3",
@@ -55,6 +55,26 @@ void read_supply_table(const Table& t, HlaSpec& h) {
   }
 }
 
+// the placement: in series on a translational node (series_body_mass_kg, a part of the node's
+// mass), or under the pivot of any other node (no series_body_mass_kg)
+void check_placement(const Table& t, const HlaSpec& h, const NodeSpec& node) {
+  const bool translational = node.kind == NodeKind::translational;
+  if (!translational && h.series_body_mass_kg)
+    t.fail("series_body_mass_kg", "value " + format_value(*h.series_body_mass_kg) + ": node " + quote(node.name) +
+                                      " is " + to_string(node.kind) +
+                                      "; an HLA is in series only on a translational node (under a pivot it carries "
+                                      "the whole node: remove the key)");
+  if (!translational) return;
+  if (!h.series_body_mass_kg)
+    t.fail("missing required key 'series_body_mass_kg': an HLA on translational node " + quote(node.name) +
+           " is in series, and the key gives the mass of the part on the contacts' side [kg]");
+  const double whole = node.mass_kg.value_or(0.0);
+  if (!(*h.series_body_mass_kg < whole))
+    t.fail("series_body_mass_kg", "value " + format_value(*h.series_body_mass_kg) + " must be < node " +
+                                      quote(node.name) + "'s mass_kg (" + format_value(whole) +
+                                      "): the contact side is a part of the node, the valve side keeps the rest");
+}
+
 HlaSpec parse_hla(const Table& t) {
   t.allow(kHlaKeys);
   HlaSpec h;
@@ -70,6 +90,7 @@ HlaSpec parse_hla(const Table& t) {
   required("travel_max_mm", h.travel_max_mm);
   required("return_spring_rate_N_per_mm", h.return_spring_rate_N_per_mm);
   required("return_spring_preload_N", h.return_spring_preload_N);
+  h.series_body_mass_kg = t.optional_number("series_body_mass_kg");
   required("chamber_volume_mm3", h.chamber_volume_mm3);
   optional("bulk_modulus_MPa", h.bulk_modulus_MPa);
   optional("bulk_modulus_pressure_slope", h.bulk_modulus_pressure_slope);
@@ -120,15 +141,16 @@ void parse_hlas(const Table& root, DesignSpec& spec) {
         t.fail("name", "duplicate name " + quote(h.name) + " (already used by " + other.where.key_path + " at line " +
                            std::to_string(other.where.line) + ")");
     // the supported node exists (the nodes are read before)
-    bool known = false;
+    const NodeSpec* node = nullptr;
     std::string names;
     for (const NodeSpec& n : spec.nodes) {
-      known = known || n.name == h.node;
+      if (n.name == h.node) node = &n;
       names += (names.empty() ? "" : ", ") + n.name;
     }
-    if (!known)
+    if (!node)
       t.fail("node", "unknown node " + quote(h.node) + " (the node the HLA supports; defined: " +
                          (names.empty() ? "none" : names) + ")");
+    check_placement(t, h, *node);
     (void)dynamics::compile_hla(h);  // the element's rules, at their keys
     spec.hlas.push_back(std::move(h));
   }

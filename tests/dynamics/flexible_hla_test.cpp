@@ -1,11 +1,14 @@
 // the flexible model with a hydraulic lash adjuster under the CVVL's finger pivot
-// (designs/cvvl_swing_cam_hla.toml): the power balance with the HLA's work (the plunger's mass
-// coupling and its contact gradients), mass conservation of the chamber's oil, a rigid HLA
-// against the fixed pivot, pump-up at over-speed and collapse under a fast leak.
+// (designs/cvvl_swing_cam_hla.toml) and in series in a hydraulic bucket
+// (designs/bucket_tappet_hla.toml): mass conservation of the chamber's oil, a rigid HLA
+// against the fixed pivot or the solid bucket, the force balances of the bodies it joins,
+// pump-up at over-speed and collapse under a fast leak, and the placements it refuses.
 #include <catch2/catch.hpp>
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
+#include <iterator>
 #include <string>
 
 #include "camopt/core/units.hpp"
@@ -31,7 +34,8 @@ Run run(const DesignSpec& d, double rpm, const dynamics::FlexibleOptions& opt, d
   const kin::Mechanism mech = kin::compile(d);
   const dynamics::Model model = dynamics::compile_dynamics(d, mech);
   Run r;
-  r.status = dynamics::run_flexible(mech, model, {0.0}, rpm, 0, 360, step, opt, r.res);
+  r.status = dynamics::run_flexible(mech, model, std::vector<double>(mech.controls.size(), 0.0), rpm, 0, 360, step, opt,
+                                    r.res);
   return r;
 }
 
@@ -229,15 +233,221 @@ TEST_CASE("flexible HLA: pump-up at over-speed, collapse of an unrefilled leak",
   }
 }
 
+// ---- in series: the hydraulic bucket (designs/bucket_tappet_hla.toml) ----
 
-TEST_CASE("flexible HLA: an HLA in series on a translational node is an input error naming its table",
-          "[dynamics][flexible][hla]") {
-  DesignSpec d = hla_design();
-  d.hlas[0].node = "valve";
-  const kin::Mechanism mech = kin::compile(d);
-  const dynamics::Model model = dynamics::compile_dynamics(d, mech);
-  dynamics::FlexibleResult res;
-  CHECK_THROWS_WITH(dynamics::run_flexible(mech, model, {0.0}, 3000, 0, 360, 1, dynamics::FlexibleOptions{}, res),
-                    Catch::Contains("cvvl_swing_cam_hla.toml:") && Catch::Contains("hla 'finger_hla' on node 'valve'") &&
-                        Catch::Contains("fixed pivot of a solved rotational node"));
+namespace {
+
+DesignSpec bucket_design() { return io::load_design(std::string(CAMOPT_SOURCE_DIR) + "/designs/bucket_tappet_hla.toml"); }
+
+std::size_t tappet_index(const DesignSpec& d) {
+  const auto it = std::find_if(d.nodes.begin(), d.nodes.end(), [](const NodeSpec& n) { return n.name == "tappet"; });
+  REQUIRE(it != d.nodes.end());
+  return static_cast<std::size_t>(it - d.nodes.begin());
+}
+
+// the valve side's free body along the tappet's direction +y, written here: the HLA pushes it
+// along -axis = +y, the valve spring's top end pushes it back, the seat pushes it off the seat,
+// its mass (the node's minus the series body's) takes the rest: F_hla = F_spring - F_seat + m_v a
+std::vector<double> valve_side_balance(const DesignSpec& d, const dynamics::FlexibleResult& res) {
+  const double m_valve = (*d.nodes[tappet_index(d)].mass_kg - *d.hlas[0].series_body_mass_kg) * 1e-3;
+  REQUIRE(res.coil_force_top.size() == res.cam_deg.size());
+  REQUIRE(res.seat_forces.size() == res.cam_deg.size());
+  std::vector<double> out;
+  for (std::size_t i = 0; i < res.cam_deg.size(); ++i)
+    out.push_back(res.coil_force_top[i] - res.seat_forces[i] + m_valve * res.acceleration[i]);
+  return out;
+}
+
+// the largest differences of a stiff, sealed element (bulk modulus beta, no air, a ball that
+// never opens, a gallery far above the loads' pull) from the solid bucket of the same mass
+struct SeriesGap {
+  double z = 0.0, lift = 0.0, force = 0.0, element_force = 0.0;  // [mm], [mm], [N], [N]
+};
+SeriesGap rigid_series_gap(double beta) {
+  // the stem's compliance is removed from both: with it the series body rides on the near end
+  // while the solid tappet splits its whole mass between the halves (a different lumping). The
+  // seat too: with it and no lash the cam and the seat share the spring's load on the base
+  // circle by their approaches, and a z of 1e-4 mm against their ~1e6 N/mm moves 100 N
+  // between them; without it the cam carries the spring on the base circle in both
+  DesignSpec rigid = bucket_design();
+  rigid.nodes[tappet_index(rigid)].axial_stiffness_N_per_mm.reset();
+  rigid.nodes[tappet_index(rigid)].seat.enabled = false;
+  DesignSpec solid = rigid;
+  solid.hlas.clear();
+  HlaSpec& h = rigid.hlas[0];
+  h.bulk_modulus_MPa = beta;
+  h.air_volume_fraction = 0.0;
+  h.leak_clearance_mm = 1e-5;
+  h.return_spring_preload_N = 0.0;
+  h.return_spring_rate_N_per_mm = 0.0;
+  h.ball_spring_preload_N = 1e3;
+  h.supply_pressure_MPa = 20.0;
+  dynamics::FlexibleOptions opt = tight(2);
+  opt.relative_tolerance = 1e-8;
+  opt.absolute_tolerance = 1e-10;
+  const Run a = run(solid, 3000, opt), b = run(rigid, 3000, opt);
+  INFO(a.status.str() << "\n" << b.status.str());
+  REQUIRE(a.status.ok());
+  REQUIRE(b.status.ok());
+  SeriesGap g;
+  for (std::size_t i = 0; i < a.res.cam_deg.size(); ++i) {
+    g.z = std::max(g.z, std::abs(b.res.hla_plunger[i]));
+    g.element_force = std::max(g.element_force, std::abs(b.res.hla_force[i]));
+    g.lift = std::max(g.lift, std::abs(a.res.lift[i] - b.res.lift[i]));
+    g.force = std::max(g.force, std::abs(a.res.force[i] - b.res.force[i]));
+  }
+  return g;
+}
+
+}  // namespace
+
+TEST_CASE("flexible series HLA: a rigid element moves the valve as the solid bucket of the same mass",
+          "[dynamics][flexible][hla][series]") {
+  // 2e6 MPa in 330 mm^3: A^2 beta / V = 2.03e7 N/mm, 40 times the cam contact's stiffness
+  const SeriesGap stiff = rigid_series_gap(2e6), softer = rigid_series_gap(2e5);
+  INFO("2e6 MPa: z " << stiff.z << " mm, lift " << stiff.lift << " mm, cam force " << stiff.force << " N; 2e5 MPa: z "
+                     << softer.z << " mm, lift " << softer.lift << " mm, cam force " << softer.force << " N");
+  CHECK(stiff.element_force > 400.0);
+  // the element gives by F / 2.03e7 N/mm: 2.4e-5 mm at its 495 N peak; the valve is shorter
+  // by z on the same cam
+  CHECK(stiff.z < 3e-5);
+  CHECK(stiff.lift < stiff.z + 1e-6);
+  // the cam force rings (+-40 N at the nose flanks); the element's compliance shifts the
+  // ringing's frequency by about k_contact / (2 k_element): 1.3 % here, 2 N of its amplitude;
+  // the difference is the compliance's: ten times the compliance, about ten times the difference
+  CHECK(stiff.force < 2.0);
+  CHECK(softer.force > 5.0 * stiff.force);
+  CHECK(softer.force < 20.0 * stiff.force);
+}
+
+TEST_CASE("flexible series HLA: at 250 rpm the element carries the valve side",
+          "[dynamics][flexible][hla][series]") {
+  // the bundled element (1500 MPa oil, its leak and ball) on the compliant stem
+  const DesignSpec d = bucket_design();
+  dynamics::FlexibleOptions opt = tight(2);
+  const Run r = run(d, 250, opt);
+  INFO(r.status.str());
+  REQUIRE(r.status.ok());
+  const dynamics::FlexibleResult& res = r.res;
+  // the valve side: spring, seat and its inertia
+  const std::vector<double> valve = valve_side_balance(d, res);
+  double peak = 0.0;
+  for (double f : res.hla_force) peak = std::max(peak, std::abs(f));
+  INFO("peak element force " << peak << " N");
+  CHECK(peak > 450.0);
+  CHECK_COMPARISON(test::compare_series("HLA force against the valve side [N]", valve, res.hla_force,
+                                        {.abs = 1e-3 * peak}, res.cam_deg, "cam [deg]"));
+}
+
+TEST_CASE("flexible series HLA: the work of the drive and the element is the energy change and the losses",
+          "[dynamics][flexible][hla][series]") {
+  // the kinetic energy from the mass matrix (the series body on the stem's top, the valve
+  // side's mass halved) against the work of the forces (the kinematic inertia split the same
+  // way) at 6000 rpm, where the inertia is a third of the cam force
+  const Run r = run(bucket_design(), 6000, tight(1));
+  INFO(r.status.str());
+  REQUIRE(r.status.ok());
+  CHECK(std::abs(r.res.hla_work.back() - r.res.hla_work.front()) > 0.1);  // 0.33 N mm
+  CHECK_COMPARISON(dyn_test::power_balance(r.res, tol::kPowerBalanceRel));
+}
+
+TEST_CASE("flexible series HLA: the chamber's oil changes by the refill minus the leak", "[dynamics][flexible][hla][series]") {
+  const DesignSpec d = bucket_design();
+  const HlaSpec& h = d.hlas[0];
+  const Run r = run(d, 3000, tight(1));
+  INFO(r.status.str());
+  REQUIRE(r.status.ok());
+  const dynamics::FlexibleResult& res = r.res;
+  REQUIRE(res.layout.hydraulic_states == 4);
+  bool ball_opened = false;
+  std::vector<double> content, exchanged;
+  for (std::size_t i = 0; i < res.cam_deg.size(); ++i) {
+    const double* hs = &res.hydraulic_state[i * 4];
+    ball_opened = ball_opened || res.hla_ball_lift[i] > 0.0;
+    content.push_back(content_mm3(h, res.hla_plunger[i], hs[1], hs[0]) -
+                      content_mm3(h, res.hla_plunger[0], res.hydraulic_state[1], res.hydraulic_state[0]));
+    exchanged.push_back((res.hla_refill_volume[i] - res.hla_refill_volume[0]) -
+                        (res.hla_leak_volume[i] - res.hla_leak_volume[0]));
+  }
+  const double leak = res.hla_leak_volume.back() - res.hla_leak_volume.front();
+  INFO("leak " << leak << " mm^3 over the revolution");
+  CHECK(ball_opened);
+  CHECK(leak > 0.01);
+  CHECK_COMPARISON(test::compare_series("chamber content change [mm^3]", exchanged, content, {.abs = 1e-4 * leak},
+                                        res.cam_deg, "cam [deg]"));
+}
+
+TEST_CASE("flexible series HLA: a worn element on a starved gallery collapses", "[dynamics][flexible][hla][series]") {
+  // a 10 um clearance (20 um bottoms the plunger on its stop within the first revolutions),
+  // 0.15 MPa in the gallery against a ball that needs 0.25 MPa across it to open: the leak is
+  // never refilled and the bucket sinks onto the valve
+  DesignSpec d = bucket_design();
+  HlaSpec& h = d.hlas[0];
+  h.leak_clearance_mm = 0.01;
+  h.supply_pressure_MPa = 0.15;
+  h.seat_diameter_mm = 0.8;
+  h.ball_spring_preload_N = 0.125;
+  h.ball_travel_mm = 0.1;
+  dynamics::FlexibleOptions opt;
+  opt.revolutions = 3;
+  opt.periodic_tolerance = 0.0;
+  const Run r = run(d, 3000, opt);
+  INFO(r.status.str());
+  REQUIRE(r.status.ok());
+  const dynamics::FlexibleResult& res = r.res;
+  const double drift = res.hla_plunger.back() - res.hla_plunger.front();
+  const double leak = res.hla_leak_volume.back() - res.hla_leak_volume.front();
+  const double refill = res.hla_refill_volume.back() - res.hla_refill_volume.front();
+  INFO("drift " << drift << " mm, leak " << leak << " mm^3, refill " << refill << " mm^3");
+  CHECK(refill == 0.0);
+  CHECK(leak > 1.0);
+  // 3.2 mm^3 out of the chamber; on the base circle the return spring cannot draw the bucket
+  // back onto the cam against the chamber's floor (a void opens), so the plunger sinks by less
+  // than leak / A_p (0.056 mm)
+  CHECK(drift < -0.005);
+}
+
+TEST_CASE("flexible series HLA: the placements the model refuses name the file and the key",
+          "[dynamics][flexible][hla][series]") {
+  const std::string path = std::string(CAMOPT_SOURCE_DIR) + "/designs/bucket_tappet_hla.toml";
+  std::ifstream in(path);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string key = "series_body_mass_kg = 0.035\n";
+  const std::size_t at = text.find(key);
+  REQUIRE(at != std::string::npos);
+  const auto line_of = [&](std::size_t pos) {
+    return std::to_string(1 + std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(pos), '\n'));
+  };
+  const auto error_of = [&](const std::string& t) {
+    try {
+      (void)io::parse_design(t, "bucket_tappet_hla.toml", std::string(CAMOPT_SOURCE_DIR) + "/designs");
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  SECTION("a translational node's HLA without series_body_mass_kg: at its table") {
+    std::string t = text;
+    t.erase(at, key.size());
+    CHECK_THAT(error_of(t), Catch::Contains("bucket_tappet_hla.toml:" + line_of(text.find("\n[[hla]]") + 1) + ":") &&
+                                Catch::Contains("hla[0]: missing required key 'series_body_mass_kg'"));
+  }
+  SECTION("a series body as heavy as the node: at the key") {
+    std::string t = text;
+    t.replace(at, key.size(), "series_body_mass_kg = 0.0648\n");
+    CHECK_THAT(error_of(t), Catch::Contains("bucket_tappet_hla.toml:" + line_of(at) + ":") &&
+                                Catch::Contains("hla[0].series_body_mass_kg: value 0.0648 must be < node \"tappet\"'s "
+                                                "mass_kg (0.0648)"));
+  }
+  SECTION("the flexible model: an axis across the node's direction, naming the table") {
+    DesignSpec d = bucket_design();
+    d.hlas[0].axis = {1.0, -1.0};
+    const kin::Mechanism mech = kin::compile(d);
+    const dynamics::Model model = dynamics::compile_dynamics(d, mech);
+    dynamics::FlexibleResult res;
+    CHECK_THROWS_WITH(dynamics::run_flexible(mech, model, {}, 3000, 0, 360, 1, dynamics::FlexibleOptions{}, res),
+                      Catch::Contains("bucket_tappet_hla.toml:" + line_of(text.find("\n[[hla]]") + 1) + ":") &&
+                          Catch::Contains("hla 'bucket_hla' in series on node 'tappet': axis") &&
+                          Catch::Contains("must be along the node's direction"));
+  }
 }

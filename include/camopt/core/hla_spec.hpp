@@ -28,6 +28,10 @@ struct HlaSpec {
   double travel_min_mm = 0.0, travel_max_mm = 0.0;  // stops of z (must contain 0)
   double return_spring_rate_N_per_mm = 0.0;         // F_s(z) = preload - rate z, pushing out
   double return_spring_preload_N = 0.0;             // at z = 0
+  // in series on a translational node (a bucket tappet, a rocker arm's valve-side insert): the
+  // mass of the part on the contacts' side of the chamber, out of the node's mass_kg [kg];
+  // none for an HLA under a rotational node's pivot
+  std::optional<double> series_body_mass_kg;
 
   // high-pressure chamber and its oil
   double chamber_volume_mm3 = 0.0;            // at z = 0

@@ -36,6 +36,7 @@ struct Hla {
   double plunger_mass = 0.0;                          // [N s^2/mm]
   double travel_min = 0.0, travel_max = 0.0;          // stops of z [mm]
   double spring_preload = 0.0, spring_rate = 0.0;     // F_s(z) = preload - rate z [N]
+  double series_body_mass = 0.0;  // in series: the contact side's mass [N s^2/mm]; 0 under a pivot
 
   // chamber and oil
   double chamber_volume = 0.0;      // V0 at z = 0 [mm^3]
