@@ -62,6 +62,18 @@ def assert_same_columns(python_columns, csv_columns):
         assert differ.size == 0, "%s: row %d: python %r, csv %r" % (name, differ[0], got[differ[0]], expected[differ[0]])
 
 
+def assert_same_run_of_written_design(run, design, cli_folder, out, table):
+    """A job's Result on the Design a synthesis or optimisation returned equals the CLI's run of
+    the written cli_folder/design.toml into `out`: every column of `table` and the summary but
+    for design_file, which names each its own file."""
+    assert_same_columns(run.columns, read_csv(out / table))
+    expected = read_summary(out / "summary.json")
+    got = without_times(run.summary)
+    assert got.pop("design_file") == design.path
+    assert expected.pop("design_file") == str(cli_folder / "design.toml")
+    assert got == expected
+
+
 @pytest.fixture
 def source_dir():
     return SOURCE_DIR

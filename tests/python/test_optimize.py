@@ -11,7 +11,7 @@ import time
 import pytest
 
 import camopt
-from conftest import SOURCE_DIR, assert_same_columns, cli_error, read_csv, read_summary, run_cli, without_times
+from conftest import SOURCE_DIR, assert_same_columns, assert_same_run_of_written_design, cli_error, read_csv, run_cli
 
 DESIGN = "designs/bucket_tappet.toml"
 CONSTRAINTS = "constraints/high_speed_bucket.toml"
@@ -59,12 +59,7 @@ def test_the_returned_design_runs_as_the_cli_written_design(run, cli_folder, tmp
     code, stderr = run_cli("dynamics", cli_folder / "design.toml", "--rpm", "6000", "--no-report", "--out", tmp_path)
     assert code == 0, stderr
     again = camopt.dynamics(run.design, rpm=6000)
-    assert_same_columns(again.columns, read_csv(tmp_path / "dynamics.csv"))
-    expected = read_summary(tmp_path / "summary.json")
-    got = without_times(again.summary)
-    assert got.pop("design_file") == run.design.path
-    assert expected.pop("design_file") == str(cli_folder / "design.toml")
-    assert got == expected
+    assert_same_run_of_written_design(again, run.design, cli_folder, tmp_path, "dynamics.csv")
 
 
 @pytest.mark.parametrize("cli_args, python_args", [

@@ -9,7 +9,8 @@ import numpy as np
 import pytest
 
 import camopt
-from conftest import SOURCE_DIR, assert_same_columns, cli_error, read_csv, read_summary, run_cli, without_times
+from conftest import (SOURCE_DIR, assert_same_columns, assert_same_run_of_written_design, cli_error, read_csv,
+                      read_summary, run_cli)
 
 DESIGN = "designs/roller_finger_follower.toml"
 TARGET = "designs/targets/rff_intake_lift.csv"
@@ -56,13 +57,7 @@ def test_the_returned_design_runs_as_the_cli_written_design(run, cli_folder, tmp
                            "--out", tmp_path)
     assert code == 0, stderr
     again = camopt.kinematics(run.design, outputs="all", rpm=6000)
-    assert_same_columns(again.columns, read_csv(tmp_path / "kinematics.csv"))
-    expected = read_summary(tmp_path / "summary.json")
-    got = without_times(again.summary)
-    # the same design but for the file that names it
-    assert got.pop("design_file") == run.design.path
-    assert expected.pop("design_file") == str(cli_folder / "design.toml")
-    assert got == expected
+    assert_same_run_of_written_design(again, run.design, cli_folder, tmp_path, "kinematics.csv")
     # the valve lift of the synthesized cam follows the target (the round trip report.json states)
     assert run.summary["checks"]["round_trip_max_error_mm"] < 1e-3
 
