@@ -7,7 +7,8 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
-#include <cmath>
+#include <algorithm>
+#include <charconv>
 #include <cstring>
 #include <tuple>
 #include <filesystem>
@@ -234,27 +235,26 @@ py::tuple modes(const CompiledDesign& compiled, const std::string& control, cons
   return py::make_tuple(columns_dict(result.columns), result.summary.dump(), observer.take_notes());
 }
 
-// a target table given in memory: (column names, columns of numbers), as a CSV file of that
-// header would read (its rows numbered from line 2); `name` stands for the file in messages
-io::CsvTable table_in_memory(const std::string& name, std::vector<std::string> header,
-                             std::vector<std::vector<double>> values) {
-  io::CsvTable table;
-  table.file = name;
-  table.columns = std::move(header);
-  table.values = std::move(values);
-  const std::size_t rows = table.values.empty() ? 0 : table.values.front().size();
-  for (std::size_t c = 0; c < table.values.size(); ++c)
-    if (table.values[c].size() != rows)
-      throw InputError(name + ": column '" + table.columns[c] + "' has " + std::to_string(table.values[c].size()) +
-                       " values, the first " + std::to_string(rows));
+// a target table given in memory: (column names, columns of numbers) written as the CSV text
+// of that table (numbers shortest round-trip, so read back to the same bits) and read by the
+// CSV reader, with its checks and messages; `name` stands for the file
+io::CsvTable table_in_memory(const std::string& name, const std::vector<std::string>& header,
+                             const std::vector<std::vector<double>>& values) {
+  std::string text;
+  for (std::size_t c = 0; c < header.size(); ++c) text += (c ? "," : "") + header[c];
+  text += "\n";
+  std::size_t rows = 0;
+  for (const auto& column : values) rows = std::max(rows, column.size());
   for (std::size_t r = 0; r < rows; ++r) {
-    table.lines.push_back(static_cast<int>(r) + 2);
-    for (std::size_t c = 0; c < table.values.size(); ++c)
-      if (!std::isfinite(table.values[c][r]))
-        throw InputError(name + ":" + std::to_string(r + 2) + ": column '" + table.columns[c] + "' value " +
-                         format_value(table.values[c][r]) + " is not a finite number");
+    for (std::size_t c = 0; c < values.size(); ++c) {
+      if (r >= values[c].size()) continue;  // a short column: the row has fewer cells (the reader says so)
+      char buffer[64];
+      const auto end = std::to_chars(buffer, buffer + sizeof buffer, values[c][r]).ptr;
+      text += (c ? "," : "") + std::string(buffer, end);
+    }
+    text += "\n";
   }
-  return table;
+  return io::parse_csv(text, name);
 }
 
 // a profile's files: the tables as columns ({"profile.csv": ..., "grinding.csv": ...}) and
@@ -275,9 +275,8 @@ py::tuple synthesize(const CompiledDesign& compiled, const std::string& target_n
   options.design_file = compiled.path;
   options.target_file = target_name;
   jobs::validate(options);
-  const io::CsvTable target = target_header ? table_in_memory(target_name, std::move(*target_header),
-                                                              std::move(*target_values))
-                                            : io::read_csv(target_name);
+  const io::CsvTable target =
+      target_header ? table_in_memory(target_name, *target_header, *target_values) : io::read_csv(target_name);
   PythonObserver observer;
   const jobs::SynthesizeResult result =
       without_gil([&] { return jobs::run_synthesize(compiled.design.spec, target, options, observer); });

@@ -86,7 +86,7 @@ def test_a_target_table_in_memory_equals_its_file(run):
 def test_a_bad_target_value_in_memory_names_its_row():
     with pytest.raises(camopt.InputError) as e:
         camopt.synthesize({"cam_deg": [0, 1, 2], "lift_mm": [0, float("nan"), 0]}, DESIGN)
-    assert str(e.value) == "<target>:3: column 'lift_mm' value nan is not a finite number"
+    assert str(e.value) == "<target>:3: column 'lift_mm' value 'nan' is not finite"
 
 
 @pytest.mark.parametrize("cli_args, python_args", [
