@@ -308,3 +308,47 @@ TEST_CASE("progress: every backend reports its phases, and a throwing callback n
     }
   }
 }
+
+TEST_CASE("stop: a stop request ends every backend at its next iteration and starts no later phase",
+          "[opt][progress]") {
+  Fixture f = rff_set("");
+  f.set.grid_step_deg = 2.0;
+  using Event = opt::SolverProgress::Event;
+  for (const opt::SolverKind solver : {opt::SolverKind::ipopt, opt::SolverKind::slsqp, opt::SolverKind::global}) {
+    auto solve = [&](std::function<bool()> stop, Events& events) {
+      const std::unique_ptr<opt::CamProblem> made_fresh = opt_test::make_problem(f.design, f.set, nullptr);
+      opt::SolverOptions so;
+      so.solver = solver;
+      so.starts = 3;
+      so.progress = [&](const opt::SolverProgress& e) { events.all.push_back(e); };
+      so.stop_requested = std::move(stop);
+      return opt::optimize(*made_fresh, so);
+    };
+    INFO(opt::to_string(solver));
+    Events never_ev, stop_ev;
+    const opt::SolveResult full = solve({}, never_ev);
+    int never_asks = 0;
+    const opt::SolveResult never = solve([&] { return ++never_asks < 0; }, never_ev);
+    // a stop never requested changes nothing; it is asked at every iteration (ipopt) or
+    // evaluation (nlopt) at least
+    CHECK(never.final.objective == full.final.objective);
+    CHECK(never.iterations == full.iterations);
+    CHECK(never.evaluations == full.evaluations);
+    CHECK(never_asks >= (solver == opt::SolverKind::ipopt ? full.iterations : full.evaluations));
+    // a stop requested at the 4th ask: asked no more, the run ends there
+    int asks = 0;
+    const opt::SolveResult stopped = solve([&] { return ++asks >= 4; }, stop_ev);
+    CHECK(asks == 4);
+    CHECK(!stopped.infeasibility.diagnosed);
+    if (solver == opt::SolverKind::ipopt) {
+      CHECK(full.iterations > 10);
+      CHECK(stopped.iterations <= 3);
+    } else {
+      CHECK(stopped.evaluations <= 4);
+      CHECK(stopped.evaluations < full.evaluations);
+    }
+    // every phase begun is ended, and none begins after the stopped one
+    CHECK(stop_ev.count(Event::begin) == 1);
+    CHECK(stop_ev.count(Event::end) == 1);
+  }
+}
