@@ -333,8 +333,8 @@ def optimize(design, constraints, cam="rotational", solver="ipopt", points=1440,
     Returns a Result: ``tables`` lift.csv (a swing cam: also swing_pitch.csv), profile.csv and
     grinding.csv; ``columns`` lift.csv's; ``summary`` report.json; ``files`` and ``design`` as
     synthesize's. Raises InputError, or NumericalError when the solver fails (an infeasible
-    set: its message names the conflicting limits); KeyboardInterrupt on Ctrl-C (checked at
-    every solver iteration).
+    set: its message names the conflicting limits; its ``report`` is the report.json the CLI
+    writes before it exits 4); KeyboardInterrupt on Ctrl-C (checked at every solver iteration).
     """
     design = _design(design)
     if solver != "global" and starts is not None:

@@ -221,6 +221,18 @@ py::tuple dynamics(const CompiledDesign& compiled, const std::string& model, con
   return py::make_tuple(columns_dict(result.columns), result.summary.dump(), observer.take_notes());
 }
 
+// camopt.NumericalError with its status: code, message and where (the angle, the residual)
+// and, for a job that writes a report before it fails (optimize), `report`: its JSON text
+void raise_numerical(const NumericalError& e, const std::string& report = "") {
+  const Status& s = e.status();
+  py::object error = py::reinterpret_borrow<py::object>(numerical_error_type)(e.what());
+  error.attr("code") = to_string(s.code);
+  error.attr("detail") = s.message;
+  error.attr("where") = s.where;
+  error.attr("report") = report.empty() ? py::none() : py::module_::import("json").attr("loads")(report);
+  PyErr_SetObject(numerical_error_type, error.ptr());
+}
+
 // the modes job (dynamics --model modes): (columns, summary as JSON text, notes)
 py::tuple modes(const CompiledDesign& compiled, const std::string& control, const std::string& cam_deg,
                 bool release_cam, std::optional<int> threads) {
@@ -294,7 +306,10 @@ py::tuple optimize(const CompiledDesign& compiled, const std::string& constraint
   PythonObserver observer;
   const jobs::OptimizeResult result =
       without_gil([&] { return jobs::run_optimize(compiled.design.spec, std::move(set), options, observer); });
-  if (!result.status.ok()) throw NumericalError(result.status);
+  if (!result.status.ok()) {
+    raise_numerical(NumericalError(result.status), result.report.dump());
+    throw py::error_already_set();
+  }
   py::dict tables, files;
   if (result.exports) std::tie(tables, files) = exports_dicts(*result.exports);
   for (const auto& [name, table] : result.tables) tables[py::str(name)] = columns_dict(table);
@@ -302,15 +317,6 @@ py::tuple optimize(const CompiledDesign& compiled, const std::string& constraint
                         result.verification_failures);
 }
 
-// camopt.NumericalError with its status: code, message and where (the angle, the residual)
-void raise_numerical(const NumericalError& e) {
-  const Status& s = e.status();
-  py::object error = py::reinterpret_borrow<py::object>(numerical_error_type)(e.what());
-  error.attr("code") = to_string(s.code);
-  error.attr("detail") = s.message;
-  error.attr("where") = s.where;
-  PyErr_SetObject(numerical_error_type, error.ptr());
-}
 
 // every C++ exception a job throws, as its Python exception: nothing escapes unmapped
 void translate(std::exception_ptr p) {
@@ -342,7 +348,8 @@ void add_exceptions(py::module_& m) {
   numerical_error_type = PyErr_NewExceptionWithDoc(
       "camopt.NumericalError",
       "A numerical failure (the CLI's exit 4): no convergence, cannot assemble, undercut, integrator "
-      "failure. The message names where (the angle, the residual); attributes code, detail, where.",
+      "failure. The message names where (the angle, the residual); attributes code, detail, where, and "
+      "report (optimize: report.json's content, as the CLI writes it before exit 4; else None).",
       error_type, nullptr);
   m.attr("Error") = py::handle(error_type);
   m.attr("InputError") = py::handle(input_error_type);
