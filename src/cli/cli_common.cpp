@@ -7,6 +7,8 @@
 #include <cstdlib>
 #include <thread>
 
+#include <nlohmann/json.hpp>
+
 #include "camopt/core/error.hpp"
 #include "camopt/io/design_file.hpp"
 #include "camopt/kinematics/drawing_check.hpp"
@@ -87,9 +89,36 @@ std::vector<std::string> held_rigid_hlas(const DesignSpec& spec, const std::stri
   return names;
 }
 
+std::vector<io::Override> design_overrides() {
+  std::vector<io::Override> out;
+  for (const std::string& argument : global_options().set) out.push_back(io::parse_override(argument));
+  return out;
+}
+
+DesignSpec load_design_spec(const std::string& design_path) {
+  return io::load_design(design_path, design_overrides());
+}
+
+void record_overrides(nlohmann::json& summary) {
+  if (global_options().set.empty()) return;
+  nlohmann::json overrides = nlohmann::json::object();
+  for (const io::Override& o : design_overrides()) {
+    // a TOML number, boolean or array of numbers reads as JSON; a string is unquoted
+    nlohmann::json value = nlohmann::json::parse(o.value, nullptr, false);
+    if (value.is_discarded()) value = o.value;
+    overrides[o.key] = value;
+  }
+  summary["overrides"] = overrides;
+}
+
+nlohmann::json with_overrides(nlohmann::json summary) {
+  record_overrides(summary);
+  return summary;
+}
+
 LoadedDesign load_mechanism(const std::string& design_path) {
   LoadedDesign d;
-  d.spec = io::load_design(design_path);
+  d.spec = load_design_spec(design_path);
   d.mech = kin::compile(d.spec);
   for (const auto& note : kin::check_drawing(d.mech)) info(design_path + ": warning: " + note);
   return d;

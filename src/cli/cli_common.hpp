@@ -10,7 +10,10 @@
 #include <utility>
 #include <vector>
 
+#include <nlohmann/json_fwd.hpp>
+
 #include "camopt/io/atomic_file.hpp"
+#include "camopt/io/design_document.hpp"
 #include "camopt/kinematics/mechanism.hpp"
 #include "camopt/report/report.hpp"
 
@@ -37,6 +40,7 @@ class VerificationFailed : public std::runtime_error {
 };
 
 struct GlobalOptions {
+  std::vector<std::string> set;  // --set KEY=VALUE: design overrides, in order
   bool quiet = false;
   bool verbose = false;
   int threads = 0;               // 0 = all hardware threads
@@ -98,6 +102,14 @@ struct LoadedDesign {
 
 // the design file parsed and compiled; the drawing check's warnings on stderr
 LoadedDesign load_mechanism(const std::string& design_path);
+
+// --set, each KEY=VALUE read (InputError for one without '=')
+std::vector<io::Override> design_overrides();
+// the design file parsed with the --set overrides applied (io::DesignDocument)
+DesignSpec load_design_spec(const std::string& design_path);
+// summary.json / report.json: "overrides": {"key.path": value} when --set was given
+void record_overrides(nlohmann::json& summary);
+nlohmann::json with_overrides(nlohmann::json summary);
 
 // the design's hydraulic lash adjusters, which every model but the flexible one holds rigid
 // (their node's pivot fixed): a note on stderr naming `what` ran, and their names for

@@ -76,7 +76,7 @@ report::WrittenTables run_rigid(const DynamicsOptions& o) {
   const nlohmann::json summary = rigid_summary(su, o.design, sweeps, seconds);
   io::Columns table = rigid_columns(su, sweeps);
   const auto committed = write_outputs(o.out_dir, kDynamicsOutputs,
-                                       {{"dynamics.csv", io::format_csv(table)}, {"summary.json", summary.dump(2) + "\n"}});
+                                       {{"dynamics.csv", io::format_csv(table)}, {"summary.json", with_overrides(summary).dump(2) + "\n"}});
   info("dynamics (rigid): " + std::to_string(su.controls.values.size()) + " position(s) x " +
        std::to_string(sweeps[0].points()) + " points in " + std::to_string(seconds * 1e3) + " ms, " +
        std::to_string(su.rpms.size()) + " speed(s) -> " + o.out_dir + "/dynamics.csv, summary.json");
@@ -101,7 +101,7 @@ report::WrittenTables run_compliant_contacts(const DynamicsOptions& o) {
   const nlohmann::json summary = compliant_summary(su, o.design, runs, seconds);
   io::Columns table = compliant_columns(su, runs, rigid);
   const auto committed = write_outputs(o.out_dir, kDynamicsOutputs,
-                                       {{"dynamics.csv", io::format_csv(table)}, {"summary.json", summary.dump(2) + "\n"}});
+                                       {{"dynamics.csv", io::format_csv(table)}, {"summary.json", with_overrides(summary).dump(2) + "\n"}});
   info("dynamics (rigid, compliant contacts): " + std::to_string(runs.size()) + " run(s) in " +
        std::to_string(seconds * 1e3) + " ms -> " + o.out_dir + "/dynamics.csv, summary.json");
   return hand_over(committed, "dynamics.csv", std::move(table));
@@ -123,7 +123,7 @@ report::WrittenTables run_flexible_model(const DynamicsOptions& o) {
   io::Columns table = flexible_columns(su, runs, o.flexible.coil_displacements);
   const nlohmann::json summary = flexible_summary(su, o.design, o.flexible, runs, seconds);
   const auto committed = write_outputs(o.out_dir, kDynamicsOutputs,
-                                       {{"dynamics.csv", io::format_csv(table)}, {"summary.json", summary.dump(2) + "\n"}});
+                                       {{"dynamics.csv", io::format_csv(table)}, {"summary.json", with_overrides(summary).dump(2) + "\n"}});
   info("dynamics (flexible): " + std::to_string(runs.size()) + " run(s) in " + std::to_string(seconds * 1e3) +
        " ms -> " + o.out_dir + "/dynamics.csv, summary.json");
   return hand_over(committed, "dynamics.csv", std::move(table));

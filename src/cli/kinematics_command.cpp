@@ -311,6 +311,7 @@ nlohmann::json summary_json(const Run& run, const kin::SweepSpec& sweep, const k
   const kin::Mechanism& mech = run.mech;
   nlohmann::json summary;
   summary["design"] = mech.name;
+  record_overrides(summary);
   if (const auto held = held_rigid_hlas(run.spec, "kinematics"); !held.empty()) summary["hla_held_rigid"] = held;
   summary["design_file"] = run.options.design;
   summary["driver"] = mech.nodes[mech.driver_node].name;

@@ -1,5 +1,6 @@
 // camopt validate: check a design file and print the compiled mechanism.
 #include <CLI/CLI.hpp>
+#include <charconv>
 #include <iostream>
 
 #include "camopt/dynamics/flexible.hpp"
@@ -42,6 +43,21 @@ std::string describe_oil(const DesignSpec& spec) {
   return out + "\n";
 }
 
+// the contacts that touch at rest, each with its solved position (shortest round-trip numbers)
+std::string describe_assembled(const kin::Mechanism& mech) {
+  const auto number = [](double v) {
+    char buffer[32];
+    return std::string(buffer, std::to_chars(buffer, buffer + sizeof buffer, v).ptr);
+  };
+  const auto point = [&](const Vec2& p) { return "[" + number(p[0]) + ", " + number(p[1]) + "]"; };
+  std::string out;
+  for (const kin::AssembledContact& a : mech.assembled)
+    out += "touch at rest: " + mech.connections[static_cast<std::size_t>(a.connection)].name + ": " + a.key +
+           " solved " + point(a.solved_mm) + " (drawn " + point(a.drawn_mm) + ", moved " + number(a.moved_mm) +
+           " mm along the contact normal)\n";
+  return out;
+}
+
 }  // namespace
 
 void setup_validate(CLI::App& app) {
@@ -51,10 +67,10 @@ void setup_validate(CLI::App& app) {
   cmd->add_option("designs", *files, "design files (TOML)")->required();
   cmd->callback([files] {
     for (const auto& f : *files) {
-      const DesignSpec spec = io::load_design(f);
+      const DesignSpec spec = load_design_spec(f);
       const kin::Mechanism mech = kin::compile(spec);
       const std::string flexible = describe_flexible(spec, mech);  // throws for bad flexible-model data
-      if (!global_options().quiet) std::cout << f << ": ok\n" << kin::describe(mech) << flexible << describe_oil(spec);
+      if (!global_options().quiet) std::cout << f << ": ok\n" << kin::describe(mech) << describe_assembled(mech) << flexible << describe_oil(spec);
       for (const auto& note : kin::check_drawing(mech)) info(f + ": warning: " + note);
       if (!global_options().quiet) std::cout << "\n";
     }
