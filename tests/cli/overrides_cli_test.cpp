@@ -129,10 +129,18 @@ TEST_CASE("a roller radius override on the finger follower assembles only with t
   INFO(ok.all());
   CHECK(ok.exit_code == cli_ok);
   CHECK_FALSE(contains(ok.err, "warning"));
-  // as drawn, the larger roller overlaps the base circle: the drawing check says so
-  ExpectWarnings expect({"drawing not assembled: 'finger' solves to"});
-  const auto drawn = run_camopt({"validate", design, "--set", "connection.cam_roller.b.radius_mm=9.5"});
-  CHECK(contains(drawn.err, "warning: drawing not assembled: 'finger' solves to"));
+  // as drawn (the design's touch_at_rest off), the larger roller overlaps the base circle:
+  // the drawing check says so
+  ExpectWarnings expect({"drawing not assembled: 'finger' solves to", "drawing not assembled: 'valve' solves to"});
+  const auto drawn = run_camopt({"kinematics", design, "--out", tmp.file("b"), "--step", "2", "--set",
+                                 "connection.cam_roller.b.radius_mm=9.5", "--set",
+                                 "connection.cam_roller.touch_at_rest=false"});
+  CHECK(contains(drawn.err, "warning: drawing not assembled: 'finger' solves to -2.5996"));
+  // and validate refuses it: the valve, held open 1.8 mm, never reaches its seat
+  const auto seat = run_camopt({"validate", design, "--set", "connection.cam_roller.b.radius_mm=9.5", "--set",
+                                "connection.cam_roller.touch_at_rest=false"});
+  CHECK(seat.exit_code == cli_input_error);
+  CHECK(contains(seat.err, "the valve never reaches its seat"));
 }
 
 TEST_CASE("a bad override is exit 3 naming it", "[cli][set]") {
@@ -146,7 +154,8 @@ TEST_CASE("a bad override is exit 3 naming it", "[cli][set]") {
        "--set node.follower.origin_mm[2]=1: index 2 is out of range (node.follower.origin_mm has 2 elements)"},
       {"node.follower.mass_kg=true", "--set node.follower.mass_kg=true: node.follower.mass_kg is a number in the file"},
       {"connection.disc_roller.b.radius_mm=-1",
-       "--set connection.disc_roller.b.radius_mm=-1: connection[0].b.radius_mm: value -1 must be >= 0.001"},
+       "--set connection.disc_roller.b.radius_mm=-1: connection[0].b.radius_mm: value -1 must be in [0.001, "
+       "1e+06]"},
       {"connection.disc_roller.b.center_mm=[3,10]", "b's centre [3, 10] is inside a's circle"},
   };
   for (const Case& c : cases)

@@ -88,8 +88,8 @@ TEST_CASE("a bad override is an InputError naming it as given") {
   CHECK(input_error_of([&] { doc.set("node.fingr.mass_kg", "0.05"); }) ==
         "--set node.fingr.mass_kg=0.05: no [[node]] named \"fingr\" (cam, finger, valve)");
   CHECK(input_error_of([&] { doc.set("drivr.step_deg", "2"); }) ==
-        "--set drivr.step_deg=2: no key 'drivr' in the file (keys: schema, design, driver, node, profile, material, "
-        "connection, spring, oil)");
+        "--set drivr.step_deg=2: no key 'drivr' in the file (keys: connection, design, driver, material, node, oil, "
+        "profile, schema, spring)");
   CHECK(input_error_of([&] { doc.set("node.finger.pivot_mm[2]", "1"); }) ==
         "--set node.finger.pivot_mm[2]=1: index 2 is out of range (node.finger.pivot_mm has 2 elements)");
   CHECK(input_error_of([&] { doc.set("node.finger.mass_kg", "\"heavy\""); }) ==
@@ -112,7 +112,8 @@ TEST_CASE("a value that breaks a design rule is reported at its override") {
   io::DesignDocument doc = io::DesignDocument::load(kRff);
   doc.set(io::parse_override("connection.cam_roller.b.radius_mm=-1"));
   CHECK(input_error_of([&] { (void)doc.spec(); }) ==
-        "--set connection.cam_roller.b.radius_mm=-1: connection[0].b.radius_mm: value -1 must be >= 0.001");
+        "--set connection.cam_roller.b.radius_mm=-1: connection[0].b.radius_mm: value -1 must be in [0.001, "
+        "1e+06]");
   // an unknown key added by an override is refused at the override, with the allowed keys
   io::DesignDocument typo = io::DesignDocument::load(kRff);
   typo.set("node.finger.mass_kgg", "0.05");

@@ -106,11 +106,14 @@ TEST_CASE("a roller radius override moves the centre along the normal and gives 
 TEST_CASE("a roller radius override on the finger follower assembles with touch at rest") {
   io::DesignDocument doc = io::DesignDocument::load(kDesigns + "roller_finger_follower.toml");
   doc.set("connection.cam_roller.b.radius_mm", "9.5");
-  // as drawn, the larger roller overlaps the base circle by 1 mm: the drawing check says so
+  // as drawn (the design's touch_at_rest off), the larger roller overlaps the base circle by
+  // 1 mm: the drawing check says so
+  doc.set("connection.cam_roller.touch_at_rest", "false");
   const kin::Mechanism drawn = kin::compile(doc.spec());
   const auto notes = kin::check_drawing(drawn);
-  REQUIRE(notes.size() == 1);
-  CHECK(notes[0].find("drawing not assembled: 'finger' solves to") == 0);
+  REQUIRE(notes.size() == 2);
+  CHECK(notes[0].find("drawing not assembled: 'finger' solves to -2.5996") == 0);
+  CHECK(notes[1].find("drawing not assembled: 'valve' solves to 1.8064") == 0);
   // with touch_at_rest the centre moves 1 mm away from the cam (base circle 18 mm) and the
   // drawing assembles
   doc.set("connection.cam_roller.touch_at_rest", "true");
