@@ -100,6 +100,10 @@ double minimise_on_curve(const F& f, const D& derivs) {
   return u;
 }
 
+// a contact drawn touching to within this is left as drawn [mm]: the solve's own round-off
+// (a foot point on a spline) is ~1e-14 mm, and a design drawn touching keeps its bits
+constexpr double kTouchingTolerance_mm = 1e-12;
+
 struct Solved {
   Vector2d moved_to;   // side b's circle centre or line point (world, the drawing pose)
   double moved = 0.0;  // along the normal a -> b [mm]
@@ -207,8 +211,10 @@ void assemble_mechanism_contacts(const DesignSpec& spec, Mechanism& m) {
     const Solved s = b.kind == SurfaceKind::point ? circle_on(m, c, pa, apply(pb, b.origin), b.offset)
                                                   : face_on(m, c, pa, apply(pb, b.origin), rotate(pb, b.normal));
     const Vector2d drawn = b.origin;
-    b.origin = unapply(pb, s.moved_to);
-    m.assembled.push_back({static_cast<int>(ci), key, {drawn.x(), drawn.y()}, {b.origin.x(), b.origin.y()}, s.moved});
+    const bool touching = std::abs(s.moved) <= kTouchingTolerance_mm;
+    if (!touching) b.origin = unapply(pb, s.moved_to);
+    m.assembled.push_back(
+        {static_cast<int>(ci), key, {drawn.x(), drawn.y()}, {b.origin.x(), b.origin.y()}, touching ? 0.0 : s.moved});
   }
 }
 

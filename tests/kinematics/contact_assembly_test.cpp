@@ -98,9 +98,9 @@ TEST_CASE("a roller radius override moves the centre along the normal and gives 
     peak = std::max(peak, lift);
   }
   CHECK(worst < 1e-9);
-  // the lift is the disc's throw, 2e, less the offset's effect: near 8 mm
-  CHECK(peak > 7.9);
-  CHECK(peak < 8.0);
+  // near the disc's throw 2e = 8 mm; the 3 mm offset adds about 0.05 mm
+  CHECK(peak > 8.0);
+  CHECK(peak < 8.1);
 }
 
 TEST_CASE("a roller radius override on the finger follower assembles with touch at rest") {
