@@ -59,7 +59,7 @@ TEST_CASE("kinematics with --set equals the run of the edited file", "[cli][set]
   CHECK_FALSE(nlohmann::json::parse(read_file(tmp / "c/summary.json")).contains("overrides"));
 }
 
-TEST_CASE("--set may come before the subcommand", "[cli][set]") {
+TEST_CASE("the --set option may come before the subcommand", "[cli][set]") {
   TempDir tmp;
   const auto a = run_camopt(with(kSets, {"kinematics", kEccentric, "--out", tmp.file("a"), "--step", "2"}));
   const auto b = run_camopt({"kinematics", tmp.write("edited.toml", eccentric_by_hand()), "--out", tmp.file("b"),
