@@ -39,6 +39,7 @@ class Design:
         """A design from its TOML text; ``path`` names it in messages and summary.json."""
         self._text = str(text)
         self._path = _os.fspath(path)
+        self._overrides = []
         self._compiled = None
 
     @classmethod
@@ -54,8 +55,38 @@ class Design:
 
     @property
     def text(self):
-        """The design's TOML text."""
-        return self._text
+        """The design's TOML text, with the values ``set`` changed edited in (the file's
+        comments and layout kept): the text a job runs."""
+        if not self._overrides:
+            return self._text
+        return _camopt.design_text(self._text, self._path, self._overrides)
+
+    @property
+    def overrides(self):
+        """The values ``set`` changed: a dict of key path -> TOML text, in order."""
+        return dict(self._overrides)
+
+    def get(self, key):
+        """The value at a key path (docs/design-format.md, "Key paths"): ``design.name``,
+        ``node.finger.mass_kg`` (an array of tables by its entries' ``name``),
+        ``connection.cam_roller.b.radius_mm`` (an inline table), ``node.finger.pivot_mm[0]`` (an
+        array element) or ``node.finger.pivot_mm`` (the whole array). Returns a float, int, bool,
+        str or list, in the key's unit (its name says it). InputError when the path leads
+        nowhere."""
+        return _from_toml(_camopt.design_get(self._text, self._path, self._overrides, key))
+
+    def set(self, key, value):
+        """Change the value at a key path (see ``get``): a number, bool, str or list of numbers,
+        in the key's unit. Raises InputError now when the path leads nowhere or the value's type
+        is not the key's ("set node.fingr.mass_kg=0.05: no [[node]] named ..."), and at
+        ``compile()`` when the value breaks a rule of the design format, naming the change.
+        Contacts with ``touch_at_rest`` are re-assembled when the design compiles, so a new
+        roller radius or pivot gives an assembled mechanism. Returns the design."""
+        changes = self._overrides + [(str(key), _to_toml(value))]
+        _camopt.design_text(self._text, self._path, changes)  # raises for a path that leads nowhere
+        self._overrides = changes
+        self._compiled = None
+        return self
 
     @property
     def path(self):
@@ -76,7 +107,7 @@ class Design:
         """The design parsed, checked and compiled (cached). InputError names the file, the
         line and the key path of a bad value, as ``camopt validate`` does."""
         if self._compiled is None:
-            self._compiled = _camopt.compile_design(self._text, self._path)
+            self._compiled = _camopt.compile_design(self._text, self._path, self._overrides)
         return self._compiled
 
     def validate(self):
@@ -106,6 +137,33 @@ class Result:
 
     def __repr__(self):
         return "camopt.Result(columns=[%s])" % ", ".join(self.columns)
+
+
+def _to_toml(value):
+    """A Python value as TOML text: numbers in shortest round-trip form, strings quoted."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, int):
+        return str(value)
+    if isinstance(value, float):
+        if value != value or value in (float("inf"), float("-inf")):
+            raise InputError("set: value %r is not a finite number" % value)
+        return repr(value)
+    if isinstance(value, str):
+        return _json.dumps(value)  # a TOML basic string: JSON's escapes are TOML's
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join(_to_toml(v) for v in value) + "]"
+    try:
+        return _to_toml(float(value))  # numpy scalars
+    except (TypeError, ValueError):
+        raise InputError("set: value %r is not a number, bool, string or list" % (value,)) from None
+
+
+def _from_toml(text):
+    """A TOML value's text as a Python value."""
+    import tomllib
+
+    return tomllib.loads("v = " + text)["v"]
 
 
 def _design(design):

@@ -21,6 +21,7 @@
 
 #include "camopt/core/error.hpp"
 #include "camopt/io/csv.hpp"
+#include "camopt/io/design_document.hpp"
 #include "camopt/io/design_file.hpp"
 #include "camopt/io/input_file.hpp"
 #include "camopt/jobs/common.hpp"
@@ -109,14 +110,38 @@ py::dict columns_dict(const io::Columns& table) {
 // the design file's text, read as the CLI reads it (the same messages)
 std::string read_design_file(const std::string& path) { return io::read_input_file(path, "design file"); }
 
-// a design's text parsed and compiled; `path` names it in messages and resolves its relative
-// `file = ...` references
-std::shared_ptr<CompiledDesign> compile_design(const std::string& text, const std::string& path) {
+// Design.set's changes: (key path, TOML text of the value), in order
+using Overrides = std::vector<std::pair<std::string, std::string>>;
+
+// a design's text as an editable document with the overrides applied; an override that
+// leads nowhere or changes a value's type raises InputError naming it ("set key=value: ...")
+io::DesignDocument design_document(const std::string& text, const std::string& path, const Overrides& overrides) {
   std::string directory = std::filesystem::path(path).parent_path().string();
   if (directory.empty()) directory = ".";
+  io::DesignDocument doc = io::DesignDocument::from_text(text, path, directory);
+  for (const auto& [key, value] : overrides) doc.set(io::Override{key, value, "set " + key + "=" + value});
+  return doc;
+}
+
+// the value at `key` (TOML text) of the design with its overrides
+std::string design_get(const std::string& text, const std::string& path, const Overrides& overrides,
+                       const std::string& key) {
+  return design_document(text, path, overrides).get(key);
+}
+
+// the design's text with its overrides edited in (comments and layout kept)
+std::string design_text(const std::string& text, const std::string& path, const Overrides& overrides) {
+  return design_document(text, path, overrides).text();
+}
+
+// a design's text with its overrides parsed and compiled; `path` names it in messages and
+// resolves its relative `file = ...` references; a value an override gave that breaks a rule
+// is reported at the override
+std::shared_ptr<CompiledDesign> compile_design(const std::string& text, const std::string& path,
+                                               const Overrides& overrides) {
   PythonObserver observer;
   auto compiled = std::make_shared<CompiledDesign>();
-  compiled->design = jobs::compile_design(io::parse_design(text, path, directory), path, observer);
+  compiled->design = jobs::compile_design(design_document(text, path, overrides).spec(), path, observer);
   compiled->path = path;
   compiled->notes = observer.take_notes();
   return compiled;
@@ -278,8 +303,13 @@ PYBIND11_MODULE(_camopt, m) {
       .def_property_readonly("notes", [](const CompiledDesign& c) { return c.notes; },
                              "the drawing check's warnings, as the CLI prints them");
   m.def("read_design_file", &read_design_file, py::arg("path"), "A design file's text (the CLI's checks).");
-  m.def("compile_design", &compile_design, py::arg("text"), py::arg("path"),
-        "A design's TOML text parsed and compiled; path names it in messages.");
+  m.def("compile_design", &compile_design, py::arg("text"), py::arg("path"), py::arg("overrides"),
+        "A design's TOML text with its overrides [(key path, TOML value)] parsed and compiled; path names it "
+        "in messages.");
+  m.def("design_get", &design_get, py::arg("text"), py::arg("path"), py::arg("overrides"), py::arg("key"),
+        "The value at a key path of a design with its overrides, as TOML text.");
+  m.def("design_text", &design_text, py::arg("text"), py::arg("path"), py::arg("overrides"),
+        "A design's TOML text with its overrides edited in.");
   m.def("validate_design", &validate_design, py::arg("design"),
         "The validate job: (description, drawing warnings).");
   m.def("kinematics", &kinematics, py::arg("design"), py::arg("control"), py::arg("outputs"), py::arg("step_deg"),

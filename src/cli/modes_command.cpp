@@ -162,6 +162,7 @@ nlohmann::json modes_summary(const kin::Mechanism& mech, const dynamics::Model& 
   const std::string lift_unit = angle_out ? "deg" : "mm";
   nlohmann::json summary;
   summary["design"] = mech.name;
+  record_overrides(summary);
   summary["design_file"] = rq.design;
   summary["model"] = "modes";
   summary["linearisation"] =

@@ -32,6 +32,7 @@ constexpr double kNoseConvexRadius = 1.0;
 
 struct OptimizeOptions {
   std::string design, constraints, solver = "ipopt", out_dir, cam = "rotational";
+  std::vector<std::string> set_constraint;  // --set-constraint KEY=VALUE
   bool verify = false;
   ReportOptions report;  // --no-report, --figures
   int points = 1440;
@@ -253,6 +254,7 @@ nlohmann::json run_report(const OptimizeOptions& o, const DesignSpec& spec, cons
                           const opt::CamProblem& problem, const opt::SolveResult& result) {
   nlohmann::json report;
   report["design"] = spec.name;
+  record_overrides(report);
   report["design_file"] = o.design;
   report["constraints_file"] = o.constraints;
   report["constraint_set"] = set.name;
@@ -379,8 +381,10 @@ void stage_rotational_outputs(io::OutputTransaction& out, const OptimizeOptions&
 void run_optimize(const OptimizeOptions& o) {
   // the design, the constraint set, the solver and the target lift, if any
   check_inputs_outside(o.out_dir, {o.design, o.constraints}, kOptimizeOutputs);
-  const DesignSpec spec = io::load_design(o.design);
-  opt::OptimizationSpec set = io::load_constraints(o.constraints);
+  const DesignSpec spec = load_design_spec(o.design);
+  std::vector<io::Override> constraint_overrides;
+  for (const std::string& a : o.set_constraint) constraint_overrides.push_back(io::parse_override(a, "--set-constraint"));
+  opt::OptimizationSpec set = io::load_constraints(o.constraints, constraint_overrides);
   set.cam = o.cam;
   opt::SolverOptions so;
   so.solver = opt::parse_solver(o.solver);
@@ -447,6 +451,11 @@ void setup_optimize(CLI::App& app) {
   cmd->add_option("design", opts->design, "design file (TOML)")->required();
   cmd->add_option("--constraints", opts->constraints, "constraint set (TOML, see constraints/ and docs/optimisation.md)")
       ->required();
+  cmd->add_option("--set-constraint", opts->set_constraint,
+                  "KEY=VALUE: change a value of the constraint set before it is read, e.g. --set-constraint "
+                  "limits.max_pressure_angle_deg=28 (repeatable; key paths as --set's)")
+      ->allow_extra_args(false)
+      ->type_name("KEY=VALUE");
   cmd->add_option("--cam", opts->cam,
                   "which cam to optimise: rotational (the driver's; [event] lift model) or swing (a VVA swing cam's "
                   "profile over every control position; [swing_profile])")

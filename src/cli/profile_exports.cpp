@@ -3,6 +3,7 @@
 #include "camopt/io/csv.hpp"
 #include "camopt/io/design_rewrite.hpp"
 #include "camopt/io/dxf.hpp"
+#include "cli_common.hpp"
 
 namespace camopt::cli {
 
@@ -43,7 +44,8 @@ void stage_profile_exports(io::OutputTransaction& out, const std::string& out_di
             io::format_csv({"angle_deg", "radius_mm", "excess_radius_mm", "x_mm", "y_mm", "radius_of_curvature_mm"},
                            {res.angle_deg, res.radius_mm, excess, res.x_mm, res.y_mm, res.radius_of_curvature_mm}));
   // design.toml names profile.csv beside it, so the folder can be moved or handed on
-  out.stage("design.toml", io::design_with_profile_file(design_path, res.profile.name, "profile.csv", out_dir));
+  out.stage("design.toml", io::design_with_profile_file(design_path, res.profile.name, "profile.csv", out_dir,
+                                                                design_overrides()));
 }
 
 }  // namespace camopt::cli

@@ -253,6 +253,7 @@ nlohmann::json report_json(const SynthesizeOptions& o, const kin::Mechanism& mec
                            nlohmann::json checks) {
   nlohmann::json report;
   report["design"] = mech.name;
+  record_overrides(report);
   report["design_file"] = o.design;
   report["target_file"] = o.target_csv;
   report["target_angle_basis"] = io::to_string(target.basis);
@@ -294,7 +295,7 @@ void warn_radii(const SynthesizeOptions& o, const synthesis::SynthesisResult& re
 
 void run_synthesize(const SynthesizeOptions& o) {
   // the design, and the target motion (inputs outside the output folder)
-  const DesignSpec spec = io::load_design(o.design);
+  const DesignSpec spec = load_design_spec(o.design);
   const kin::Mechanism mech = kin::compile(spec);
   check_inputs_outside(o.out_dir, {o.design, o.target_csv}, kSynthesizeOutputs);
   const Target target = read_target(o, spec, mech);
