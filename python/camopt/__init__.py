@@ -41,6 +41,7 @@ class Design:
         """A design from its TOML text; ``path`` names it in messages and summary.json."""
         self._text = str(text)
         self._path = _os.fspath(path)
+        self._overrides = []
         self._compiled = None
 
     @classmethod
@@ -56,8 +57,38 @@ class Design:
 
     @property
     def text(self):
-        """The design's TOML text."""
-        return self._text
+        """The design's TOML text, with the values ``set`` changed edited in (the file's
+        comments and layout kept): the text a job runs."""
+        if not self._overrides:
+            return self._text
+        return _camopt.design_text(self._text, self._path, self._overrides)
+
+    @property
+    def overrides(self):
+        """The values ``set`` changed: a dict of key path -> TOML text, in order."""
+        return dict(self._overrides)
+
+    def get(self, key):
+        """The value at a key path (docs/design-format.md, "Key paths"): ``design.name``,
+        ``node.finger.mass_kg`` (an array of tables by its entries' ``name``),
+        ``connection.cam_roller.b.radius_mm`` (an inline table), ``node.finger.pivot_mm[0]`` (an
+        array element) or ``node.finger.pivot_mm`` (the whole array). Returns a float, int, bool,
+        str or list, in the key's unit (its name says it). InputError when the path leads
+        nowhere."""
+        return _from_toml(_camopt.design_get(self._text, self._path, self._overrides, key))
+
+    def set(self, key, value):
+        """Change the value at a key path (see ``get``): a number, bool, str or list of numbers,
+        in the key's unit. Raises InputError now when the path leads nowhere or the value's type
+        is not the key's ("set node.fingr.mass_kg=0.05: no [[node]] named ..."), and at
+        ``compile()`` when the value breaks a rule of the design format, naming the change.
+        Contacts with ``touch_at_rest`` are re-assembled when the design compiles, so a new
+        roller radius or pivot gives an assembled mechanism. Returns the design."""
+        changes = self._overrides + [(str(key), _to_toml(value))]
+        _camopt.design_text(self._text, self._path, changes)  # raises for a path that leads nowhere
+        self._overrides = changes
+        self._compiled = None
+        return self
 
     @property
     def path(self):
@@ -78,7 +109,7 @@ class Design:
         """The design parsed, checked and compiled (cached). InputError names the file, the
         line and the key path of a bad value, as ``camopt validate`` does."""
         if self._compiled is None:
-            self._compiled = _camopt.compile_design(self._text, self._path)
+            self._compiled = _camopt.compile_design(self._text, self._path, self._overrides)
         return self._compiled
 
     def validate(self):
@@ -117,6 +148,33 @@ class Result:
 
     def __repr__(self):
         return "camopt.Result(columns=[%s])" % ", ".join(self.columns)
+
+
+def _to_toml(value):
+    """A Python value as TOML text: numbers in shortest round-trip form, strings quoted."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, int):
+        return str(value)
+    if isinstance(value, float):
+        if value != value or value in (float("inf"), float("-inf")):
+            raise InputError("set: value %r is not a finite number" % value)
+        return repr(value)
+    if isinstance(value, str):
+        return _json.dumps(value)  # a TOML basic string: JSON's escapes are TOML's
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join(_to_toml(v) for v in value) + "]"
+    try:
+        return _to_toml(float(value))  # numpy scalars
+    except (TypeError, ValueError):
+        raise InputError("set: value %r is not a number, bool, string or list" % (value,)) from None
+
+
+def _from_toml(text):
+    """A TOML value's text as a Python value."""
+    import tomllib
+
+    return tomllib.loads("v = " + text)["v"]
 
 
 def _design(design):
@@ -297,7 +355,7 @@ def synthesize(target, design, cam="rotational", control=None, points=1440, smoo
     name, header, values = _target(target)
     folder = _tempfile.TemporaryDirectory(prefix="camopt-")
     tables, report, notes, files = _camopt.synthesize(
-        design.compile(), name, header, values, folder.name, cam, _number(control), int(points), bool(smooth),
+        design.compile(), design._overrides, name, header, values, folder.name, cam, _number(control), int(points), bool(smooth),
         4.0 if knot_spacing_deg is None else float(knot_spacing_deg), float(wheel_radius_mm), float(min_radius_mm),
         float(closure_tolerance_mm), float(max_round_trip_error), target_node, _number(master_radius_mm),
         float(grinding_step_deg))
@@ -315,7 +373,7 @@ def _folder_design(files, folder):
 
 
 def optimize(design, constraints, cam="rotational", solver="ipopt", points=1440, max_iterations=3000, starts=None,
-             verify=False):
+             verify=False, constraint_overrides=None):
     """A cam's lift optimised under a constraint set, and its profile, as ``camopt optimize``
     writes them (docs/optimisation.md).
 
@@ -329,6 +387,9 @@ def optimize(design, constraints, cam="rotational", solver="ipopt", points=1440,
     verify: run the made design through kinematics, rigid and flexible dynamics (--verify):
         ``summary["verified"]`` and ``summary["verification"]`` say how it did (the CLI exits
         5 when it fails; here the result is returned).
+    constraint_overrides: changes of the set before it is read, {key path: value}, e.g.
+        {"limits.max_pressure_angle_deg": 28} (--set-constraint KEY=VALUE; a value is a number,
+        a bool, a str or a list, as Design.set takes).
 
     Returns a Result: ``tables`` lift.csv (a swing cam: also swing_pitch.csv), profile.csv and
     grinding.csv; ``columns`` lift.csv's; ``summary`` report.json; ``files`` and ``design`` as
@@ -341,6 +402,7 @@ def optimize(design, constraints, cam="rotational", solver="ipopt", points=1440,
         raise InputError("--starts: does nothing with --solver %s (global only)" % solver)
     folder = _tempfile.TemporaryDirectory(prefix="camopt-")
     tables, report, notes, files, verified, failures = _camopt.optimize(
-        design.compile(), _os.fspath(constraints), folder.name, solver, cam, bool(verify), int(points),
+        design.compile(), design._overrides, _os.fspath(constraints),
+        [(str(k), _to_toml(v)) for k, v in (constraint_overrides or {}).items()], folder.name, solver, cam, bool(verify), int(points),
         int(max_iterations), 6 if starts is None else int(starts))
     return Result(tables["lift.csv"], _json.loads(report), list(notes), tables, _folder_design(files, folder), files)

@@ -24,6 +24,7 @@
 
 #include "camopt/core/error.hpp"
 #include "camopt/io/csv.hpp"
+#include "camopt/io/design_document.hpp"
 #include "camopt/io/design_file.hpp"
 #include "camopt/io/input_file.hpp"
 #include "camopt/jobs/common.hpp"
@@ -116,14 +117,38 @@ py::dict columns_dict(const io::Columns& table) {
 // the design file's text, read as the CLI reads it (the same messages)
 std::string read_design_file(const std::string& path) { return io::read_input_file(path, "design file"); }
 
-// a design's text parsed and compiled; `path` names it in messages and resolves its relative
-// `file = ...` references
-std::shared_ptr<CompiledDesign> compile_design(const std::string& text, const std::string& path) {
+// Design.set's changes: (key path, TOML text of the value), in order
+using Overrides = std::vector<std::pair<std::string, std::string>>;
+
+// a design's text as an editable document with the overrides applied; an override that
+// leads nowhere or changes a value's type raises InputError naming it ("set key=value: ...")
+io::DesignDocument design_document(const std::string& text, const std::string& path, const Overrides& overrides) {
   std::string directory = std::filesystem::path(path).parent_path().string();
   if (directory.empty()) directory = ".";
+  io::DesignDocument doc = io::DesignDocument::from_text(text, path, directory);
+  for (const auto& [key, value] : overrides) doc.set(io::Override{key, value, "set " + key + "=" + value});
+  return doc;
+}
+
+// the value at `key` (TOML text) of the design with its overrides
+std::string design_get(const std::string& text, const std::string& path, const Overrides& overrides,
+                       const std::string& key) {
+  return design_document(text, path, overrides).get(key);
+}
+
+// the design's text with its overrides edited in (comments and layout kept)
+std::string design_text(const std::string& text, const std::string& path, const Overrides& overrides) {
+  return design_document(text, path, overrides).text();
+}
+
+// a design's text with its overrides parsed and compiled; `path` names it in messages and
+// resolves its relative `file = ...` references; a value an override gave that breaks a rule
+// is reported at the override
+std::shared_ptr<CompiledDesign> compile_design(const std::string& text, const std::string& path,
+                                               const Overrides& overrides) {
   PythonObserver observer;
   auto compiled = std::make_shared<CompiledDesign>();
-  compiled->design = jobs::compile_design(io::parse_design(text, path, directory), path, observer);
+  compiled->design = jobs::compile_design(design_document(text, path, overrides).spec(), path, observer);
   compiled->path = path;
   compiled->notes = observer.take_notes();
   return compiled;
@@ -279,6 +304,13 @@ std::pair<py::dict, py::dict> exports_dicts(const jobs::ProfileExports& exports)
   return {tables, files};
 }
 
+// Design.set's changes as the io's overrides, each named as the design's messages name it
+std::vector<io::Override> design_overrides(const Overrides& overrides) {
+  std::vector<io::Override> out;
+  for (const auto& [key, value] : overrides) out.push_back(io::Override{key, value, "set " + key + "=" + value});
+  return out;
+}
+
 // the synthesize job: (tables, report as JSON text, notes, files); the target is a CSV file
 // (target_path) or a table in memory (target_header, target_values)
 py::tuple synthesize(const CompiledDesign& compiled, const std::string& target_name,
@@ -298,11 +330,16 @@ py::tuple synthesize(const CompiledDesign& compiled, const std::string& target_n
 
 // the optimize job: (tables, report as JSON text, notes, files, verified, the failed checks);
 // a solver failure raises NumericalError (the CLI's exit 4, once it wrote report.json)
-py::tuple optimize(const CompiledDesign& compiled, const std::string& constraints, jobs::OptimizeOptions options) {
+// constraint_overrides: (key path, TOML value text) changes of the set, as --set-constraint's
+py::tuple optimize(const CompiledDesign& compiled, const std::string& constraints, const Overrides& constraint_overrides,
+                   jobs::OptimizeOptions options) {
   options.design_file = compiled.path;
   options.constraints_file = constraints;
   jobs::validate(options);
-  opt::OptimizationSpec set = io::load_constraints(constraints);
+  std::vector<io::Override> changes;
+  for (const auto& [key, value] : constraint_overrides)
+    changes.push_back(io::parse_override(key + "=" + value, "--set-constraint"));
+  opt::OptimizationSpec set = io::load_constraints(constraints, changes);
   PythonObserver observer;
   const jobs::OptimizeResult result =
       without_gil([&] { return jobs::run_optimize(compiled.design.spec, std::move(set), options, observer); });
@@ -373,8 +410,13 @@ PYBIND11_MODULE(_camopt, m) {
       .def_property_readonly("notes", [](const CompiledDesign& c) { return c.notes; },
                              "the drawing check's warnings, as the CLI prints them");
   m.def("read_design_file", &read_design_file, py::arg("path"), "A design file's text (the CLI's checks).");
-  m.def("compile_design", &compile_design, py::arg("text"), py::arg("path"),
-        "A design's TOML text parsed and compiled; path names it in messages.");
+  m.def("compile_design", &compile_design, py::arg("text"), py::arg("path"), py::arg("overrides"),
+        "A design's TOML text with its overrides [(key path, TOML value)] parsed and compiled; path names it "
+        "in messages.");
+  m.def("design_get", &design_get, py::arg("text"), py::arg("path"), py::arg("overrides"), py::arg("key"),
+        "The value at a key path of a design with its overrides, as TOML text.");
+  m.def("design_text", &design_text, py::arg("text"), py::arg("path"), py::arg("overrides"),
+        "A design's TOML text with its overrides edited in.");
   m.def("validate_design", &validate_design, py::arg("design"),
         "The validate job: (description, drawing warnings).");
   m.def("kinematics", &kinematics, py::arg("design"), py::arg("control"), py::arg("outputs"), py::arg("step_deg"),
@@ -396,12 +438,14 @@ PYBIND11_MODULE(_camopt, m) {
         py::arg("threads"), "The modes job (dynamics --model modes): (columns, summary JSON text, notes).");
   m.def(
       "synthesize",
-      [](const CompiledDesign& design, const std::string& target_name, std::optional<std::vector<std::string>> header,
+      [](const CompiledDesign& design, const Overrides& overrides, const std::string& target_name,
+         std::optional<std::vector<std::string>> header,
          std::optional<std::vector<std::vector<double>>> values, const std::string& out_dir, const std::string& cam,
          std::optional<double> control, int points, bool smooth, double knot_spacing_deg, double wheel_radius_mm,
          double min_radius_mm, double closure_tolerance_mm, double max_round_trip_error, const std::string& target_node,
          std::optional<double> master_radius_mm, double grinding_step_deg) {
         camopt::jobs::SynthesizeOptions o;
+        o.overrides = design_overrides(overrides);
         o.out_dir = out_dir;
         o.cam = cam;
         o.control = control;
@@ -417,16 +461,18 @@ PYBIND11_MODULE(_camopt, m) {
         o.grinding_step_deg = grinding_step_deg;
         return synthesize(design, target_name, std::move(header), std::move(values), std::move(o));
       },
-      py::arg("design"), py::arg("target_name"), py::arg("target_header"), py::arg("target_values"), py::arg("out_dir"),
+      py::arg("design"), py::arg("overrides"), py::arg("target_name"), py::arg("target_header"), py::arg("target_values"), py::arg("out_dir"),
       py::arg("cam"), py::arg("control"), py::arg("points"), py::arg("smooth"), py::arg("knot_spacing_deg"),
       py::arg("wheel_radius_mm"), py::arg("min_radius_mm"), py::arg("closure_tolerance_mm"),
       py::arg("max_round_trip_error"), py::arg("target_node"), py::arg("master_radius_mm"),
       py::arg("grinding_step_deg"), "The synthesize job: (tables, report JSON text, notes, files).");
   m.def(
       "optimize",
-      [](const CompiledDesign& design, const std::string& constraints, const std::string& out_dir,
+      [](const CompiledDesign& design, const Overrides& overrides, const std::string& constraints,
+         const Overrides& constraint_overrides, const std::string& out_dir,
          const std::string& solver, const std::string& cam, bool verify, int points, int max_iterations, int starts) {
         camopt::jobs::OptimizeOptions o;
+        o.overrides = design_overrides(overrides);
         o.out_dir = out_dir;
         o.solver = solver;
         o.cam = cam;
@@ -434,9 +480,10 @@ PYBIND11_MODULE(_camopt, m) {
         o.points = points;
         o.max_iterations = max_iterations;
         o.starts = starts;
-        return optimize(design, constraints, std::move(o));
+        return optimize(design, constraints, constraint_overrides, std::move(o));
       },
-      py::arg("design"), py::arg("constraints"), py::arg("out_dir"), py::arg("solver"), py::arg("cam"),
+      py::arg("design"), py::arg("overrides"), py::arg("constraints"), py::arg("constraint_overrides"),
+      py::arg("out_dir"), py::arg("solver"), py::arg("cam"),
       py::arg("verify"), py::arg("points"), py::arg("max_iterations"), py::arg("starts"),
       "The optimize job: (tables, report JSON text, notes, files, verified, failed checks).");
 }

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "camopt/io/atomic_file.hpp"
+#include "camopt/io/design_document.hpp"
 #include "camopt/io/csv.hpp"
 #include "camopt/jobs/common.hpp"
 #include "camopt/jobs/range_option.hpp"
@@ -42,6 +43,7 @@ class VerificationFailed : public std::runtime_error {
 };
 
 struct GlobalOptions {
+  std::vector<std::string> set;  // --set KEY=VALUE: design overrides, in order
   bool quiet = false;
   bool verbose = false;
   int threads = 0;               // 0 = all hardware threads
@@ -90,6 +92,14 @@ using jobs::sweep_points;
 
 // the design file parsed and compiled; the drawing check's warnings on stderr
 LoadedDesign load_mechanism(const std::string& design_path);
+
+// --set, each KEY=VALUE read (InputError for one without '=')
+std::vector<io::Override> design_overrides();
+// the design file parsed with the --set overrides applied (io::DesignDocument)
+DesignSpec load_design_spec(const std::string& design_path);
+// summary.json / report.json: "overrides": {"key.path": value} when --set was given
+void record_overrides(nlohmann::json& summary);
+nlohmann::json with_overrides(nlohmann::json summary);
 
 // the files of one output set (name, contents) staged into out_dir and committed together;
 // returns the files committed (io::OutputTransaction::committed)

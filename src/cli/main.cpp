@@ -26,6 +26,22 @@ void report(const char* kind, const char* message) {
   std::fprintf(stderr, "camopt: %s%s\n", kind, safe.c_str());
 }
 
+// --set changes a design: a subcommand that reads none refuses it (before it runs)
+void check_overrides_apply(int argc, const char* const* argv) {
+  std::string subcommand, first_set;
+  for (int i = 1; i < argc; ++i) {
+    const std::string word = argv[i];
+    if (word == "--set" && i + 1 < argc && first_set.empty()) first_set = argv[i + 1];
+    if (word.rfind("--set=", 0) == 0 && first_set.empty()) first_set = word.substr(6);
+    if (word == "--threads" || word == "--progress" || word == "--set") ++i;
+    else if (subcommand.empty() && !word.empty() && word[0] != '-') subcommand = word;
+  }
+  if (!first_set.empty() && (subcommand == "lift" || subcommand == "report"))
+    throw camopt::InputError("--set " + first_set + ": '" + subcommand +
+                             "' reads no design file (--set applies to validate, kinematics, synthesize, "
+                             "optimize and dynamics)");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -38,6 +54,11 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.fallthrough();
   auto& global = global_options();
+  app.add_option("--set", global.set,
+                 "KEY=VALUE: change a value of the design before it is read, e.g. --set "
+                 "connection.cam_roller.b.radius_mm=9 (repeatable; key paths: docs/design-format.md)")
+      ->allow_extra_args(false)
+      ->type_name("KEY=VALUE");
   app.add_flag("-q,--quiet", global.quiet, "print nothing but errors on stderr");
   app.add_flag("-v,--verbose", global.verbose, "print solver details on stderr");
   app.add_option("--threads", global.threads, "worker threads for sweeps [count]; 0 = all cores")
@@ -58,7 +79,7 @@ int main(int argc, char** argv) {
   // a first word that names no subcommand (a typo): say so, with the subcommands
   for (int i = 1; i < argc; ++i) {
     const std::string word = argv[i];
-    if (word == "--threads" || word == "--progress") ++i;
+    if (word == "--threads" || word == "--progress" || word == "--set") ++i;
     if (word.empty() || word[0] == '-') continue;
     std::string names;
     bool known = false;
@@ -74,6 +95,7 @@ int main(int argc, char** argv) {
 
   try {
     check_finite_arguments(argc, argv);
+    check_overrides_apply(argc, argv);
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);

@@ -17,6 +17,7 @@ namespace {
 
 struct OptimizeOptions {
   jobs::OptimizeOptions job;  // the design, the constraint set, --out and the solver's options
+  std::vector<std::string> set_constraint;  // --set-constraint KEY=VALUE
   ReportOptions report;       // --no-report, --figures
 };
 
@@ -30,10 +31,13 @@ class OptimizeObserver : public TerminalObserver {
 void run_optimize(OptimizeOptions& o) {
   // the design and the constraint set (inputs outside the output folder)
   check_inputs_outside(o.job.out_dir, {o.job.design_file, o.job.constraints_file}, kOptimizeOutputs);
-  const DesignSpec spec = io::load_design(o.job.design_file);
-  opt::OptimizationSpec set = io::load_constraints(o.job.constraints_file);
+  const DesignSpec spec = load_design_spec(o.job.design_file);
+  std::vector<io::Override> constraint_overrides;
+  for (const std::string& a : o.set_constraint) constraint_overrides.push_back(io::parse_override(a, "--set-constraint"));
+  opt::OptimizationSpec set = io::load_constraints(o.job.constraints_file, constraint_overrides);
   // the solve, its profile and its checks, the progress on stderr
   o.job.progress = make_progress_printer();
+  o.job.overrides = design_overrides();
   OptimizeObserver terminal;
   const jobs::OptimizeResult result = jobs::run_optimize(spec, std::move(set), o.job, terminal);
   // the tables, the profile's files and report.json, committed together (an infeasible set:
@@ -44,7 +48,7 @@ void run_optimize(OptimizeOptions& o) {
     const auto exports = jobs::export_files(*result.exports);
     files.insert(files.end(), exports.begin(), exports.end());
   }
-  files.emplace_back("report.json", result.report.dump(2) + "\n");
+  files.emplace_back("report.json", with_overrides(result.report).dump(2) + "\n");
   write_outputs(o.job.out_dir, kOptimizeOutputs, files);
   if (result.exports) {
     std::string names;
@@ -70,6 +74,11 @@ void setup_optimize(CLI::App& app) {
   cmd->add_option("design", opts->job.design_file, "design file (TOML)")->required();
   cmd->add_option("--constraints", opts->job.constraints_file, "constraint set (TOML, see constraints/ and docs/optimisation.md)")
       ->required();
+  cmd->add_option("--set-constraint", opts->set_constraint,
+                  "KEY=VALUE: change a value of the constraint set before it is read, e.g. --set-constraint "
+                  "limits.max_pressure_angle_deg=28 (repeatable; key paths as --set's)")
+      ->allow_extra_args(false)
+      ->type_name("KEY=VALUE");
   cmd->add_option("--cam", opts->job.cam,
                   "which cam to optimise: rotational (the driver's; [event] lift model) or swing (a VVA swing cam's "
                   "profile over every control position; [swing_profile])")

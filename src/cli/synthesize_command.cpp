@@ -18,17 +18,18 @@ struct SynthesizeOptions {
   ReportOptions report;         // --no-report, --figures
 };
 
-void run_synthesize(const SynthesizeOptions& o) {
+void run_synthesize(SynthesizeOptions& o) {
   // the design, and the target table (inputs outside the output folder)
-  const DesignSpec spec = io::load_design(o.job.design_file);
+  const DesignSpec spec = load_design_spec(o.job.design_file);
   check_inputs_outside(o.job.out_dir, {o.job.design_file, o.job.target_file}, kSynthesizeOutputs);
   const io::CsvTable target = io::read_csv(o.job.target_file);
   // the synthesis, its checks and its files
+  o.job.overrides = design_overrides();
   TerminalObserver terminal;
   const jobs::SynthesizeResult result = jobs::run_synthesize(spec, target, o.job, terminal);
   // profile.csv, profile.dxf, grinding.csv, design.toml and report.json, committed together
   auto files = jobs::export_files(result.exports);
-  files.emplace_back("report.json", result.report.dump(2) + "\n");
+  files.emplace_back("report.json", with_overrides(result.report).dump(2) + "\n");
   write_outputs(o.job.out_dir, kSynthesizeOutputs, files);
   info(result.summary + " -> " + o.job.out_dir + "/profile.csv, report.json, design.toml, profile.dxf, grinding.csv");
   // the page of the results

@@ -16,7 +16,7 @@ void setup_validate(CLI::App& app) {
   cmd->add_option("designs", *files, "design files (TOML)")->required();
   cmd->callback([files] {
     for (const auto& f : *files) {
-      const DesignSpec spec = io::load_design(f);
+      const DesignSpec spec = load_design_spec(f);
       const kin::Mechanism mech = kin::compile(spec);
       const jobs::DesignFindings findings = jobs::validate_design(spec, mech);
       if (!global_options().quiet) std::cout << f << ": ok\n" << findings.description;

@@ -1,6 +1,7 @@
 // constraint-set files (TOML) -> opt::OptimizationSpec (docs/optimisation.md)
 #include "camopt/io/constraint_file.hpp"
 
+#include "toml_edit.hpp"
 #include "toml_table.hpp"
 
 namespace camopt::io {
@@ -8,6 +9,7 @@ namespace camopt::io {
 namespace {
 
 using namespace toml_detail;
+using toml_detail::EditableToml;
 
 opt::RampSpec parse_ramp(const Table& t) {
   t.allow({"height_mm", "length_deg"});
@@ -167,7 +169,7 @@ opt::OptimizationSpec parse(const toml::table& document, const Context& context)
 
 opt::OptimizationSpec parse_constraints(std::string_view text, const std::string& file_name,
                                         const std::string& directory) {
-  const Context context{file_name, directory};
+  const Context context{file_name, directory, {}};
   return parse(parse_document(text, context), context);
 }
 
@@ -175,6 +177,15 @@ opt::OptimizationSpec load_constraints(const std::string& path) {
   std::string directory;
   const std::string text = read_text_file(path, "constraint file", directory);
   return parse_constraints(text, path, directory);
+}
+
+opt::OptimizationSpec load_constraints(const std::string& path, const std::vector<Override>& overrides) {
+  if (overrides.empty()) return load_constraints(path);
+  std::string directory;
+  EditableToml edited(read_text_file(path, "constraint file", directory), path, "--set-constraint");
+  for (const Override& o : overrides) edited.set(o);
+  const Context context{path, directory, edited.spans()};
+  return parse(edited.document(), context);
 }
 
 }  // namespace camopt::io

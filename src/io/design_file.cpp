@@ -6,6 +6,7 @@
 // below only say what the schema is. Cross references are collected while parsing and
 // resolved at the end, each reported at the key that names it.
 #include "camopt/io/design_file.hpp"
+#include "camopt/io/design_document.hpp"
 
 #include <toml++/toml.h>
 
@@ -22,7 +23,9 @@
 
 #include "camopt/core/error.hpp"
 #include "camopt/io/csv.hpp"
+#include "camopt/kinematics/contact_assembly.hpp"
 #include "design_hla.hpp"
+#include "design_parser.hpp"
 #include "toml_table.hpp"
 
 namespace camopt::io {
@@ -527,7 +530,8 @@ class Parser {
     const Keys variable_gear = concat({"nodes", "ratio_table"}, angular_compliance);
     const Keys rack_pinion = concat({"nodes", "pitch_radius_mm"}, linear_compliance);
     const Keys contact =
-        concat({"a", "b", "lash_mm", "materials", "width_mm", "friction_coefficient", "two_sided"}, kContactLawKeys);
+        concat({"a", "b", "lash_mm", "materials", "width_mm", "friction_coefficient", "two_sided", "touch_at_rest"},
+               kContactLawKeys);
     const Keys* own = &link;
     switch (c.kind) {
       case ConnectionKind::link:
@@ -596,6 +600,7 @@ class Parser {
         c.width_mm = t.optional_number("width_mm", gt(0.0));
         c.friction_coefficient = t.optional_number("friction_coefficient", ge(0.0));
         c.contact_law = read_contact_law(t);
+        c.touch_at_rest = t.boolean_or("touch_at_rest", false);
         break;
     }
     if (c.kind != ConnectionKind::contact) {
@@ -756,9 +761,15 @@ class Parser {
 
 }  // namespace
 
+DesignSpec parse_design_document(const toml::table& document, const Context& context) {
+  DesignSpec spec = Parser(context).run(document);
+  kin::assemble_contacts(spec);
+  return spec;
+}
+
 DesignSpec parse_design(std::string_view text, const std::string& file_name, const std::string& directory) {
-  const Context context{file_name, directory};
-  return Parser(context).run(parse_document(text, context));
+  const Context context{file_name, directory, {}};
+  return parse_design_document(parse_document(text, context), context);
 }
 
 DesignSpec load_design(const std::string& path) {

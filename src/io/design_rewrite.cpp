@@ -9,11 +9,14 @@
 
 #include "camopt/core/error.hpp"
 #include "camopt/io/input_file.hpp"
+#include "toml_edit.hpp"
 
 namespace camopt::io {
 
 namespace {
 namespace fs = std::filesystem;
+using toml_detail::Offsets;
+using toml_detail::quoted;
 
 // the keys of a profile table that hold its data: replaced by form = "polar" and file
 const char* const kProfileDataKeys[] = {"angle_deg",      "radius_mm",      "lift_mm", "x_mm", "y_mm",
@@ -23,50 +26,6 @@ const char* const kProfileDataKeys[] = {"angle_deg",      "radius_mm",      "lif
 struct Edit {
   std::size_t begin = 0, end = 0;
   std::string text;
-};
-
-// a TOML basic string
-std::string quoted(const std::string& s) {
-  std::string out = "\"";
-  for (const char c : s) {
-    if (c == '"' || c == '\\') {
-      out += '\\';
-      out += c;
-    } else if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) {
-      char escape[8];
-      std::snprintf(escape, sizeof escape, "\\u%04X", static_cast<unsigned>(static_cast<unsigned char>(c)));
-      out += escape;
-    } else {
-      out += c;
-    }
-  }
-  return out + "\"";
-}
-
-// byte offsets in the text of toml++ source positions (1-based lines, columns in code points)
-class Offsets {
- public:
-  explicit Offsets(std::string_view text) : text_(text) {
-    starts_.push_back(0);
-    for (std::size_t i = 0; i < text.size(); ++i)
-      if (text[i] == '\n') starts_.push_back(i + 1);
-  }
-  std::size_t at(const toml::source_position& p) const {
-    std::size_t offset = line_start(p.line);
-    for (toml::source_index column = 1; column < p.column && offset < text_.size(); ++column) {
-      ++offset;
-      while (offset < text_.size() && (static_cast<unsigned char>(text_[offset]) & 0xC0) == 0x80) ++offset;
-    }
-    return offset;
-  }
-  // the start of line `line` (1-based); the text's end past the last line
-  std::size_t line_start(toml::source_index line) const {
-    return line >= 1 && line <= starts_.size() ? starts_[line - 1] : text_.size();
-  }
-
- private:
-  std::string_view text_;
-  std::vector<std::size_t> starts_;
 };
 
 // the new text of the named profile: form and file, the data keys dropped
@@ -125,8 +84,19 @@ void edit_file_references(const toml::node& node, const toml::table* skip, const
 }  // namespace
 
 std::string design_with_profile_file(const std::string& design_path, const std::string& profile_name,
-                                     const std::string& profile_file, const std::string& out_dir) {
+                                     const std::string& profile_file, const std::string& out_dir,
+                                     const std::vector<Override>& overrides) {
   std::string text = read_input_file(design_path, "design file");
+  // the overridden values edited into the text: the design written is the design that ran
+  std::string overridden;
+  if (!overrides.empty()) {
+    toml_detail::EditableToml edited(std::move(text), design_path, "--set");
+    for (const Override& o : overrides) {
+      edited.set(o);
+      overridden += "\n#   " + o.given;
+    }
+    text = edited.text();
+  }
   toml::table root;
   try {
     root = toml::parse(text, design_path);
@@ -155,7 +125,8 @@ std::string design_with_profile_file(const std::string& design_path, const std::
   for (const Edit& e : edits) text.replace(e.begin, e.end - e.begin, e.text);
 
   return "# written by camopt from " + fs::absolute(fs::path(design_path)).lexically_normal().string() +
-         ": profile '" + profile_name + "' reads the polar table " + profile_file + " beside this file\n" + text;
+         ": profile '" + profile_name + "' reads the polar table " + profile_file + " beside this file" +
+         (overridden.empty() ? "" : ", with the overrides" + overridden) + "\n" + text;
 }
 
 }  // namespace camopt::io

@@ -121,12 +121,30 @@ inline Rule operator&(Rule a, const Rule& b) {
 
 // ---- one value, typed
 
+// the text of a value given by an override (`--set key.path=value`): a value written there
+// is reported at the override, not at the line it was edited into
+struct OverrideSpan {
+  toml::source_position begin, end;  // [begin, end] in the edited text
+  std::string label;                 // "--set key.path=value"
+};
+
 struct Context {
   std::string file;
   std::string directory;
+  std::vector<OverrideSpan> overrides;  // empty unless the text carries overrides
 
   SourceRef ref(const toml::source_region& source, std::string key_path) const {
+    if (!overrides.empty())
+      if (const OverrideSpan* span = override_at(source.begin)) return {span->label, 0, 0, std::move(key_path)};
     return {file, static_cast<int>(source.begin.line), static_cast<int>(source.begin.column), std::move(key_path)};
+  }
+  const OverrideSpan* override_at(const toml::source_position& p) const {
+    const auto before = [](const toml::source_position& a, const toml::source_position& b) {
+      return a.line < b.line || (a.line == b.line && a.column <= b.column);
+    };
+    for (const OverrideSpan& span : overrides)
+      if (before(span.begin, p) && before(p, span.end)) return &span;
+    return nullptr;
   }
   // relative references are resolved against the design file's directory
   fs::path resolve(const std::string& name) const {

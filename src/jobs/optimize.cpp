@@ -226,7 +226,7 @@ void stage_swing_outputs(OptimizeResult& out, const OptimizeOptions& o, const De
   // the grinding table (a roller master around the whole swing cam, its unused far side
   // included) is reported, not fatal
   const synthesis::SynthesisResult res = swing_profile(o, spec, set, model, c);
-  out.exports = profile_exports(o.out_dir, o.design_file, spec, res, std::nullopt, 0.25, report, true);
+  out.exports = profile_exports(o.out_dir, o.design_file, o.overrides, spec, res, std::nullopt, 0.25, report, true);
   if (!o.verify) return;
   const DesignSpec made = synthesis::with_profile(spec, res.profile);
   verify_swing_kinematics(kin::compile(made), problem, model, peak, lift, set, report, verdict);
@@ -358,7 +358,7 @@ void stage_rotational_outputs(OptimizeResult& out, const OptimizeOptions& o, con
     st.message = "synthesizing the optimised lift: " + st.message;
     throw NumericalError(st);
   }
-  out.exports = profile_exports(o.out_dir, o.design_file, spec, res, std::nullopt, 0.25, report);
+  out.exports = profile_exports(o.out_dir, o.design_file, o.overrides, spec, res, std::nullopt, 0.25, report);
   if (!o.verify) return;
   verify_rotational(synthesis::with_profile(spec, res.profile), res, lift_spline, so_syn.controls, problem, report,
                     verdict);

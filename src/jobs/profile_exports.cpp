@@ -8,7 +8,8 @@
 
 namespace camopt::jobs {
 
-ProfileExports profile_exports(const std::string& out_dir, const std::string& design_path, const DesignSpec& spec,
+ProfileExports profile_exports(const std::string& out_dir, const std::string& design_path,
+                               const std::vector<io::Override>& overrides, const DesignSpec& spec,
                                const synthesis::SynthesisResult& res, std::optional<double> master_radius_mm,
                                double grinding_step_deg, nlohmann::json& report, bool grinding_optional) {
   std::vector<double> excess(res.radius_mm.size());
@@ -45,7 +46,7 @@ ProfileExports profile_exports(const std::string& out_dir, const std::string& de
                    {res.angle_deg, res.radius_mm, excess, res.x_mm, res.y_mm, res.radius_of_curvature_mm},
                    {}};
   // design.toml names profile.csv beside it, so the folder can be moved or handed on
-  files.design_toml = io::design_with_profile_file(design_path, res.profile.name, "profile.csv", out_dir);
+  files.design_toml = io::design_with_profile_file(design_path, res.profile.name, "profile.csv", out_dir, overrides);
   return files;
 }
 

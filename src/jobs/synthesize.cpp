@@ -308,7 +308,7 @@ SynthesizeResult run_synthesize(const DesignSpec& spec, const io::CsvTable& tabl
   SynthesizeResult result;
   result.report = report_json(o, mech, target, opt, res, checks);
   result.exports =
-      profile_exports(o.out_dir, o.design_file, spec, res, o.master_radius_mm, o.grinding_step_deg, result.report);
+      profile_exports(o.out_dir, o.design_file, o.overrides, spec, res, o.master_radius_mm, o.grinding_step_deg, result.report);
   // warnings on the radii, and the summary line
   warn_radii(o, res, checks, observer);
   result.summary = "synthesize: profile '" + res.profile.name + "' on '" + res.cam_node + "' (" + res.connection +

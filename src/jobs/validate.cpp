@@ -1,6 +1,8 @@
 // the validate job: a compiled design described, as `camopt validate` prints it.
 #include "camopt/jobs/validate.hpp"
 
+#include <charconv>
+
 #include "camopt/core/error.hpp"
 #include "camopt/dynamics/flexible.hpp"
 #include "camopt/dynamics/model.hpp"
@@ -39,11 +41,27 @@ std::string describe_oil(const DesignSpec& spec) {
   return out + "\n";
 }
 
+// the contacts that touch at rest, each with its solved position (shortest round-trip numbers)
+std::string describe_assembled(const kin::Mechanism& mech) {
+  const auto number = [](double v) {
+    char buffer[32];
+    return std::string(buffer, std::to_chars(buffer, buffer + sizeof buffer, v).ptr);
+  };
+  const auto point = [&](const Vec2& p) { return "[" + number(p[0]) + ", " + number(p[1]) + "]"; };
+  std::string out;
+  for (const kin::AssembledContact& a : mech.assembled)
+    out += "touch at rest: " + mech.connections[static_cast<std::size_t>(a.connection)].name + ": " + a.key +
+           " solved " + point(a.solved_mm) + " (drawn " + point(a.drawn_mm) + ", moved " + number(a.moved_mm) +
+           " mm along the contact normal)\n";
+  return out;
+}
+
 }  // namespace
 
 DesignFindings validate_design(const DesignSpec& spec, const kin::Mechanism& mech) {
   DesignFindings f;
   f.description = kin::describe(mech);
+  f.description += describe_assembled(mech);
   f.description += describe_flexible(spec, mech);  // throws for bad flexible-model data
   f.description += describe_oil(spec);
   f.warnings = kin::check_drawing(mech);

@@ -155,6 +155,10 @@ const std::vector<ContactState>* ContactProbe::at(double x) {
   }
   const double unit = mech.driver_is_angle() ? rad_per_deg : 1.0;
   ++solves_;
+  // each refined point is solved from its grid point alone: the thread's profile and sin/cos
+  // memos (which hold shifted, not recomputed, entries) start empty, so the result does not
+  // depend on which positions this thread solved before
+  CamProfile::clear_thread_memo();
   const Status st = solve_near(mech, *ws_, grid[j] * unit, seed_, x * unit, Request{1, true});
   if (!st.ok()) {
     failed_ = true;

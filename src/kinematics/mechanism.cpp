@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "camopt/core/units.hpp"
+#include "camopt/kinematics/contact_assembly.hpp"
 
 namespace camopt::kin {
 
@@ -564,7 +565,9 @@ SolveStep make_step(const Mechanism& m, const Assembly& a, const std::vector<int
 
 }  // namespace
 
-Mechanism compile(const DesignSpec& spec) {
+namespace detail {
+
+Mechanism compile_as_drawn(const DesignSpec& spec) {
   Mechanism m;
   m.name = spec.name;
   m.file = spec.file;
@@ -579,6 +582,8 @@ Mechanism compile(const DesignSpec& spec) {
   add_profiles(s);
   // connections and their equations
   add_connections(s);
+  // contacts that touch at rest: side b placed so they touch in the drawing
+  assemble_mechanism_contacts(spec, m);
   // the mechanism's size for tolerances
   set_length_scale(s);
   // floating bodies' reference points
@@ -589,6 +594,19 @@ Mechanism compile(const DesignSpec& spec) {
   // the solve plan: blocks in block-triangular order, each a closed form or a simultaneous solve
   for (const auto& block : order_blocks(m, assembly)) m.plan.push_back(make_step(m, assembly, block));
   return m;
+}
+
+}  // namespace detail
+
+Mechanism compile(const DesignSpec& spec) {
+  // contacts that touch at rest are solved into a copy of the spec first, so the model is
+  // built from the assembled drawing (as from a design file, whose reader solves them)
+  if (detail::has_unsolved_contacts(spec)) {
+    DesignSpec solved = spec;
+    assemble_contacts(solved);
+    return detail::compile_as_drawn(solved);
+  }
+  return detail::compile_as_drawn(spec);
 }
 
 std::string describe(const Mechanism& m) {

@@ -76,6 +76,14 @@ def test_a_bad_option_of_optimize(cli_args, python_args, tmp_path):
     assert str(e.value) == expected
 
 
+def test_a_constraint_override_of_no_key_names_it_as_the_cli(tmp_path):
+    expected = cli_error("optimize", DESIGN, "--constraints", CONSTRAINTS, "--set-constraint", "limits.no_such_key=1",
+                         "--out", tmp_path, kind="input error")
+    with pytest.raises(camopt.InputError) as e:
+        camopt.optimize(DESIGN, CONSTRAINTS, constraint_overrides={"limits.no_such_key": 1})
+    assert str(e.value) == expected
+
+
 def test_a_missing_constraint_set(tmp_path):
     expected = cli_error("optimize", DESIGN, "--constraints", "constraints/none.toml", "--out", tmp_path,
                          kind="input error")
@@ -107,14 +115,13 @@ def test_ctrl_c_stops_an_optimisation_between_iterations():
 
 
 def test_an_infeasible_set_raises_the_cli_failure_with_its_report(tmp_path):
-    # an acceleration limit far below what 7 mm of lift needs over the event
-    text = (SOURCE_DIR / CONSTRAINTS).read_text().replace("acc_max_mm_per_deg2 = 0.018", "acc_max_mm_per_deg2 = 0.002")
-    (tmp_path / "tight.toml").write_text(text)
+    # an acceleration limit far below what 7 mm of lift needs over the event (--set-constraint)
     out = tmp_path / "out"
-    expected = cli_error("optimize", DESIGN, "--constraints", tmp_path / "tight.toml", "--points", "720", "--no-report",
-                         "--out", out, kind="numerical failure")
+    expected = cli_error("optimize", DESIGN, "--constraints", CONSTRAINTS, "--set-constraint",
+                         "limits.acc_max_mm_per_deg2=0.002", "--points", "720", "--no-report", "--out", out,
+                         kind="numerical failure")
     with pytest.raises(camopt.NumericalError) as e:
-        camopt.optimize(DESIGN, tmp_path / "tight.toml", points=720)
+        camopt.optimize(DESIGN, CONSTRAINTS, points=720, constraint_overrides={"limits.acc_max_mm_per_deg2": 0.002})
     assert str(e.value) == expected
     assert e.value.code == "infeasible"
     with open(out / "report.json") as f:

@@ -71,6 +71,25 @@ def test_the_design_text_is_the_cli_design_toml_but_for_its_folder(run, cli_fold
     assert os.path.isfile(os.path.join(os.path.dirname(run.design.path), "profile.csv"))
 
 
+def test_a_changed_design_is_synthesized_and_written_as_the_cli_with_set(tmp_path):
+    code, stderr = run_cli("--set", "node.finger.mass_kg=0.05", "synthesize", TARGET, "--design", DESIGN, "--no-report",
+                           "--out", tmp_path)
+    assert code == 0, stderr
+    design = camopt.Design.load(DESIGN)
+    design.set("node.finger.mass_kg", 0.05)
+    changed = camopt.synthesize(TARGET, design)
+    assert_same_columns(changed.columns, read_csv(tmp_path / "profile.csv"))
+    assert changed.design.get("node.finger.mass_kg") == 0.05
+    # design.toml: the CLI's text with the change edited in; its header names the change as the
+    # Design's messages do ("set KEY=VALUE", the CLI "--set KEY=VALUE")
+    written = (tmp_path / "design.toml").read_text()
+    assert written.count("#   --set node.finger.mass_kg=0.05\n") == 1
+    assert changed.design.text == written.replace("#   --set node.", "#   set node.")
+    report = report_of(tmp_path)
+    assert report.pop("overrides") == {"node.finger.mass_kg": 0.05}
+    assert changed.summary == report
+
+
 def test_a_target_table_in_memory_equals_its_file(run):
     with open(TARGET, newline="") as f:
         rows = [r for r in csv.reader(f) if r and not r[0].startswith("#")]

@@ -138,6 +138,11 @@ struct ConnectionSpec {
   std::optional<double> friction_coefficient;
   ContactLawSpec contact_law;  // flexible model's force law
   bool two_sided = false;      // a roller in a slot: guided both ways, the force may pull
+  // the contact touches in the drawing: kin::compile places side b's circle centre or line
+  // point on the contact normal so it does (docs/design-format.md, "Contacts that touch at rest")
+  bool touch_at_rest = false;
+  std::optional<Vec2> drawn_b_mm;  // b's centre or point as written, once the solved one replaced it
+  double moved_b_mm = 0.0;         // how far it moved: along the contact normal, + away from a [mm]
   // link, crank_slider, rack_pinion [N/mm]; gear, variable_gear [N m/rad]: flexible model's
   // bilateral stiffness, and the damping ratio of its local mode
   std::optional<double> stiffness_N_per_mm, stiffness_Nm_per_rad;

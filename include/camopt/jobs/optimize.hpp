@@ -11,6 +11,7 @@
 
 #include "camopt/core/design_spec.hpp"
 #include "camopt/io/csv.hpp"
+#include "camopt/io/design_document.hpp"
 #include "camopt/jobs/common.hpp"
 #include "camopt/jobs/synthesize.hpp"
 #include "camopt/opt/problem.hpp"
@@ -21,6 +22,7 @@ namespace camopt::jobs {
 // every option of `camopt optimize` but its report
 struct OptimizeOptions {
   std::string design_file;       // the design's file: report.json names it, design.toml is its text edited
+  std::vector<io::Override> overrides;  // the changes the spec was parsed with (--set), edited into design.toml
   std::string constraints_file;  // the constraint set's file, as report.json names it
   std::string out_dir;           // the folder design.toml is written for (see SynthesizeOptions)
   std::string solver = "ipopt";  // --solver: ipopt, slsqp, mma, cobyla or global

@@ -10,6 +10,7 @@
 
 #include "camopt/core/design_spec.hpp"
 #include "camopt/io/csv.hpp"
+#include "camopt/io/design_document.hpp"
 #include "camopt/jobs/common.hpp"
 
 namespace camopt::jobs {
@@ -29,6 +30,7 @@ std::vector<std::pair<std::string, std::string>> export_files(const ProfileExpor
 // every option of `camopt synthesize` but its report
 struct SynthesizeOptions {
   std::string design_file;  // the design's file: report.json names it, design.toml is its text edited
+  std::vector<io::Override> overrides;  // the changes the spec was parsed with (--set), edited into design.toml
   std::string target_file;  // the target table's name in report.json and the messages
   // the folder design.toml is written for: profile.csv beside it, its other relative
   // `file = ...` references rewritten relative to it (--out)

@@ -102,6 +102,16 @@ struct VariableInfo {
   bool is_angle = true;
 };
 
+// a contact that touches at rest (touch_at_rest), solved at compile: side b's circle centre or
+// line point moved along the contact normal so the shapes touch in the drawing
+struct AssembledContact {
+  int connection = -1;
+  std::string key;     // the key of side b that moved: "b.center_mm" or "b.point_mm"
+  Vec2 drawn_mm{};     // as written in the design [mm]
+  Vec2 solved_mm{};    // where it touches [mm]
+  double moved_mm = 0;  // along the contact normal, + away from side a [mm]
+};
+
 // the driver's sweep and crank ratio as the design gives them (its [driver] table)
 struct DriverDefaults {
   double start = 0.0;          // sweep start [driver deg, or mm for a translational driver]
@@ -125,6 +135,7 @@ struct Mechanism {
   int driver_node = -1, output_node = -1;
   int equation_count = 0;
   double length_scale = 1.0;  // characteristic size [mm] for tolerances
+  std::vector<AssembledContact> assembled;  // the contacts that touch at rest, as solved
 
   int node_index(const std::string& name) const;  // -1 if absent
   int driver_variable() const { return nodes[driver_node].first_variable; }
