@@ -114,10 +114,11 @@ def test_main_effects_of_an_additive_response_are_its_parts_plus_the_other_mean(
 
 
 def test_main_effects_of_sampled_points_use_equal_bins_and_skip_failures():
-    x = np.array([[0.0], [0.1], [0.3], [0.55], [0.6], [0.99], [1.0]])
-    y = np.array([1.0, 3.0, 5.0, 7.0, np.nan, 11.0, 13.0])
+    # bins are [low, edge) ... [edge, high]: 0.5 falls in the upper one
+    x = np.array([[0.0], [0.1], [0.3], [0.5], [0.55], [0.6], [0.99], [1.0]])
+    y = np.array([1.0, 3.0, 5.0, 6.0, 7.0, np.nan, 11.0, 13.0])
     rows = analysis.main_effects(x, y[:, None], [()], 2)
-    assert [(r["value"], r["mean"], r["count"]) for r in rows] == [(0.25, 3.0, 3), (0.75, 31.0 / 3, 3)]
+    assert [(r["value"], r["mean"], r["count"]) for r in rows] == [(0.25, 3.0, 3), (0.75, 9.25, 4)]
 
 
 SUMMARY = {
