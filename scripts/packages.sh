@@ -4,10 +4,12 @@
 
 # Debian 12 packages needed to build and test; nodejs and npm install the report page's
 # charting library (package-lock.json), libcairo2-dev draws the static figures, pybind11-dev,
-# python3-dev and python3-numpy build the Python module (docs/python.md)
+# python3-dev and python3-numpy build the Python module (docs/python.md); python3-scipy (Sobol
+# and Latin-hypercube sampling), python3-nlopt (geometry optimisation) and python3-distributed
+# (Dask) run design studies (docs/studies.md)
 PACKAGES=(build-essential cmake ninja-build pkg-config libeigen3-dev libnlopt-cxx-dev coinor-libipopt-dev
           libsundials-dev libcli11-dev catch2 libtomlplusplus-dev nlohmann-json3-dev nodejs libcairo2-dev
-          pybind11-dev python3-dev python3-numpy)
+          pybind11-dev python3-dev python3-numpy python3-scipy python3-nlopt python3-distributed)
 # Debian's npm, unless an npm is already there: a nodejs from another source (NodeSource's
 # packages bring their own npm and conflict with Debian's)
 command -v npm >/dev/null 2>&1 || PACKAGES+=(npm)

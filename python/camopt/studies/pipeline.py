@@ -51,8 +51,9 @@ def point_design(spec: StudySpec, values: tuple[float, ...]):
     return design, constraint_overrides
 
 
-def run_stages(spec: StudySpec, design, constraint_overrides: dict[str, str]) -> dict[str, dict]:
-    """Every stage of the pipeline in order; the summary of each, by stage name."""
+def run_stages(spec: StudySpec, design, constraint_overrides: dict[str, str], threads: int = 0) -> dict[str, dict]:
+    """Every stage of the pipeline in order; the summary of each, by stage name. `threads` is
+    the kinematic sweep's thread count (0: every core) unless the stage gives its own."""
     import camopt
 
     summaries: dict[str, dict] = {}
@@ -67,7 +68,10 @@ def run_stages(spec: StudySpec, design, constraint_overrides: dict[str, str]) ->
                                **options)
         summaries["optimize"], design = made.summary, made.design
     if "kinematics" in stages:
-        summaries["kinematics"] = camopt.kinematics(design, **stages["kinematics"]).summary
+        options = dict(stages["kinematics"])
+        if threads > 0:
+            options.setdefault("threads", threads)
+        summaries["kinematics"] = camopt.kinematics(design, **options).summary
     for model in ("rigid", "flexible"):
         if model in stages:
             summaries[model] = camopt.dynamics(design, model=model, **stages[model]).summary
@@ -83,9 +87,8 @@ def evaluate_point(spec: StudySpec, index: int, values: tuple[float, ...], threa
     nan = tuple(math.nan for _ in spec.responses)
     result = PointResult(index, tuple(values), nan)
     try:
-        camopt.set_threads(threads)
         design, constraint_overrides = point_design(spec, values)
-        summaries = run_stages(spec, design, constraint_overrides)
+        summaries = run_stages(spec, design, constraint_overrides, threads)
         result.responses = tuple(response_value(summaries[r.stage], r.path, r.reduce) for r in spec.responses)
     except camopt.InputError as e:
         result.status, result.error = INPUT_ERROR, str(e)
