@@ -1,0 +1,154 @@
+"""Studies through the Python API: the same table serially, on local processes and on a local
+Dask cluster; a failing point kept as a row; a geometry optimisation with a closed-form optimum;
+the CLI's `camopt study`."""
+
+import csv
+import math
+import os
+import subprocess
+
+import pytest
+
+import camopt
+from camopt.studies import parse_study
+
+SOURCE_DIR = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+DESIGNS = os.path.join(SOURCE_DIR, "designs")
+
+
+def rff_study(tmp_path, **changes):
+    data = {
+        "study": {"name": "rff mass x roller", "design": os.path.join(DESIGNS, "roller_finger_follower.toml")},
+        "parameter": [
+            # -0.01 kg breaks the design's rule (mass > 0): those points fail, the study goes on
+            {"key": "node.finger.mass_kg", "values": [0.03, 0.05, -0.01]},
+            {"key": "connection.cam_roller.b.radius_mm", "values": [8.0, 9.0]},
+        ],
+        "pipeline": {"kinematics": {"step_deg": 2.0}, "rigid": {"rpm": [3000, 6000], "step_deg": 2.0}},
+        "response": [
+            {"name": "max_pressure_angle_deg", "stage": "kinematics", "path": "positions[*].max_pressure_angle_deg"},
+            {"name": "max_hertz_MPa", "stage": "rigid", "path": "results[*].connections.*.max_hertz_MPa"},
+            {"name": "separation_rpm", "stage": "rigid", "path": "separation[*].contacts.*.separation_rpm",
+             "reduce": "min"},
+        ],
+        "pareto": {"minimize": ["max_hertz_MPa"], "maximize": ["separation_rpm"]},
+    }
+    data.update(changes)
+    return parse_study(data, str(tmp_path / "study.toml"))
+
+
+def read_rows(path):
+    with open(path, newline="") as f:
+        return list(csv.reader(f))
+
+
+def test_a_point_equals_the_api_run_of_its_design(tmp_path):
+    spec = rff_study(tmp_path)
+    result = camopt.study(spec, workers=1)
+    assert [r.index for r in result.points] == list(range(6))
+    ok = [r for r in result.points if r.status == "ok"]
+    assert len(ok) == 4
+    # point 1: mass 0.03, roller 9 mm, run by hand through the API
+    design = camopt.Design.load(os.path.join(DESIGNS, "roller_finger_follower.toml"))
+    design.set("node.finger.mass_kg", 0.03).set("connection.cam_roller.b.radius_mm", 9.0)
+    kin = camopt.kinematics(design, step_deg=2.0).summary
+    rigid = camopt.dynamics(design, rpm=[3000, 6000], step_deg=2.0).summary
+    point = result.points[1]
+    assert point.values == (0.03, 9.0)
+    assert point.responses[0] == max(p["max_pressure_angle_deg"] for p in kin["positions"])
+    assert point.responses[1] == max(c["max_hertz_MPa"] for r in rigid["results"] for c in r["connections"].values())
+    assert point.responses[2] == min(c["separation_rpm"] for s in rigid["separation"] for c in s["contacts"].values())
+    # a bigger roller on the same cam: the roller centre moved out, the lift and its stress changed
+    assert result.points[0].responses[1] != point.responses[1]
+
+
+def test_failed_points_are_rows_with_the_design_s_message(tmp_path):
+    result = camopt.study(rff_study(tmp_path), workers=1, out=str(tmp_path / "out"))
+    rows = read_rows(tmp_path / "out" / "results.csv")
+    assert rows[0] == ["point", "node.finger.mass_kg", "connection.cam_roller.b.radius_mm", "max_pressure_angle_deg",
+                       "max_hertz_MPa", "separation_rpm", "status", "error"]
+    failed = [r for r in rows[1:] if r[-2] != "ok"]
+    assert [r[0] for r in failed] == ["4", "5"]
+    for r in failed:
+        assert r[-2] == "input error"
+        assert r[3:6] == ["", "", ""]
+        assert "set node.finger.mass_kg=-0.01" in r[-1] and "mass_kg" in r[-1]
+    assert result.column("max_hertz_MPa")[4] != result.column("max_hertz_MPa")[4]  # NaN
+    pareto = read_rows(tmp_path / "out" / "pareto.csv")
+    assert {r[0] for r in pareto[1:]} == {str(i) for i in result.pareto}
+    assert 4 not in result.pareto and 5 not in result.pareto
+
+
+def test_local_processes_and_a_dask_cluster_give_the_serial_table(tmp_path):
+    distributed = pytest.importorskip("distributed")
+    spec = rff_study(tmp_path)
+    camopt.study(spec, workers=1, out=str(tmp_path / "serial"))
+    camopt.study(spec, workers=2, out=str(tmp_path / "local"))
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
+                                  dashboard_address=None) as cluster, distributed.Client(cluster) as client:
+        assert len(client.scheduler_info()["workers"]) == 2
+        camopt.study(spec, client=client, out=str(tmp_path / "dask"))
+        camopt.study(spec, scheduler=cluster.scheduler_address, out=str(tmp_path / "dask-address"))
+    serial = (tmp_path / "serial" / "results.csv").read_text()
+    assert len(read_rows(tmp_path / "serial" / "results.csv")) == 7
+    for other in ("local", "dask", "dask-address"):
+        for name in ("results.csv", "pareto.csv", "main_effects.csv"):
+            assert (tmp_path / other / name).read_text() == (tmp_path / "serial" / name).read_text(), (other, name)
+    assert serial.count(",ok,") == 4
+
+
+def test_geometry_optimisation_finds_the_offset_of_least_pressure_angle(tmp_path):
+    # eccentric disc (R 20, e 4) and a translating roller follower (r 8) whose line of travel is
+    # x = d: the contact normal runs from the disc centre (e cos t, e sin t) to the roller centre
+    # (d, y), |normal| = R + r, so sin(pressure angle) = (d - e cos t) / (R + r) and its largest
+    # value over a turn is (|d| + e) / (R + r): least at d = 0, asin(4 / 28)
+    spec = parse_study({
+        "study": {"design": os.path.join(DESIGNS, "eccentric_offset_roller.toml")},
+        "parameter": [{"key": "connection.disc_roller.b.center_mm[0]", "min": -5.0, "max": 8.0}],
+        "pipeline": {"kinematics": {"step_deg": 0.5}},
+        "response": [{"name": "max_pressure_angle_deg", "stage": "kinematics",
+                      "path": "positions[*].max_pressure_angle_deg"}],
+        "optimize": {"objective": "max_pressure_angle_deg", "sense": "minimize", "algorithm": "LN_COBYLA",
+                     "max_evaluations": 60, "relative_tolerance": 1e-6},
+    }, str(tmp_path / "offset.toml"))
+    result = camopt.study(spec, out=str(tmp_path / "out"))
+    best = result.best
+    assert best is not None and best.status == "ok"
+    assert abs(best.values[0]) < 0.01
+    exact = math.degrees(math.asin(4.0 / 28.0))
+    assert abs(best.responses[0] - exact) < 0.02
+    # away from the optimum the response follows the closed form too (every evaluation)
+    for r in result.points:
+        d = r.values[0]
+        assert abs(r.responses[0] - math.degrees(math.asin((abs(d) + 4.0) / 28.0))) < 0.02, d
+    assert 10 <= len(result.points) <= 60
+
+
+def test_camopt_study_runs_a_study_file_and_names_a_bad_key(tmp_path):
+    binary = os.environ["CAMOPT_BINARY"]
+    study = tmp_path / "s.toml"
+    study.write_text(f'''
+[study]
+design = "{os.path.join(DESIGNS, "eccentric_offset_roller.toml")}"
+[[parameter]]
+key = "connection.disc_roller.b.radius_mm"
+min = 7.0
+max = 9.0
+levels = 3
+[pipeline]
+kinematics = {{ step_deg = 1.0 }}
+[[response]]
+name = "max_lift_mm"
+stage = "kinematics"
+path = "positions[*].max_lift_mm"
+''')
+    run = subprocess.run([binary, "study", str(study), "--out", str(tmp_path / "out"), "--workers", "1"],
+                         capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    rows = read_rows(tmp_path / "out" / "results.csv")
+    assert [r[1] for r in rows[1:]] == ["7.0", "8.0", "9.0"] and all(r[-2] == "ok" for r in rows[1:])
+    study.write_text(study.read_text().replace("levels = 3", "levels = 1"))
+    bad = subprocess.run([binary, "study", str(study), "--out", str(tmp_path / "out2")], capture_output=True, text=True)
+    assert bad.returncode == 3
+    assert bad.stderr == f"camopt: input error: {study}: parameter[0].levels: 1: must be >= 2\n"
+    assert not (tmp_path / "out2").exists()
