@@ -23,7 +23,7 @@ import tempfile as _tempfile
 from . import _camopt
 from ._camopt import Error, InputError, NumericalError
 
-__all__ = ["Design", "Result", "kinematics", "dynamics", "synthesize", "optimize", "Error", "InputError",
+__all__ = ["Design", "Result", "kinematics", "dynamics", "synthesize", "optimize", "study", "Error", "InputError",
            "NumericalError", "__version__"]
 
 __version__ = _camopt.version
@@ -406,3 +406,18 @@ def optimize(design, constraints, cam="rotational", solver="ipopt", points=1440,
         [(str(k), _to_toml(v)) for k, v in (constraint_overrides or {}).items()], folder.name, solver, cam, bool(verify), int(points),
         int(max_iterations), 6 if starts is None else int(starts))
     return Result(tables["lift.csv"], _json.loads(report), list(notes), tables, _folder_design(files, folder), files)
+
+
+def study(spec, out=None, workers=None, scheduler=None, client=None, progress=None):
+    """Run a design study (docs/studies.md): ``spec`` is the path of a STUDY.toml or a
+    ``camopt.studies.StudySpec``. Every point runs the study's pipeline on the design with the
+    point's values ``set``; the result holds every point (its parameters, its responses in their
+    units, its status and error), the Pareto set and the main effects, and for a geometry
+    optimisation the best point. ``out``: a folder for results.csv, pareto.csv,
+    main_effects.csv and study.json. ``workers``: local processes (default every core; 1 runs
+    in this process). ``scheduler`` (tcp://HOST:PORT) or ``client`` (a distributed.Client):
+    run the points on a Dask cluster. A study-file error raises
+    ``camopt.studies.StudyInputError`` naming the file, key, value and rule."""
+    from . import studies
+
+    return studies.study(spec, out=out, workers=workers, scheduler=scheduler, client=client, progress=progress)

@@ -187,5 +187,6 @@ void setup_lift(CLI::App& app);
 void setup_optimize(CLI::App& app);
 void setup_dynamics(CLI::App& app);
 void setup_report(CLI::App& app);
+void setup_study(CLI::App& app);
 
 }  // namespace camopt::cli

@@ -75,6 +75,7 @@ int main(int argc, char** argv) {
   setup_optimize(app);
   setup_dynamics(app);
   setup_report(app);
+  setup_study(app);
 
   // a first word that names no subcommand (a typo): say so, with the subcommands
   for (int i = 1; i < argc; ++i) {

@@ -32,10 +32,6 @@ class PointResult:
     seconds: float = 0.0
 
 
-def _format_value(value: float, integer: bool) -> str:
-    return repr(int(value)) if integer else repr(float(value))
-
-
 def point_design(spec: StudySpec, values: tuple[float, ...]):
     """The study's design with the point's design keys set, and the constraint-set overrides."""
     import camopt
@@ -43,11 +39,11 @@ def point_design(spec: StudySpec, values: tuple[float, ...]):
     design = camopt.Design.load(spec.design)
     constraint_overrides: dict[str, str] = {}
     for p, v in zip(spec.parameters, values):
-        text = _format_value(v, p.integer)
+        value = int(v) if p.integer else float(v)
         if p.key.startswith("constraints."):
-            constraint_overrides[p.key[len("constraints."):]] = text
+            constraint_overrides[p.key[len("constraints."):]] = repr(value)
         else:
-            design.set(p.key, text)
+            design.set(p.key, value)
     return design, constraint_overrides
 
 

@@ -12,14 +12,17 @@ import tomllib
 from dataclasses import dataclass, field
 from typing import Any
 
+from .. import InputError
+
 SAMPLING_METHODS = ("full_factorial", "latin_hypercube", "sobol")
 STAGES = ("synthesize", "optimize", "kinematics", "rigid", "flexible")
 REDUCTIONS = ("max", "min", "mean", "first", "sum")
 NLOPT_ALGORITHMS = ("LN_COBYLA", "LN_BOBYQA", "LN_NELDERMEAD", "LN_SBPLX", "GN_DIRECT_L", "GN_ISRES")
 
 
-class StudyInputError(ValueError):
-    """A study file or argument that breaks a rule: the message names where, the value and the rule."""
+class StudyInputError(InputError):
+    """A study file or argument that breaks a rule: the message names where, the value and the rule
+    (a camopt.InputError, as the CLI's exit 3)."""
 
 
 @dataclass(frozen=True)
