@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "camopt/core/error.hpp"
 #include "cli_common.hpp"
 #include "validators.hpp"
 
@@ -25,6 +26,9 @@ struct StudyOptions {
 };
 
 [[noreturn]] void run_study(const StudyOptions& o) {
+  if (!global_options().set.empty())
+    throw InputError("--set: " + global_options().set.front() +
+                     ": a study sets design values point by point, in its [[parameter]] tables (docs/studies.md)");
 #if defined(CAMOPT_PYTHON_EXECUTABLE) && defined(CAMOPT_PYTHON_DIR)
   std::vector<std::string> args = {CAMOPT_PYTHON_EXECUTABLE, "-m", "camopt.studies", o.study_file, "--out", o.out_dir};
   if (o.workers > 0) args.insert(args.end(), {"--workers", std::to_string(o.workers)});

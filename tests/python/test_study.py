@@ -152,3 +152,17 @@ path = "positions[*].max_lift_mm"
     assert bad.returncode == 3
     assert bad.stderr == f"camopt: input error: {study}: parameter[0].levels: 1: must be >= 2\n"
     assert not (tmp_path / "out2").exists()
+
+
+def test_the_bundled_study_runs_every_point_and_trades_stress_against_separation(tmp_path):
+    result = camopt.study(os.path.join(DESIGNS, "studies", "rff_roller_pivot.toml"), workers=1)
+    assert len(result.points) == 16 and all(r.status == "ok" for r in result.points)
+    # a bigger roller lowers the Hertz stress (the main effect falls bin by bin)
+    means = [row["mean"] for row in result.main_effects if row["parameter"] == 0 and row["response"] == 2]
+    assert len(means) == 4 and all(a > b for a, b in zip(means, means[1:]))
+    # the Pareto set: no other point has both less stress and a higher separation speed
+    hertz, separation = result.column("max_hertz_MPa"), result.column("separation_rpm")
+    for i in result.pareto:
+        assert not any(hertz[j] <= hertz[i] and separation[j] >= separation[i]
+                       and (hertz[j] < hertz[i] or separation[j] > separation[i]) for j in range(16))
+    assert 1 <= len(result.pareto) < 16

@@ -119,6 +119,10 @@ def test_main_effects_of_sampled_points_use_equal_bins_and_skip_failures():
     y = np.array([1.0, 3.0, 5.0, 6.0, 7.0, np.nan, 11.0, 13.0])
     rows = analysis.main_effects(x, y[:, None], [()], 2)
     assert [(r["value"], r["mean"], r["count"]) for r in rows] == [(0.25, 3.0, 3), (0.75, 9.25, 4)]
+    # bins over the parameter's range, not the points' extent: [-1, 0), [0, 1), [1, 2]
+    rows = analysis.main_effects(x, y[:, None], [()], 3, [(-1.0, 2.0)])
+    assert [(r["value"], r["count"]) for r in rows] == [(-0.5, 0), (0.5, 6), (1.5, 1)]
+    assert math.isnan(rows[0]["mean"]) and rows[1]["mean"] == 33.0 / 6 and rows[2]["mean"] == 13.0
 
 
 SUMMARY = {

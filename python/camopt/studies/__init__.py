@@ -70,7 +70,8 @@ def _analyse(spec: StudySpec, results: list[PointResult]) -> tuple[list[int], li
         mask = analysis.pareto_mask(columns, [m for _, m in spec.pareto])
         pareto = [results[i].index for i in np.flatnonzero(mask)]
     levels = [p.levels if spec.method == "full_factorial" else () for p in spec.parameters]
-    effects = analysis.main_effects(values, responses, levels, spec.main_effect_bins) if len(results) else []
+    ranges = [(p.low, p.high) for p in spec.parameters]
+    effects = analysis.main_effects(values, responses, levels, spec.main_effect_bins, ranges) if len(results) else []
     return pareto, effects
 
 

@@ -90,12 +90,13 @@ def pareto_mask(values: np.ndarray, maximize: list[bool]) -> np.ndarray:
     return mask if n else np.zeros(0, dtype=bool)
 
 
-def main_effects(points: np.ndarray, responses: np.ndarray, levels: list[tuple[float, ...]], bins: int
-                 ) -> list[dict[str, Any]]:
+def main_effects(points: np.ndarray, responses: np.ndarray, levels: list[tuple[float, ...]], bins: int,
+                 ranges: list[tuple[float, float]] | None = None) -> list[dict[str, Any]]:
     """Per parameter and response, the mean response at each level of the parameter.
 
     A parameter with levels (full factorial) groups the points by level; a sampled one groups
-    them into `bins` equal-width intervals of its range (labelled by their centres). Failed
+    them into `bins` equal-width intervals of its range (`ranges[j]`, default the points' own
+    extent; labelled by their centres). Failed
     points (NaN response) are left out of that response's means. Returns rows with the
     parameter's column, the group, its value, the response's column, the mean and the count.
     """
@@ -105,7 +106,7 @@ def main_effects(points: np.ndarray, responses: np.ndarray, levels: list[tuple[f
         if levels[j]:
             groups = [(v, x == v) for v in levels[j]]
         else:
-            low, high = float(np.min(x)), float(np.max(x))
+            low, high = ranges[j] if ranges else (float(np.min(x)), float(np.max(x)))
             edges = np.linspace(low, high, bins + 1)
             which = np.clip(np.searchsorted(edges, x, side="right") - 1, 0, bins - 1)
             groups = [(0.5 * (edges[b] + edges[b + 1]), which == b) for b in range(bins)]
