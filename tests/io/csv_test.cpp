@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "camopt/core/error.hpp"
+#include "support/input_error.hpp"
 #include "temp_dir.hpp"
 
 namespace fs = std::filesystem;
@@ -28,16 +29,6 @@ using camopt::test::TempDir;
 namespace {
 
 
-// the message of the InputError thrown by `f`, or "" when none is thrown
-template <class F>
-std::string input_error_of(F&& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
 
 // one lift table, written with each delimiter
 const char* const kCommaTable = "cam_deg,lift_mm\n0,0\n1.5,0.25\n3,1e-1\n";
@@ -115,10 +106,10 @@ TEST_CASE("CsvTable column lookup is case-insensitive and names missing columns"
   CHECK(table.column("FORCE_N") == std::vector<double>{2.0});
   CHECK(table.require_one_of({"valve_lift_mm", "lift_mm"}, "lift") == 1u);
 
-  const auto missing = input_error_of([&] { table.column("velocity_mm_per_deg"); });
+  const auto missing = camopt::test::input_error_of([&] { table.column("velocity_mm_per_deg"); });
   CHECK_THAT(missing, Contains("lift.csv") && Contains("'velocity_mm_per_deg'") &&
                           Contains("Cam_Deg, Lift_MM, force_N"));
-  const auto none = input_error_of([&] { table.require_one_of({"valve_lift_mm", "tappet_lift_mm"}, "lift"); });
+  const auto none = camopt::test::input_error_of([&] { table.require_one_of({"valve_lift_mm", "tappet_lift_mm"}, "lift"); });
   CHECK_THAT(none, Contains("lift.csv") && Contains("no lift column") &&
                        Contains("valve_lift_mm, tappet_lift_mm") && Contains("Cam_Deg, Lift_MM, force_N"));
 }
@@ -247,7 +238,7 @@ TEST_CASE("read_angle_table detects a crank angle basis", "[io][csv][angle]") {
 TEST_CASE("read_angle_table rejects an angle column without basis", "[io][csv][angle]") {
   for (const char* name : {"angle_deg", "angle", "polar_angle_deg", "Angle"}) {
     const auto csv = parse_csv(std::string(name) + ",lift_mm\n0,0\n1,0.5\n", "lift.csv");
-    const auto message = input_error_of([&] { read_angle_table(csv, {"lift_mm"}); });
+    const auto message = camopt::test::input_error_of([&] { read_angle_table(csv, {"lift_mm"}); });
     CHECK_THAT(message, Contains("lift.csv") && Contains(std::string("'") + name + "'") &&
                             Contains("basis must be explicit") && Contains("cam_deg, cam_angle_deg") &&
                             Contains("crank_deg, crank_angle_deg"));
