@@ -58,6 +58,15 @@ double content_mm3(const HlaSpec& h, double z, double void_mm3, double p) {
   return (h.chamber_volume_mm3 + area * z - void_mm3) / ratio;
 }
 
+// the plunger's drift [mm] and the oil leaked and refilled [mm^3] over a run
+struct Exchange {
+  double drift, leak, refill;
+};
+Exchange exchange_of(const dynamics::FlexibleResult& res) {
+  return {res.hla_plunger.back() - res.hla_plunger.front(), res.hla_leak_volume.back() - res.hla_leak_volume.front(),
+          res.hla_refill_volume.back() - res.hla_refill_volume.front()};
+}
+
 }  // namespace
 
 namespace {
@@ -214,8 +223,8 @@ TEST_CASE("flexible HLA: pump-up at over-speed, collapse of an unrefilled leak",
     INFO(r.status.str());
     REQUIRE(r.status.ok());
     const dynamics::FlexibleResult& res = r.res;
-    const double drift = res.hla_plunger.back() - res.hla_plunger.front();
-    const double refill = res.hla_refill_volume.back() - res.hla_refill_volume.front();
+    const Exchange e = exchange_of(res);
+    const double drift = e.drift, refill = e.refill;
     INFO("drift " << drift << " mm, refill " << refill << " mm^3");
     CHECK(drift > 0.01);
     CHECK(refill > 1.0);
@@ -234,9 +243,7 @@ TEST_CASE("flexible HLA: pump-up at over-speed, collapse of an unrefilled leak",
     INFO(r.status.str());
     REQUIRE(r.status.ok());
     const dynamics::FlexibleResult& res = r.res;
-    const double drift = res.hla_plunger.back() - res.hla_plunger.front();
-    const double leak = res.hla_leak_volume.back() - res.hla_leak_volume.front();
-    const double refill = res.hla_refill_volume.back() - res.hla_refill_volume.front();
+    const auto [drift, leak, refill] = exchange_of(res);
     INFO("drift " << drift << " mm, leak " << leak << " mm^3, refill " << refill << " mm^3");
     CHECK(drift < -0.05);
     CHECK(leak > 5.0);
@@ -384,9 +391,7 @@ TEST_CASE("flexible series HLA: a worn element on a starved gallery collapses", 
   INFO(r.status.str());
   REQUIRE(r.status.ok());
   const dynamics::FlexibleResult& res = r.res;
-  const double drift = res.hla_plunger.back() - res.hla_plunger.front();
-  const double leak = res.hla_leak_volume.back() - res.hla_leak_volume.front();
-  const double refill = res.hla_refill_volume.back() - res.hla_refill_volume.front();
+  const auto [drift, leak, refill] = exchange_of(res);
   INFO("drift " << drift << " mm, leak " << leak << " mm^3, refill " << refill << " mm^3");
   CHECK(refill == 0.0);
   CHECK(leak > 1.0);
