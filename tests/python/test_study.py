@@ -166,3 +166,24 @@ def test_the_bundled_study_runs_every_point_and_trades_stress_against_separation
         assert not any(hertz[j] <= hertz[i] and separation[j] >= separation[i]
                        and (hertz[j] < hertz[i] or separation[j] > separation[i]) for j in range(16))
     assert 1 <= len(result.pareto) < 16
+
+
+def test_a_synthesis_stage_makes_each_point_s_cam_for_its_follower(tmp_path):
+    target = os.path.join(DESIGNS, "targets", "rff_intake_lift.csv")
+    spec = parse_study({
+        "study": {"design": os.path.join(DESIGNS, "roller_finger_follower.toml")},
+        "parameter": [{"key": "connection.cam_roller.b.radius_mm", "values": [8.0, 9.5]}],
+        "pipeline": {"synthesize": {"target": target}, "kinematics": {"step_deg": 1.0}},
+        "response": [{"name": "round_trip_mm", "stage": "synthesize", "path": "checks.round_trip_max_error_mm"},
+                     {"name": "max_lift_mm", "stage": "kinematics", "path": "positions[*].max_lift_mm"}],
+    }, str(tmp_path / "synth.toml"))
+    result = camopt.study(spec, workers=1)
+    assert [r.status for r in result.points] == ["ok", "ok"], [r.error for r in result.points]
+    for point in result.points:
+        design = camopt.Design.load(os.path.join(DESIGNS, "roller_finger_follower.toml"))
+        made = camopt.synthesize(target, design.set("connection.cam_roller.b.radius_mm", point.values[0]))
+        assert point.responses[0] == made.summary["checks"]["round_trip_max_error_mm"]
+        assert point.responses[1] == camopt.kinematics(made.design, step_deg=1.0).summary["positions"][0]["max_lift_mm"]
+    # each roller gets its own cam, and both reproduce the same target lift
+    assert result.points[0].responses[0] < 1e-6 and result.points[1].responses[0] < 1e-6
+    assert abs(result.points[0].responses[1] - result.points[1].responses[1]) < 1e-5
