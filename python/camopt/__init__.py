@@ -23,8 +23,8 @@ import tempfile as _tempfile
 from . import _camopt
 from ._camopt import Error, InputError, NumericalError
 
-__all__ = ["Design", "Result", "kinematics", "dynamics", "synthesize", "optimize", "study", "Error", "InputError",
-           "NumericalError", "__version__"]
+__all__ = ["Design", "Result", "kinematics", "dynamics", "lift", "synthesize", "optimize", "study", "Error",
+           "InputError", "NumericalError", "__version__"]
 
 __version__ = _camopt.version
 
@@ -316,6 +316,53 @@ def _target(target):
         header = [str(k) for k in target]
         return "<target>", header, [[float(v) for v in target[k]] for k in target]
     return _os.fspath(target), None, None
+
+
+def lift(law, lift_mm=10.0, duration_deg=None, open_deg=None, close_deg=None, dwell_deg=0.0, ramp_height_mm=0.0,
+         ramp_length_deg=0.0, close_law=None, close_ramp_height_mm=None, close_ramp_length_deg=None, ramp_blend=0.5,
+         peak_deg=180.0, acc_bspline=None, bspline_degree=None, polydyne_rpm=None, polydyne_fn_hz=None,
+         step_deg=0.25, basis="cam"):
+    """A target valve lift from the lift-law library over one cam revolution, as ``camopt lift``
+    writes it: opening ramp, rise, dwell, fall, closing ramp, base circle. Every angle is in
+    cam degrees. An option left None is not given (the CLI's default applies).
+
+    law: lift law of the opening flank, and of the closing flank unless close_law (--law,
+        --close-law): e.g. "polynomial-345", "modified-sine", "cycloidal", "bspline", "polydyne".
+    lift_mm: maximum lift [mm] (--lift).
+    duration_deg: whole event at zero lift, ramps and dwell included, split evenly between the
+        flanks [cam deg], default 130 (--duration); or open_deg and close_deg: the opening flank
+        (start of its ramp to max lift) and the closing flank (end of the dwell to the end of its
+        ramp) [cam deg] (--open, --close), not with duration_deg.
+    dwell_deg: dwell at maximum lift [cam deg] (--dwell).
+    ramp_height_mm, ramp_length_deg: each ramp's height [mm] and length [cam deg]; 0: no ramp
+        (--ramp-height, --ramp-length); close_ramp_height_mm, close_ramp_length_deg: the closing
+        ramp's, default the same (--close-ramp-height, --close-ramp-length).
+    ramp_blend: fraction of each ramp spent reaching its constant velocity, 0 < f <= 1
+        (--ramp-blend).
+    peak_deg: cam angle of maximum lift, the middle of the dwell [cam deg], 0 <= angle < 360
+        (--peak-at).
+    acc_bspline: law bspline: the acceleration b-spline's control values, a shape [any unit]
+        (a list; --acc-bspline); bspline_degree: its degree, 2..5, default 3 (--bspline-degree).
+    polydyne_rpm: law polydyne: design engine speed [rpm, crankshaft] (--polydyne-rpm);
+        polydyne_fn_hz: the valvetrain's natural frequency [Hz] (--polydyne-fn).
+    step_deg: table step [cam deg]; must divide 360 (--step).
+    basis: "cam" (column cam_deg) or "crank" (crank_deg = 2 x cam, derivatives per crank deg)
+        (--basis).
+
+    Returns a Result: ``columns`` exactly the CLI's table (cam_deg or crank_deg, lift_mm,
+    vel_mm_per_deg, acc_mm_per_deg2, jerk_mm_per_deg3), which ``synthesize`` takes as its
+    target; ``summary`` the event's figures the CLI prints (max_lift_mm, max_lift_at_cam_deg,
+    duration_0mm_cam_deg, duration_1mm_cam_deg, ..., derivatives per cam deg); ``notes`` those
+    lines. Raises InputError with the CLI's message naming the option.
+    """
+    columns, summary, notes = _camopt.lift(
+        str(law), None if close_law is None else str(close_law), float(lift_mm), _number(duration_deg),
+        _number(open_deg), _number(close_deg), float(dwell_deg), float(ramp_height_mm), float(ramp_length_deg),
+        _number(close_ramp_height_mm), _number(close_ramp_length_deg), float(ramp_blend), float(peak_deg),
+        None if acc_bspline is None else [float(v) for v in acc_bspline],
+        None if bspline_degree is None else int(bspline_degree), _number(polydyne_rpm), _number(polydyne_fn_hz),
+        float(step_deg), str(basis))
+    return Result(columns, _json.loads(summary), list(notes))
 
 
 def synthesize(target, design, cam="rotational", control=None, points=1440, smooth=False, knot_spacing_deg=None,

@@ -30,6 +30,7 @@
 #include "camopt/jobs/common.hpp"
 #include "camopt/jobs/dynamics.hpp"
 #include "camopt/jobs/kinematics.hpp"
+#include "camopt/jobs/lift.hpp"
 #include "camopt/jobs/modes.hpp"
 #include "camopt/jobs/optimize.hpp"
 #include "camopt/jobs/synthesize.hpp"
@@ -120,13 +121,20 @@ std::string read_design_file(const std::string& path) { return io::read_input_fi
 // Design.set's changes: (key path, TOML text of the value), in order
 using Overrides = std::vector<std::pair<std::string, std::string>>;
 
+// Design.set's changes as the io's overrides, each named as the design's messages name it
+std::vector<io::Override> design_overrides(const Overrides& overrides) {
+  std::vector<io::Override> out;
+  for (const auto& [key, value] : overrides) out.push_back(io::Override{key, value, "set " + key + "=" + value});
+  return out;
+}
+
 // a design's text as an editable document with the overrides applied; an override that
 // leads nowhere or changes a value's type raises InputError naming it ("set key=value: ...")
 io::DesignDocument design_document(const std::string& text, const std::string& path, const Overrides& overrides) {
   std::string directory = std::filesystem::path(path).parent_path().string();
   if (directory.empty()) directory = ".";
   io::DesignDocument doc = io::DesignDocument::from_text(text, path, directory);
-  for (const auto& [key, value] : overrides) doc.set(io::Override{key, value, "set " + key + "=" + value});
+  for (const io::Override& o : design_overrides(overrides)) doc.set(o);
   return doc;
 }
 
@@ -148,7 +156,8 @@ std::shared_ptr<CompiledDesign> compile_design(const std::string& text, const st
                                                const Overrides& overrides) {
   PythonObserver observer;
   auto compiled = std::make_shared<CompiledDesign>();
-  compiled->design = jobs::compile_design(design_document(text, path, overrides).spec(), path, observer);
+  compiled->design = jobs::compile_design(design_document(text, path, overrides).spec(), path, observer,
+                                         design_overrides(overrides));
   compiled->path = path;
   compiled->notes = observer.take_notes();
   return compiled;
@@ -246,6 +255,13 @@ py::tuple dynamics(const CompiledDesign& compiled, const std::string& model, con
   return py::make_tuple(columns_dict(result.columns), result.summary.dump(), observer.take_notes());
 }
 
+// the lift job: (columns, summary as JSON text, notes)
+py::tuple lift(const jobs::LiftOptions& options) {
+  PythonObserver observer;
+  const jobs::LiftResult result = jobs::run_lift(options, observer);
+  return py::make_tuple(columns_dict(result.table), result.summary.dump(), observer.take_notes());
+}
+
 // camopt.NumericalError with its status: code, message and where (the angle, the residual)
 // and, for a job that writes a report before it fails (optimize), `report`: its JSON text
 void raise_numerical(const NumericalError& e, const std::string& report = "") {
@@ -302,13 +318,6 @@ std::pair<py::dict, py::dict> exports_dicts(const jobs::ProfileExports& exports)
   if (!exports.grinding.header.empty()) tables["grinding.csv"] = columns_dict(exports.grinding);
   for (const auto& [name, text] : jobs::export_files(exports)) files[py::str(name)] = py::bytes(text);
   return {tables, files};
-}
-
-// Design.set's changes as the io's overrides, each named as the design's messages name it
-std::vector<io::Override> design_overrides(const Overrides& overrides) {
-  std::vector<io::Override> out;
-  for (const auto& [key, value] : overrides) out.push_back(io::Override{key, value, "set " + key + "=" + value});
-  return out;
 }
 
 // the synthesize job: (tables, report as JSON text, notes, files); the target is a CSV file
@@ -434,6 +443,24 @@ PYBIND11_MODULE(_camopt, m) {
       py::arg("design"), py::arg("model"), py::arg("rpm"), py::arg("control"), py::arg("step_deg"), py::arg("contacts"),
       py::arg("revolutions"), py::arg("start"), py::arg("coil_displacements"), py::arg("rtol"), py::arg("atol"),
       "The dynamics job (rigid or flexible): (columns, summary JSON text, notes).");
+  m.def(
+      "lift",
+      [](const std::string& law, std::optional<std::string> close_law, double lift_mm, std::optional<double> duration_deg,
+         std::optional<double> open_deg, std::optional<double> close_deg, double dwell_deg, double ramp_height_mm,
+         double ramp_length_deg, std::optional<double> close_ramp_height_mm,
+         std::optional<double> close_ramp_length_deg, double ramp_blend, double peak_deg,
+         std::optional<std::vector<double>> acc_controls, std::optional<int> bspline_degree,
+         std::optional<double> polydyne_rpm, std::optional<double> polydyne_hz, double step_deg,
+         const std::string& basis) {
+        return lift({law, std::move(close_law), lift_mm, duration_deg, open_deg, close_deg, dwell_deg, ramp_height_mm,
+                     ramp_length_deg, close_ramp_height_mm, close_ramp_length_deg, ramp_blend, peak_deg,
+                     std::move(acc_controls), bspline_degree, polydyne_rpm, polydyne_hz, step_deg, basis});
+      },
+      py::arg("law"), py::arg("close_law"), py::arg("lift_mm"), py::arg("duration_deg"), py::arg("open_deg"),
+      py::arg("close_deg"), py::arg("dwell_deg"), py::arg("ramp_height_mm"), py::arg("ramp_length_deg"),
+      py::arg("close_ramp_height_mm"), py::arg("close_ramp_length_deg"), py::arg("ramp_blend"), py::arg("peak_deg"),
+      py::arg("acc_controls"), py::arg("bspline_degree"), py::arg("polydyne_rpm"), py::arg("polydyne_hz"),
+      py::arg("step_deg"), py::arg("basis"), "The lift job: (columns, summary JSON text, notes).");
   m.def("modes", &modes, py::arg("design"), py::arg("control"), py::arg("cam_deg"), py::arg("release_cam"),
         py::arg("threads"), "The modes job (dynamics --model modes): (columns, summary JSON text, notes).");
   m.def(

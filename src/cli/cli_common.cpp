@@ -71,26 +71,9 @@ DesignSpec load_design_spec(const std::string& design_path) {
   return io::load_design(design_path, design_overrides());
 }
 
-void record_overrides(nlohmann::json& summary) {
-  if (global_options().set.empty()) return;
-  nlohmann::json overrides = nlohmann::json::object();
-  for (const io::Override& o : design_overrides()) {
-    // a TOML number, boolean or array of numbers reads as JSON; a string is unquoted
-    nlohmann::json value = nlohmann::json::parse(o.value, nullptr, false);
-    if (value.is_discarded()) value = o.value;
-    overrides[o.key] = value;
-  }
-  summary["overrides"] = overrides;
-}
-
-nlohmann::json with_overrides(nlohmann::json summary) {
-  record_overrides(summary);
-  return summary;
-}
-
 LoadedDesign load_mechanism(const std::string& design_path) {
   TerminalObserver notes;
-  return jobs::compile_design(load_design_spec(design_path), design_path, notes);
+  return jobs::compile_design(load_design_spec(design_path), design_path, notes, design_overrides());
 }
 
 std::map<std::string, io::FileId> write_outputs(const std::string& out_dir, const std::vector<std::string>& output_set,
@@ -106,7 +89,7 @@ std::map<std::string, io::FileId> write_table_and_summary(const std::string& out
                                                           const std::string& csv_name, const io::Columns& table,
                                                           const nlohmann::json& summary) {
   return write_outputs(out_dir, output_set,
-                       {{csv_name, io::format_csv(table)}, {"summary.json", with_overrides(summary).dump(2) + "\n"}});
+                       {{csv_name, io::format_csv(table)}, {"summary.json", summary.dump(2) + "\n"}});
 }
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {

@@ -97,9 +97,6 @@ LoadedDesign load_mechanism(const std::string& design_path);
 std::vector<io::Override> design_overrides();
 // the design file parsed with the --set overrides applied (io::DesignDocument)
 DesignSpec load_design_spec(const std::string& design_path);
-// summary.json / report.json: "overrides": {"key.path": value} when --set was given
-void record_overrides(nlohmann::json& summary);
-nlohmann::json with_overrides(nlohmann::json summary);
 
 // the files of one output set (name, contents) staged into out_dir and committed together;
 // returns the files committed (io::OutputTransaction::committed)

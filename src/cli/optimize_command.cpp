@@ -48,7 +48,7 @@ void run_optimize(OptimizeOptions& o) {
     const auto exports = jobs::export_files(*result.exports);
     files.insert(files.end(), exports.begin(), exports.end());
   }
-  files.emplace_back("report.json", with_overrides(result.report).dump(2) + "\n");
+  files.emplace_back("report.json", result.report.dump(2) + "\n");
   write_outputs(o.job.out_dir, kOptimizeOutputs, files);
   if (result.exports) {
     std::string names;

@@ -29,7 +29,7 @@ void run_synthesize(SynthesizeOptions& o) {
   const jobs::SynthesizeResult result = jobs::run_synthesize(spec, target, o.job, terminal);
   // profile.csv, profile.dxf, grinding.csv, design.toml and report.json, committed together
   auto files = jobs::export_files(result.exports);
-  files.emplace_back("report.json", with_overrides(result.report).dump(2) + "\n");
+  files.emplace_back("report.json", result.report.dump(2) + "\n");
   write_outputs(o.job.out_dir, kSynthesizeOutputs, files);
   info(result.summary + " -> " + o.job.out_dir + "/profile.csv, report.json, design.toml, profile.dxf, grinding.csv");
   // the page of the results

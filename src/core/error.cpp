@@ -24,6 +24,7 @@ const char* to_string(StatusCode code) {
     case StatusCode::integrator_failure: return "integrator failure";
     case StatusCode::infeasible: return "infeasible";
     case StatusCode::not_implemented: return "not implemented";
+    case StatusCode::interrupted: return "interrupted";
   }
   return "unknown";
 }

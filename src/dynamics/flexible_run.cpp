@@ -131,6 +131,7 @@ class Run {
   Status record(std::size_t i, double deg, double tout);
   bool periodic_check();
   Status failure(const std::string& what, double t);
+  bool stop_requested() const { return opt_.stop_requested && opt_.stop_requested(); }
   double cam_deg(double t) const { return first_deg_ + t * s_.omega / rad_per_deg; }
 
   System& s_;
@@ -422,6 +423,10 @@ Status Run::integrate(double start_deg, double stop_deg, double step_deg) {
     for (std::size_t i = 0; i < per_window; ++i) {
       const double deg = start_deg + step_deg * static_cast<double>(i);
       const double tout = window_t0_ + (deg - start_deg) * rad_per_deg / s_.omega;
+      // a caller's stop request, between output points
+      if (stop_requested())
+        return {StatusCode::interrupted, "stopped on request",
+                "cam " + format_number(cam_deg(t_)) + " deg, " + format_number(rpm_) + " rpm"};
       Status st = advance(tout);
       if (!st.ok()) return st;
       s_.evaluate(tout);

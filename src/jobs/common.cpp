@@ -37,12 +37,26 @@ std::vector<std::string> held_rigid_hlas(const DesignSpec& spec, const std::stri
   return names;
 }
 
-LoadedDesign compile_design(DesignSpec spec, const std::string& design_path, Observer& observer) {
+LoadedDesign compile_design(DesignSpec spec, const std::string& design_path, Observer& observer,
+                            std::vector<io::Override> overrides) {
   LoadedDesign d;
   d.spec = std::move(spec);
   d.mech = kin::compile(d.spec);
+  d.overrides = std::move(overrides);
   for (const auto& note : kin::check_drawing(d.mech)) observer.note(design_path + ": warning: " + note);
   return d;
+}
+
+void record_overrides(nlohmann::json& summary, const std::vector<io::Override>& overrides) {
+  if (overrides.empty()) return;
+  nlohmann::json recorded = nlohmann::json::object();
+  for (const io::Override& o : overrides) {
+    // a TOML number, boolean or array of numbers reads as JSON; a string is unquoted
+    nlohmann::json value = nlohmann::json::parse(o.value, nullptr, false);
+    if (value.is_discarded()) value = o.value;
+    recorded[o.key] = value;
+  }
+  summary["overrides"] = recorded;
 }
 
 DriverRange driver_range(const kin::Mechanism& mech, double step_option) {

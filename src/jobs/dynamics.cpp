@@ -3,6 +3,7 @@
 #include "camopt/jobs/dynamics.hpp"
 
 #include <chrono>
+#include <functional>
 
 #include "camopt/dynamics/compliant.hpp"
 #include "camopt/dynamics/rigid.hpp"
@@ -88,14 +89,29 @@ DynamicsResult run_compliant_contacts(const DynamicsSetup& su, const DynamicsOpt
   return out;
 }
 
-// the flexible model: one CVODE run per (rpm, control), the last revolution reported
+// the observer's cancel_requested for a run's output points, asked at most every 20 ms of
+// wall time (the check may wait for the caller's interpreter)
+constexpr std::chrono::milliseconds kCancelCheckInterval{20};
+std::function<bool()> throttled_cancel_check(Observer& observer) {
+  return [&observer, last = std::chrono::steady_clock::now()]() mutable {
+    const auto now = std::chrono::steady_clock::now();
+    if (now - last < kCancelCheckInterval) return false;
+    last = now;
+    return observer.cancel_requested();
+  };
+}
+
+// the flexible model: one CVODE run per (rpm, control), the last revolution reported; a
+// cancel is asked between output points too, so one long run stops within tens of ms
 DynamicsResult run_flexible_model(const DynamicsSetup& su, const DynamicsOptions& o) {
   DynamicsResult out;
   const auto t0 = std::chrono::steady_clock::now();
+  dynamics::FlexibleOptions flexible = o.flexible;
+  flexible.stop_requested = throttled_cancel_check(su.observer);
   const std::vector<FlexibleRun> runs =
       run_grid<dynamics::FlexibleResult>(su, [&](double rpm, const std::vector<double>& controls, auto& result) {
         return dynamics::run_flexible(su.mech, su.model, controls, rpm, su.range.start, su.range.stop, su.range.step,
-                                      o.flexible, result);
+                                      flexible, result);
       });
   out.seconds = seconds_since(t0);
   // the columns, then the summary (with the runs' warnings as notes)
@@ -131,6 +147,7 @@ DynamicsResult run_dynamics(const LoadedDesign& design, const DynamicsOptions& o
   DynamicsResult out = o.model == "flexible"       ? run_flexible_model(su, o)
                        : o.contacts == "compliant" ? run_compliant_contacts(su, o)
                                                    : run_rigid(su, o);
+  record_overrides(out.summary, design.overrides);
   out.positions = su.controls.values.size();
   out.speeds = su.rpms.size();
   return out;

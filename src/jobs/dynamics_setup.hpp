@@ -37,7 +37,8 @@ struct GridRun {
 };
 
 // runs `integrate(rpm, controls, result)` over the grid, one observer step per run (a cancel
-// stops it there); a failure stops with its control position named
+// stops it there, and a run that says it was interrupted); a failure stops with its control
+// position named
 template <class Result, class Integrate>
 std::vector<GridRun<Result>> run_grid(const DynamicsSetup& su, Integrate&& integrate) {
   std::vector<GridRun<Result>> runs;
@@ -47,6 +48,7 @@ std::vector<GridRun<Result>> run_grid(const DynamicsSetup& su, Integrate&& integ
     for (std::size_t p = 0; p < su.controls.positions.size(); ++p) {
       GridRun<Result> r{rpm, p, {}};
       const Status st = integrate(rpm, su.controls.positions[p], r.result);
+      if (st.code == StatusCode::interrupted) throw Cancelled();
       if (!st.ok()) fail_at_position(su.mech, su.controls, st, p);
       runs.push_back(std::move(r));
       steps.step_done();

@@ -362,6 +362,7 @@ KinematicsResult run_kinematics(const LoadedDesign& design, const KinematicsOpti
   // kinematics.csv and summary.json
   out.columns = CsvColumns(run, result).table();
   out.summary = summary_json(run, sweep, result, no_lash, out.seconds);
+  record_overrides(out.summary, design.overrides);
   out.positions = result.positions.size();
   out.points = result.driver.size();
   return out;

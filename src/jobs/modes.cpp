@@ -208,6 +208,7 @@ ModesResult run_modes(const LoadedDesign& design, const ModesOptions& o, Observe
   ModesResult result;
   result.columns = modes_columns(points, controls, control_key);
   result.summary = modes_summary(mech, model, o, points, controls, control_key);
+  record_overrides(result.summary, design.overrides);
   result.linearisations = points.size();
   result.coordinates = points.front().modes.coordinates.size();
   return result;

@@ -433,6 +433,7 @@ OptimizeResult run_optimize(const DesignSpec& spec, opt::OptimizationSpec set, c
   out.status = solved.status;
   out.report = run_report(o, spec, set, problem, solved);
   out.report["convergence"] = std::move(convergence);
+  record_overrides(out.report, o.overrides);
   // an infeasible set: the report with the conflicting limits
   if (solved.status.code == StatusCode::infeasible || solved.u.empty()) {
     report_conflicts(solved, out.report, observer);

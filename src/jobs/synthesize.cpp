@@ -307,6 +307,7 @@ SynthesizeResult run_synthesize(const DesignSpec& spec, const io::CsvTable& tabl
   const nlohmann::json checks = checks_json(o, spec, res, rt, unit);
   SynthesizeResult result;
   result.report = report_json(o, mech, target, opt, res, checks);
+  record_overrides(result.report, o.overrides);
   result.exports =
       profile_exports(o.out_dir, o.design_file, o.overrides, spec, res, o.master_radius_mm, o.grinding_step_deg, result.report);
   // warnings on the radii, and the summary line

@@ -245,6 +245,26 @@ TEST_CASE("a run stopped by SIGTERM or SIGINT while it writes leaves no temporar
   }
 }
 
+TEST_CASE("SIGINT during one long flexible run ends it by the signal, with nothing written", "[cli][outputs]") {
+  // one run (one speed, one control position) of many revolutions from rest at a tight
+  // tolerance: seconds of integration, the signal sent well inside it
+  TempDir tmp;
+  const fs::path out = tmp / "o";
+  const std::string cvvl = (source_dir() / "designs/cvvl_swing_cam.toml").string();
+  const pid_t pid = spawn_camopt({"dynamics", cvvl, "--model", "flexible", "--rpm", "6000", "--revolutions", "12",
+                                  "--start", "rest", "--rtol", "1e-8", "--atol", "1e-9", "--out", out.string()});
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  int status = 0;
+  REQUIRE(::waitpid(pid, &status, WNOHANG) == 0);  // still integrating
+  ::kill(pid, SIGINT);
+  status = wait_for(pid);
+  CHECK(WIFSIGNALED(status));
+  CHECK(WTERMSIG(status) == SIGINT);
+  CHECK_FALSE(fs::exists(out / "dynamics.csv"));
+  CHECK_FALSE(fs::exists(out / "summary.json"));
+  CHECK(temp_files_in(out).empty());
+}
+
 // ---- a previous run's files ---------------------------------------------------------------
 
 TEST_CASE("a run removes the files of its set that it did not write, and nothing else", "[cli][outputs]") {

@@ -65,3 +65,30 @@ def test_ctrl_c_stops_a_long_sweep_between_control_positions(cvvl):
     assert stopped < 0.2 + full / 4, (stopped, full)
     # the module is usable after the interrupt
     assert camopt.kinematics(cvvl, step_deg=1.0).summary["positions"][0]["status"] == "ok"
+
+
+# one flexible run of the variable valve lift from rest over 12 revolutions at a tight
+# tolerance: one control position and one speed, so the only checks are the ones between the
+# run's output points
+FLEXIBLE = dict(model="flexible", rpm=6000, revolutions=12, start="rest", rtol=1e-8, atol=1e-9)
+
+
+def test_ctrl_c_stops_one_long_flexible_run_between_output_points(cvvl):
+    t0 = time.monotonic()
+    full = camopt.dynamics(cvvl, **FLEXIBLE)
+    full_s = time.monotonic() - t0
+    assert full.summary["results"][0]["revolutions_integrated"] == 12
+    assert full_s > 3.0, full_s
+    delay = 0.3
+    timer = threading.Timer(delay, _thread.interrupt_main)
+    timer.start()
+    t0 = time.monotonic()
+    with pytest.raises(KeyboardInterrupt):
+        camopt.dynamics(cvvl, **FLEXIBLE)
+    stopped = time.monotonic() - t0
+    timer.join()
+    # seen within half a second of the signal, far below the run's own time
+    assert stopped < delay + 0.5, (stopped, full_s)
+    assert stopped < full_s / 4, (stopped, full_s)
+    # the module is usable after the interrupt
+    assert camopt.dynamics(cvvl, model="flexible", rpm=3000).summary["model"] == "flexible"

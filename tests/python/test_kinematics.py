@@ -58,3 +58,31 @@ def test_validate_gives_what_the_cli_prints(design):
     findings = camopt.Design.load(design).validate()
     assert p.stdout == design + ": ok\n" + findings["description"] + "\n"
     assert p.stderr == "".join(design + ": warning: " + w + "\n" for w in findings["warnings"])
+
+
+# the CLI's --set and Design.set: a roller radius and a contact solved at rest
+SETS = [("connection.disc_roller.b.radius_mm", "9", 9.0), ("connection.disc_roller.touch_at_rest", "true", True)]
+
+
+@pytest.mark.parametrize("cli_args, job, table", [
+    (["kinematics", "--step", "2", "--outputs", "all"], lambda d: camopt.kinematics(d, step_deg=2, outputs="all"),
+     "kinematics.csv"),
+    (["dynamics", "--rpm", "2000,4000"], lambda d: camopt.dynamics(d, rpm=[2000, 4000]), "dynamics.csv"),
+    (["dynamics", "--model", "modes"], lambda d: camopt.dynamics(d, model="modes"), "modes.csv"),
+])
+def test_a_run_with_set_has_the_cli_summary_with_its_overrides(cli_args, job, table, tmp_path):
+    path = "designs/eccentric_offset_roller.toml"
+    sets = [a for key, text, _ in SETS for a in ("--set", key + "=" + text)]
+    code, stderr = run_cli(*sets, cli_args[0], path, *cli_args[1:], "--no-report", "--out", tmp_path)
+    assert code == 0, stderr
+    os.chdir(SOURCE_DIR)
+    design = camopt.Design.load(path)
+    for key, _, value in SETS:
+        design.set(key, value)
+    run = job(design)
+    expected = read_summary(tmp_path / "summary.json")
+    assert expected["overrides"] == {"connection.disc_roller.b.radius_mm": 9, "connection.disc_roller.touch_at_rest": True}
+    assert without_times(run.summary) == expected
+    assert_same_columns(run.columns, read_csv(tmp_path / table))
+    # the same design without changes records none
+    assert "overrides" not in job(camopt.Design.load(path)).summary

@@ -86,7 +86,7 @@ def test_a_changed_design_is_synthesized_and_written_as_the_cli_with_set(tmp_pat
     assert written.count("#   --set node.finger.mass_kg=0.05\n") == 1
     assert changed.design.text == written.replace("#   --set node.", "#   set node.")
     report = report_of(tmp_path)
-    assert report.pop("overrides") == {"node.finger.mass_kg": 0.05}
+    assert report["overrides"] == {"node.finger.mass_kg": 0.05}
     assert changed.summary == report
 
 

@@ -42,6 +42,7 @@ enum class StatusCode {
   integrator_failure,  // SUNDIALS gave up
   infeasible,          // optimisation constraints cannot be met
   not_implemented,     // capability not built yet
+  interrupted,         // the caller asked the run to stop (Ctrl-C): no result, not a failure
 };
 
 const char* to_string(StatusCode code);

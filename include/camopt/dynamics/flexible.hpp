@@ -17,6 +17,7 @@
 // each of them the deviation's rate jumps by minus the path's, so the bodies' velocities are
 // continuous (the follower starts from rest when the lash closes).
 // Contact c: penetration delta = -(gap_kin + g_c . dq), force F = max(0, law(delta, delta')).
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -63,6 +64,9 @@ struct FlexibleOptions {
   // (|dy| <= periodic_tolerance (rtol |y| + atol), CVODE's error weight); 0: never. The
   // integration's own revolution-to-revolution noise is ~20-130 of these (direct-acting valve)
   double periodic_tolerance = 1000.0;
+  // asked between output points (outside CVODE's callbacks): true stops the run with
+  // StatusCode::interrupted, nothing recorded (a caller's Ctrl-C); empty: never asked
+  std::function<bool()> stop_requested;
 
   // one rule per option: throws InputError naming the option, its value and the rule
   void validate() const;

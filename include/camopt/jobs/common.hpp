@@ -7,12 +7,14 @@
 #include <cstddef>
 #include <limits>
 #include <mutex>
+#include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "camopt/core/design_spec.hpp"
 #include "camopt/core/error.hpp"
+#include "camopt/io/design_document.hpp"
 #include "camopt/kinematics/mechanism.hpp"
 
 namespace camopt::jobs {
@@ -31,7 +33,8 @@ class Observer {
   virtual void advance() {}
   // the run of steps is over (the job goes on to its summaries)
   virtual void end() {}
-  // true: stop the job (it throws Cancelled); asked once per step, never per point
+  // true: stop the job (it throws Cancelled); asked once per step, and within a long
+  // time-integrated run at most every 20 ms of wall time, never per point
   virtual bool cancel_requested() { return false; }
 };
 
@@ -76,11 +79,19 @@ long sweep_points(const std::string& option, double start, double stop, double s
 // dynamics data and an edited recompile read; the compiled mechanism is what the kernels take.
 struct LoadedDesign {
   DesignSpec spec;
-  kin::Mechanism mech;  // kin::compile(spec)
+  kin::Mechanism mech;                  // kin::compile(spec)
+  std::vector<io::Override> overrides;  // the changes the spec was parsed with (--set, Design.set)
 };
 
-// a parsed design compiled; the drawing check's warnings as notes ("<file>: warning: ...")
-LoadedDesign compile_design(DesignSpec spec, const std::string& design_path, Observer& observer);
+// a parsed design compiled; the drawing check's warnings as notes ("<file>: warning: ...");
+// `overrides`: the changes it was parsed with, which its jobs' summaries record
+LoadedDesign compile_design(DesignSpec spec, const std::string& design_path, Observer& observer,
+                            std::vector<io::Override> overrides = {});
+
+// summary.json's and report.json's "overrides": {"key.path": value}, the changes the design
+// was parsed with (a TOML number, boolean or array reads as JSON, a string as its text); no key
+// without changes
+void record_overrides(nlohmann::json& summary, const std::vector<io::Override>& overrides);
 
 // the design's hydraulic lash adjusters, which every model but the flexible one holds rigid
 // (their node's pivot fixed): a note naming `what` ran, and their names for summary.json's

@@ -33,21 +33,22 @@ class PointResult:
 
 
 def point_design(spec: StudySpec, values: tuple[float, ...]):
-    """The study's design with the point's design keys set, and the constraint-set overrides."""
+    """The study's design with the point's design keys set, and the constraint-set overrides
+    (key path in the set -> the number, as ``camopt.optimize``'s constraint_overrides takes it)."""
     import camopt
 
     design = camopt.Design.load(spec.design)
-    constraint_overrides: dict[str, str] = {}
+    constraint_overrides: dict[str, float | int] = {}
     for p, v in zip(spec.parameters, values):
         value = int(v) if p.integer else float(v)
         if p.key.startswith("constraints."):
-            constraint_overrides[p.key[len("constraints."):]] = repr(value)
+            constraint_overrides[p.key[len("constraints."):]] = value
         else:
             design.set(p.key, value)
     return design, constraint_overrides
 
 
-def run_stages(spec: StudySpec, design, constraint_overrides: dict[str, str], threads: int = 0) -> dict[str, dict]:
+def run_stages(spec: StudySpec, design, constraint_overrides: dict[str, float | int], threads: int = 0) -> dict[str, dict]:
     """Every stage of the pipeline in order; the summary of each, by stage name. `threads` is
     the kinematic sweep's thread count (0: every core) unless the stage gives its own."""
     import camopt
