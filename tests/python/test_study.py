@@ -7,6 +7,7 @@ import math
 import os
 import subprocess
 
+import numpy as np
 import pytest
 
 import camopt
@@ -14,6 +15,7 @@ from camopt.studies import parse_study
 
 SOURCE_DIR = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 DESIGNS = os.path.join(SOURCE_DIR, "designs")
+CONSTRAINTS = os.path.join(SOURCE_DIR, "constraints")
 
 
 def rff_study(tmp_path, **changes):
@@ -77,6 +79,45 @@ def test_failed_points_are_rows_with_the_design_s_message(tmp_path):
     pareto = read_rows(tmp_path / "out" / "pareto.csv")
     assert {r[0] for r in pareto[1:]} == {str(i) for i in result.pareto}
     assert 4 not in result.pareto and 5 not in result.pareto
+
+
+def test_a_study_over_constraint_set_keys_optimises_each_point_as_the_api(tmp_path):
+    # the bucket's high-speed set with its acceleration limit at two values and its minimum
+    # radius of curvature raised to 3.5 mm at both: an optimize stage (SLSQP) per point
+    design, constraints = os.path.join(DESIGNS, "bucket_tappet.toml"), os.path.join(CONSTRAINTS, "high_speed_bucket.toml")
+    spec = parse_study({
+        "study": {"design": design},
+        "parameter": [{"key": "constraints.limits.acc_max_mm_per_deg2", "values": [0.016, 0.02]},
+                      {"key": "constraints.limits.min_radius_of_curvature_mm", "values": [3.5]}],
+        "pipeline": {"optimize": {"constraints": constraints, "solver": "slsqp", "points": 720}},
+        "response": [
+            {"name": "acc_max_mm_per_deg2", "stage": "optimize", "path": "constraints.acc_max.worst"},
+            {"name": "acc_limit_mm_per_deg2", "stage": "optimize", "path": "constraints.acc_max.limit"},
+            {"name": "min_radius_mm", "stage": "optimize", "path": "constraints.radius_of_curvature_min.worst"},
+            {"name": "objective", "stage": "optimize", "path": "objective.value"},
+        ],
+    }, str(tmp_path / "limits.toml"))
+    result = camopt.study(spec, workers=1)
+    assert [(r.status, r.error) for r in result.points] == [("ok", "")] * 2
+    for point in result.points:
+        acc_limit, radius_limit = point.values
+        # the same solve through the API, bit for bit
+        direct = camopt.optimize(design, constraints, solver="slsqp", points=720, constraint_overrides={
+            "limits.acc_max_mm_per_deg2": acc_limit, "limits.min_radius_of_curvature_mm": radius_limit})
+        c = direct.summary["constraints"]
+        assert point.responses == (c["acc_max"]["worst"], c["acc_max"]["limit"], c["radius_of_curvature_min"]["worst"],
+                                   direct.summary["objective"]["value"])
+        # each limit is the point's and is active: the worst value sits on it (SLSQP's
+        # feasibility, 1e-9 relative)
+        assert point.responses[1] == acc_limit
+        assert abs(point.responses[0] - acc_limit) <= 1e-9 * acc_limit
+        assert abs(point.responses[2] - radius_limit) <= 1e-9 * radius_limit
+        # and the optimised lift itself: its largest acceleration on the set's 0.5 deg grid
+        lift = direct.tables["lift.csv"]
+        on_grid = np.abs(lift["cam_deg"] * 2.0 - np.round(lift["cam_deg"] * 2.0)) < 1e-9
+        assert abs(lift["acc_mm_per_deg2"][on_grid].max() - acc_limit) <= 1e-9 * acc_limit
+    # a looser acceleration limit lets the lift take more area (the objective is its negative)
+    assert result.points[1].responses[3] < result.points[0].responses[3]
 
 
 def test_local_processes_and_a_dask_cluster_give_the_serial_table(tmp_path):
