@@ -67,19 +67,19 @@ def test_ctrl_c_stops_a_long_sweep_between_control_positions(cvvl):
     assert camopt.kinematics(cvvl, step_deg=1.0).summary["positions"][0]["status"] == "ok"
 
 
-# one flexible run of the variable valve lift from rest over 12 revolutions at a tight
-# tolerance: one control position and one speed, so the only checks are the ones between the
+# one flexible run of the variable valve lift from rest over 30 revolutions at a tight
+# tolerance (about 3 s on an idle machine): one control position and one speed, so the only checks are the ones between the
 # run's output points
-FLEXIBLE = dict(model="flexible", rpm=6000, revolutions=12, start="rest", rtol=1e-8, atol=1e-9)
+FLEXIBLE = dict(model="flexible", rpm=6000, revolutions=30, start="rest", rtol=1e-8, atol=1e-9)
 
 
 def test_ctrl_c_stops_one_long_flexible_run_between_output_points(cvvl):
     t0 = time.monotonic()
     full = camopt.dynamics(cvvl, **FLEXIBLE)
     full_s = time.monotonic() - t0
-    assert full.summary["results"][0]["revolutions_integrated"] == 12
-    assert full_s > 2.0, full_s
+    assert full.summary["results"][0]["revolutions_integrated"] == 30
     delay = 0.3
+    assert full_s > 4 * delay, full_s
     timer = threading.Timer(delay, _thread.interrupt_main)
     timer.start()
     t0 = time.monotonic()
