@@ -13,7 +13,8 @@ columns (a dict of name -> numpy float64 array, the names exactly the CSV header
 
 Errors: camopt.InputError (the CLI's exit 3 messages: file, line, key; option, value, rule)
 and camopt.NumericalError (exit 4: the angle and the residual), both camopt.Error. A long
-solve releases the GIL and stops on Ctrl-C (KeyboardInterrupt) between control positions.
+solve releases the GIL and stops on Ctrl-C (KeyboardInterrupt) between control positions (a
+flexible run: between its output points).
 """
 
 import json as _json
@@ -262,7 +263,8 @@ def dynamics(design, rpm=None, model="rigid", control=None, step_deg=None, conta
     ``columns`` exactly dynamics.csv's (one row per rpm, control position and cam angle; a
     cell the CSV leaves empty is NaN), ``summary`` summary.json's content. Raises InputError
     or NumericalError with the CLI's messages; KeyboardInterrupt on Ctrl-C (checked between
-    runs: control positions, or speeds x positions).
+    runs: control positions, or speeds x positions; within a flexible run between its output
+    points, at most every 20 ms).
     """
     design = _design(design)
     if model == "modes":

@@ -2,7 +2,8 @@
 // python/camopt wraps these functions with keyword arguments and docstrings; this file maps
 // a job's options from Python values, its results to numpy arrays and JSON text, and the
 // error channels to Python exceptions. Long solves run without the GIL; Ctrl-C cancels them
-// between steps (control positions, engine speeds).
+// between steps (control positions, engine speeds) and within a flexible run between its
+// output points.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>

@@ -1,5 +1,6 @@
 """A long solve releases the GIL (another Python thread runs meanwhile) and stops on Ctrl-C
-with KeyboardInterrupt, checked between control positions."""
+with KeyboardInterrupt, checked between control positions and between a flexible run's output
+points."""
 
 import _thread
 import os
@@ -52,24 +53,30 @@ def test_another_python_thread_runs_during_a_long_sweep(cvvl):
     assert len(during) > 50 * seconds, (len(during), seconds)
 
 
-def test_ctrl_c_stops_a_long_sweep_between_control_positions(cvvl):
-    _, full = timed_sweep(cvvl, **LONG)
-    assert full > 1.0
-    timer = threading.Timer(0.2, _thread.interrupt_main)
+def seconds_to_interrupt(delay, job):
+    """Ctrl-C `delay` seconds into `job()`: the seconds until it raised KeyboardInterrupt."""
+    timer = threading.Timer(delay, _thread.interrupt_main)
     timer.start()
     t0 = time.monotonic()
     with pytest.raises(KeyboardInterrupt):
-        camopt.kinematics(cvvl, **LONG)
+        job()
     stopped = time.monotonic() - t0
     timer.join()
+    return stopped
+
+
+def test_ctrl_c_stops_a_long_sweep_between_control_positions(cvvl):
+    _, full = timed_sweep(cvvl, **LONG)
+    assert full > 1.0
+    stopped = seconds_to_interrupt(0.2, lambda: camopt.kinematics(cvvl, **LONG))
     assert stopped < 0.2 + full / 4, (stopped, full)
     # the module is usable after the interrupt
     assert camopt.kinematics(cvvl, step_deg=1.0).summary["positions"][0]["status"] == "ok"
 
 
 # one flexible run of the variable valve lift from rest over 30 revolutions at a tight
-# tolerance (about 3 s on an idle machine): one control position and one speed, so the only checks are the ones between the
-# run's output points
+# tolerance (about 3 s on an idle machine): one control position and one speed, so the only
+# checks are the ones between the run's output points
 FLEXIBLE = dict(model="flexible", rpm=6000, revolutions=30, start="rest", rtol=1e-8, atol=1e-9)
 
 
@@ -80,13 +87,7 @@ def test_ctrl_c_stops_one_long_flexible_run_between_output_points(cvvl):
     assert full.summary["results"][0]["revolutions_integrated"] == 30
     delay = 0.3
     assert full_s > 4 * delay, full_s
-    timer = threading.Timer(delay, _thread.interrupt_main)
-    timer.start()
-    t0 = time.monotonic()
-    with pytest.raises(KeyboardInterrupt):
-        camopt.dynamics(cvvl, **FLEXIBLE)
-    stopped = time.monotonic() - t0
-    timer.join()
+    stopped = seconds_to_interrupt(delay, lambda: camopt.dynamics(cvvl, **FLEXIBLE))
     # seen within half a second of the signal, far below the run's own time
     assert stopped < delay + 0.5, (stopped, full_s)
     assert stopped < full_s / 2, (stopped, full_s)
