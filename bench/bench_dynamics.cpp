@@ -65,7 +65,7 @@ struct Peaks {
   std::vector<double> force, separation;
   double torque = 0;
 };
-Peaks peaks_of(const dynamics::RigidSweep& s, const dynamics::Model& model) {
+Peaks peaks_of(const kin::Mechanism& mech, const dynamics::RigidSweep& s, const dynamics::Model& model) {
   const double w = dynamics::cam_speed_rad_per_s(kRpm, model.crank_per_cam);
   Peaks p;
   p.force.assign(static_cast<std::size_t>(s.connections), 0.0);
@@ -73,8 +73,11 @@ Peaks peaks_of(const dynamics::RigidSweep& s, const dynamics::Model& model) {
     for (int c = 0; c < s.connections; ++c) p.force[c] = std::max(p.force[c], s.force_at(i, c, w));
     p.torque = std::max(p.torque, std::abs(s.torque_at(i, w)));
   }
-  for (int c = 0; c < s.connections; ++c)
-    p.separation.push_back(model.contacts[c].is_contact ? dynamics::separation_speed(s, model, c).engine_rpm : 0.0);
+  for (int c = 0; c < s.connections; ++c) {
+    dynamics::Separation sep;
+    if (model.contacts[c].is_contact) check(dynamics::refined_separation_speed(mech, model, s, c, sep));
+    p.separation.push_back(model.contacts[c].is_contact ? sep.engine_rpm : 0.0);
+  }
   return p;
 }
 
@@ -273,14 +276,14 @@ bool parse_options(int argc, char** argv, Options& o) {
 void rigid_rows(const Context& ctx, std::vector<std::string>& rows) {
   dynamics::RigidSweep fine;
   check(dynamics::rigid_sweep(ctx.mech, ctx.model, ctx.controls, 0, 360, 0.05, fine));
-  const Peaks ref = peaks_of(fine, ctx.model);
+  const Peaks ref = peaks_of(ctx.mech, fine, ctx.model);
   std::printf("mode (a) rigid inverse dynamics, CVVL control 0, %g rpm, one cycle (360 cam deg)\n", kRpm);
   std::printf("%-10s %-12s %-22s %-16s %-22s\n", "step_deg", "ms/cycle", "peak force rel err", "torque rel err",
               "separation rpm err");
   for (const double step : {1.0, 0.5, 0.25}) {
     dynamics::RigidSweep s;
     const double t = seconds_of([&] { check(dynamics::rigid_sweep(ctx.mech, ctx.model, ctx.controls, 0, 360, step, s)); }, ctx.repeat);
-    const Peaks p = peaks_of(s, ctx.model);
+    const Peaks p = peaks_of(ctx.mech, s, ctx.model);
     double force_err = 0, sep_err = 0;
     for (std::size_t c = 0; c < p.force.size(); ++c) {
       force_err = std::max(force_err, std::abs(p.force[c] - ref.force[c]) / ref.force[c]);

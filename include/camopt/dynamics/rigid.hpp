@@ -129,6 +129,14 @@ struct Separation {
 };
 Separation separation_speed(const RigidSweep& sweep, const Model& model, int connection);
 
+// the separation speed between the grid points: the grid's least (separation_speed) refined
+// on the two intervals beside its point by Brent's minimisation of the point separation
+// speed w(theta) (F(theta, w) = 0, from a mode (a) solve at each trial angle), so that
+// neither the speed nor its angle depends on the step. The grid's result where the least is
+// 0 or +inf, or at a point beside an open lash gap. A failed solve returns its Status.
+Status refined_separation_speed(const kin::Mechanism& mech, const Model& model, const RigidSweep& sweep,
+                                int connection, Separation& out);
+
 // spring margin of spring s at a point: the part of its load that could be removed
 // before the first contact it loads opens,
 //     margin = load_s * min_c (F_c / F_c^(s))   over closed contacts with F_c^(s) > 0,
