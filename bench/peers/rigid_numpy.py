@@ -109,3 +109,16 @@ def separation_rpm_grid(s, s2, p=VALVE):
         w2 = (p["preload_N"] + p["rate_N_per_mm"] * s) / (-p["mass_kg"] * 1e-3 * s2)
     w2 = np.where(s2 < 0, w2, np.inf)
     return math.sqrt(np.min(w2)) * p["crank_per_cam"] * 60.0 / (2.0 * math.pi)
+
+
+# designs/cvvl_swing_cam.toml's valve: the finger's pad pushes it along its axis (the pad's
+# friction acts across the axis, on the guide), so the pad force is the valve's own balance
+CVVL_VALVE = dict(mass_kg=0.055 + 0.045 / 3.0, rate_N_per_mm=35.0, preload_N=220.0, crank_per_cam=2.0)
+
+
+def cvvl_pad_force(table_deg, table_mm, theta_deg, rpm, p=CVVL_VALVE):
+    """the CVVL's pad-valve contact force [N] over (speeds x angles) from a periodic cubic
+    spline of the valve lift table: F = P + k s + m s'' w^2 1e-3"""
+    s, _, s2 = spline_lift(table_deg, table_mm, theta_deg)
+    w = cam_speed(rpm, p["crank_per_cam"])[:, None]
+    return p["preload_N"] + p["rate_N_per_mm"] * s + p["mass_kg"] * 1e-3 * s2 * (w * w)

@@ -10,6 +10,9 @@ rigid:    designs/eccentric_flat_follower.toml (a direct-acting valve whose lift
           contact force and cam torque against the closed form, relative to their peaks, and of
           the separation speed [rpm] (camopt's refined between grid points, the scripts' the
           least over their grid).
+CVVL:     designs/cvvl_swing_cam.toml at control 0, the same angles and speeds: camopt's rigid
+          job against numpy's pad-valve force from a spline of the 1 deg valve lift table
+          (error against camopt's pad force, exact at each point).
 flexible: bench/peers/linear_valve.toml (the single-mass valve of the flexible model's exact
           test) at 9400 rpm, one revolution from the static start, output every 0.1 cam deg:
           camopt's flexible job against scipy Radau and LSODA (flexible_scipy.py), plain and
@@ -83,6 +86,26 @@ def rigid_rows(repeat):
     return rows
 
 
+def cvvl_rows(repeat):
+    """the CVVL (control 0) in mode (a), 721 angles x 3 speeds: camopt's whole rigid job (every
+    force of the three contacts, torque, reactions) against numpy's pad-valve force from a
+    spline of the 1 deg valve lift table (the one force a lift table gives without the
+    linkage); the reference is camopt's own pad force, exact at each point"""
+    design = camopt.Design.load(os.path.join(ROOT, "designs/cvvl_swing_cam.toml"))
+    design.compile()
+    theta = np.arange(0, 721) * STEP_DEG
+    t_camopt, run = best_of(repeat, lambda: camopt.dynamics(design, rpm=RPMS, control=0, step_deg=STEP_DEG))
+    pad = run.columns["contact_pad_valve_force_N"].reshape(len(RPMS), len(theta))
+    table = camopt.kinematics(design, control=0, outputs="lift", step_deg=1.0)
+    table_deg, table_mm = table.columns["cam_deg"], table.columns["lift_mm"]
+    t, force = best_of(repeat, lambda: rigid_numpy.cvvl_pad_force(table_deg, table_mm, theta, RPMS))
+    case = "rigid CVVL control 0"
+    return [dict(case=case, tool="camopt (rigid job, in process)", ms=t_camopt * 1e3,
+                 solve_ms=run.summary["run_time_s"] * 1e3, force_err_rel=0.0),
+            dict(case=case, tool="numpy, pad force from a spline of the 1 deg lift table", ms=t * 1e3,
+                 solve_ms=math.nan, force_err_rel=rel_error(force, pad))]
+
+
 def flexible_rows(repeat, rpm=9400.0):
     design = camopt.Design.load(os.path.join(HERE, "linear_valve.toml"))
     design.compile()
@@ -121,7 +144,7 @@ def main():
     ap.add_argument("--repeat", type=int, default=20)
     ap.add_argument("--csv", default="")
     args = ap.parse_args()
-    rows = rigid_rows(args.repeat) + flexible_rows(max(1, args.repeat // 4))
+    rows = rigid_rows(args.repeat) + cvvl_rows(args.repeat) + flexible_rows(max(1, args.repeat // 4))
     # each case's time against camopt's default run of the case
     for case in {r["case"] for r in rows}:
         base = next(r["ms"] for r in rows if r["case"] == case and r["tool"].startswith("camopt"))

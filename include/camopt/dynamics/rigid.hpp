@@ -65,6 +65,7 @@ class RigidWorkspace {
   Eigen::MatrixXd system;   // free rows x connections
   Eigen::MatrixXd rhs;      // free rows x cases
   Eigen::PartialPivLU<Eigen::MatrixXd> lu;
+  Eigen::MatrixXd inverse;  // free rows x free rows: the balance's inverse (its condition)
   std::vector<Eigen::Vector2d> cg_acc;  // per node: d2 cg / dtheta2 [mm/rad^2]
   std::vector<double> phi_acc;          // per node: d2 phi / dtheta2 [-]
   std::vector<Eigen::Vector2d> cg_pos;  // per node: current cg [mm]
