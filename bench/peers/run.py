@@ -42,12 +42,17 @@ STEP_DEG = 0.5
 
 
 def best_of(repeat, f):
-    """the best wall time [s] of `repeat` calls, and the last call's result"""
-    best, out = math.inf, None
+    """the best wall time [s] of `repeat` calls, and the last call's result; a camopt Result
+    also gets `best_solve_s`, the best of its summaries' run_time_s (the solve alone)"""
+    best, solve, out = math.inf, math.inf, None
     for _ in range(repeat):
         t0 = time.perf_counter()
         out = f()
         best = min(best, time.perf_counter() - t0)
+        if isinstance(out, camopt.Result):
+            solve = min(solve, out.summary["run_time_s"])
+    if isinstance(out, camopt.Result):
+        out.best_solve_s = solve
     return best, out
 
 
@@ -68,7 +73,7 @@ def rigid_rows(repeat):
     torque = run.columns["cam_torque_Nm"].reshape(shape)
     sep = run.summary["separation"][0]["contacts"]["disc_face"]["separation_rpm"]
     rows = [dict(case="rigid direct-acting valve", tool="camopt (rigid job, in process)", ms=t_camopt * 1e3,
-                 solve_ms=run.summary["run_time_s"] * 1e3, force_err_rel=rel_error(force, exact["force_N"]),
+                 solve_ms=run.best_solve_s * 1e3, force_err_rel=rel_error(force, exact["force_N"]),
                  torque_err_rel=rel_error(torque, exact["cam_torque_Nm"]), separation_err_rpm=abs(sep - exact_sep))]
     # numpy on the exact law, and on a spline of the 1 deg lift table
     table_deg = np.arange(0, 361, 1.0)
@@ -101,7 +106,7 @@ def cvvl_rows(repeat):
     t, force = best_of(repeat, lambda: rigid_numpy.cvvl_pad_force(table_deg, table_mm, theta, RPMS))
     case = "rigid CVVL control 0"
     return [dict(case=case, tool="camopt (rigid job, in process)", ms=t_camopt * 1e3,
-                 solve_ms=run.summary["run_time_s"] * 1e3, force_err_rel=0.0),
+                 solve_ms=run.best_solve_s * 1e3, force_err_rel=0.0),
             dict(case=case, tool="numpy, pad force from a spline of the 1 deg lift table", ms=t * 1e3,
                  solve_ms=math.nan, force_err_rel=rel_error(force, pad))]
 
@@ -120,7 +125,7 @@ def flexible_rows(repeat, rpm=9400.0):
         result = run.summary["results"][0]
         events = len(result["events"])
         rows.append(dict(case="flexible single-mass valve", tool="camopt flexible rtol %g atol %g mm" % (rtol, atol),
-                         ms=t * 1e3, solve_ms=run.summary["run_time_s"] * 1e3,
+                         ms=t * 1e3, solve_ms=run.best_solve_s * 1e3,
                          lift_err_mm=float(np.max(np.abs(run.columns["lift_mm"] - ref_lift))),
                          events=events, reference_events=ref_events))
     for method in ("Radau", "LSODA"):
@@ -157,17 +162,18 @@ def main():
         "case", "tool", "ms", "solve ms", "ratio", "force err", "torque err", "sep rpm", "lift mm", "events", "ref"))
     for r in rows:
         print("%-28s %-48s %9s %9s %7s %10s %10s %9s %10s %6s %6s" % tuple(fmt(r.get(c)) for c in COLUMNS))
-    if args.csv:
+    if args.csv:  # written beside, then renamed into place
         tmp = args.csv + ".tmp"
         with open(tmp, "w") as f:
             f.write("case,tool,wall_ms,solve_ms,time_ratio_to_camopt,force_error_rel,torque_error_rel,"
                     "separation_error_rpm,lift_error_mm,events,reference_events\n")
             for r in rows:
-                f.write(",".join('"%s"' % r[c] if c in ("case", "tool") else fmt(r.get(c)).replace("%", "")
-                                 if not isinstance(r.get(c), float) else repr(r[c]) if not math.isnan(r[c]) else ""
-                                 for c in COLUMNS) + "\n")
+                cells = ['"%s"' % r["case"], '"%s"' % r["tool"]]
+                for c in COLUMNS[2:]:
+                    v = r.get(c)
+                    cells.append("" if v is None or (isinstance(v, float) and math.isnan(v)) else repr(v))
+                f.write(",".join(cells) + "\n")
         os.replace(tmp, args.csv)
-
 
 if __name__ == "__main__":
     main()

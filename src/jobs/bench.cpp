@@ -219,12 +219,16 @@ void dynamics_stage(const LoadedDesign& design, const BenchOptions& o, bool flex
     const auto per_cycle = [&](const DynamicsResult& r) {
       return flexible ? r.summary["results"][0].value("revolutions_integrated", 1.0) : 1.0;
     };
-    fill_time(def, seconds / per_cycle(coarse), static_cast<double>(coarse.points));
+    // cam angles per run: the rows of its table at one speed and position
+    const auto points = [&](const DynamicsResult& r) {
+      return static_cast<double>(column(r.columns, lift_column(design.mech)).size());
+    };
+    fill_time(def, seconds / per_cycle(coarse), points(coarse));
     if (flexible) d.flexible.relative_tolerance = kTightRtol, d.flexible.absolute_tolerance = kTightAtol;
     else d.step_deg = step / kRigidRefine;
     fine = run_dynamics(design, d, observer);
     BenchRow tight = row_of(stage, "tight", setting());
-    fill_time(tight, fine.seconds / per_cycle(fine), static_cast<double>(fine.points));
+    fill_time(tight, fine.seconds / per_cycle(fine), points(fine));
     peak_errors(peaks_of(design.mech, coarse.summary), peaks_of(design.mech, fine.summary), def);
     if (flexible) {
       const std::vector<double>&a = column(coarse.columns, lift_column(design.mech)),
@@ -243,6 +247,17 @@ void dynamics_stage(const LoadedDesign& design, const BenchOptions& o, bool flex
   }
 }
 
+// the stages' jobs report to this: their notes (a kinematics summary line per run) are not the
+// bench's; Ctrl-C still stops them
+class StageObserver : public Observer {
+ public:
+  explicit StageObserver(Observer& outer) : outer_(outer) {}
+  bool cancel_requested() override { return outer_.cancel_requested(); }
+
+ private:
+  Observer& outer_;
+};
+
 }  // namespace
 
 void validate(const BenchOptions& o) {
@@ -259,16 +274,17 @@ BenchResult run_bench(const LoadedDesign& design, const BenchOptions& o, Observe
     throw InputError("--control: value '" + o.control + "' must be one position (the bench times one)");
   // the stages, each at its default and its tight setting
   BenchResult out;
+  StageObserver stage(observer);
   observer.begin("bench", 5);
-  kinematics_stage(design, o, "lift", observer, out.rows);
+  kinematics_stage(design, o, "lift", stage, out.rows);
   observer.advance();
-  kinematics_stage(design, o, "all", observer, out.rows);
+  kinematics_stage(design, o, "all", stage, out.rows);
   observer.advance();
   synthesis_stage(design, o, controls.positions[0], out.rows);
   observer.advance();
-  dynamics_stage(design, o, false, observer, out.rows);
+  dynamics_stage(design, o, false, stage, out.rows);
   observer.advance();
-  dynamics_stage(design, o, true, observer, out.rows);
+  dynamics_stage(design, o, true, stage, out.rows);
   observer.advance();
   observer.end();
   return out;
