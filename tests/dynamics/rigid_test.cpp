@@ -242,14 +242,14 @@ TEST_CASE("rigid (a): a damped valve spring: F = m a + k (x + x0) + c v, separat
 
 TEST_CASE("rigid (a): the separation speed refined between grid points is the exact least over the cycle",
           "[dynamics][rigid]") {
-  // the eccentric's greatest deceleration, where the force first reaches zero, falls 0.37 deg
+  // the eccentric's greatest deceleration, where the force first reaches zero, falls 0.25 deg
   // before the grid point at 180 deg: face height y = R + e sin(theta + phase), y'' = -e at
   // theta* = 90 deg - phase, and there m y'' w^2 + k x + F0 = 0 gives the exact least
   //   w*^2 = (k e (1 - sin phase) + F0) / (m e)
   // (no smaller root elsewhere: with u = sin(theta + phase) in (0, 1] the root is
   // w^2 = k / m + (F0 - k e sin phase) / (m e u), least at u = 1)
   ValveCase c;
-  c.phase = (-90 + 0.37) * deg;
+  c.phase = (-90 + 0.25) * deg;
   const Compiled m(valve_design(c, c.R + c.e * std::sin(c.phase)));
   const double m_eff = 1e-3 * (c.mass + c.spring_mass / 3.0);  // [N per mm/s^2]
   const double exact_w = std::sqrt((c.rate * c.e * (1 - std::sin(c.phase)) + c.preload) / (m_eff * c.e));
