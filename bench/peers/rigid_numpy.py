@@ -118,7 +118,9 @@ CVVL_VALVE = dict(mass_kg=0.055 + 0.045 / 3.0, rate_N_per_mm=35.0, preload_N=220
 
 def cvvl_pad_force(table_deg, table_mm, theta_deg, rpm, p=CVVL_VALVE):
     """the CVVL's pad-valve contact force [N] over (speeds x angles) from a periodic cubic
-    spline of the valve lift table: F = P + k s + m s'' w^2 1e-3"""
+    spline of the valve lift table: F = P + k s + m s'' w^2 1e-3 while the valve is off its
+    seat, 0 on it (the lash is open, the seat holds the spring)"""
     s, _, s2 = spline_lift(table_deg, table_mm, theta_deg)
     w = cam_speed(rpm, p["crank_per_cam"])[:, None]
-    return p["preload_N"] + p["rate_N_per_mm"] * s + p["mass_kg"] * 1e-3 * s2 * (w * w)
+    force = p["preload_N"] + p["rate_N_per_mm"] * s + p["mass_kg"] * 1e-3 * s2 * (w * w)
+    return np.where(np.interp(theta_deg, table_deg, table_mm) > 0.0, force, 0.0)
