@@ -16,10 +16,12 @@
 //  - the flexible model against the spring's mass count: the direct-acting valve of the tests
 //    (eccentric disc on a flat tappet, 40 N/mm / 250 N spring of 45 g) at 6000 rpm with
 //    surge_masses 0 .. 500, default tolerances: CPU time per cycle, steps, ratio to 10 masses.
-// usage: bench_dynamics [--repeat N] [--csv FILE] [--flexible-only] [--single RTOL ATOL [--masses N]]
+// usage: bench_dynamics [--repeat N] [--csv FILE] [--flexible-only | --rigid-only] [--single RTOL ATOL [--masses N]]
 //                       [--design FILE]
 //  --design FILE: another design instead of the CVVL (e.g. designs/cvvl_swing_cam_hla.toml:
 //    the CVVL with its hydraulic lash adjuster, 4 more states and a dense Jacobian);
+//  --rigid-only: only mode (a): 721 angles x 3 speeds on the direct-acting valves and the CVVL,
+//    and the CVVL's steps against a 0.05 deg run (for a profiler: callgrind ... --rigid-only --repeat 1);
 //  --flexible-only: only the flexible tables (the tolerance table's reference run included);
 //    with --csv the file's other sections (modes a and b) are kept and the flexible rows replaced;
 //  --single RTOL ATOL: one flexible run at these tolerances and its counters, no reference,
@@ -65,7 +67,7 @@ struct Peaks {
   std::vector<double> force, separation;
   double torque = 0;
 };
-Peaks peaks_of(const dynamics::RigidSweep& s, const dynamics::Model& model) {
+Peaks peaks_of(const kin::Mechanism& mech, const dynamics::RigidSweep& s, const dynamics::Model& model) {
   const double w = dynamics::cam_speed_rad_per_s(kRpm, model.crank_per_cam);
   Peaks p;
   p.force.assign(static_cast<std::size_t>(s.connections), 0.0);
@@ -73,8 +75,11 @@ Peaks peaks_of(const dynamics::RigidSweep& s, const dynamics::Model& model) {
     for (int c = 0; c < s.connections; ++c) p.force[c] = std::max(p.force[c], s.force_at(i, c, w));
     p.torque = std::max(p.torque, std::abs(s.torque_at(i, w)));
   }
-  for (int c = 0; c < s.connections; ++c)
-    p.separation.push_back(model.contacts[c].is_contact ? dynamics::separation_speed(s, model, c).engine_rpm : 0.0);
+  for (int c = 0; c < s.connections; ++c) {
+    dynamics::Separation sep;
+    if (model.contacts[c].is_contact) check(dynamics::refined_separation_speed(mech, model, s, c, sep));
+    p.separation.push_back(model.contacts[c].is_contact ? sep.engine_rpm : 0.0);
+  }
   return p;
 }
 
@@ -203,7 +208,7 @@ bool flexible_row(const std::string& row) {
 struct Options {
   int repeat = 5;
   std::string csv_path;
-  bool flexible_only = false, single = false;
+  bool flexible_only = false, single = false, rigid_only = false;
   double single_rtol = 0, single_atol = 0;
   int single_masses = -1;  // --masses N: the direct-acting valve instead of the CVVL
   std::string design = std::string(CAMOPT_SOURCE_DIR) + "/designs/cvvl_swing_cam.toml";
@@ -251,6 +256,7 @@ bool parse_options(int argc, char** argv, Options& o) {
     if (!std::strcmp(argv[i], "--repeat") && i + 1 < argc) o.repeat = std::atoi(argv[++i]);
     else if (!std::strcmp(argv[i], "--csv") && i + 1 < argc) o.csv_path = argv[++i];
     else if (!std::strcmp(argv[i], "--flexible-only")) o.flexible_only = true;
+    else if (!std::strcmp(argv[i], "--rigid-only")) o.rigid_only = true;
     else if (!std::strcmp(argv[i], "--single") && i + 2 < argc) {
       o.single = true;
       o.single_rtol = std::atof(argv[++i]);
@@ -261,7 +267,7 @@ bool parse_options(int argc, char** argv, Options& o) {
       o.design = argv[++i];
     } else {
       std::fprintf(stderr,
-                   "usage: bench_dynamics [--repeat N] [--csv FILE] [--flexible-only] "
+                   "usage: bench_dynamics [--repeat N] [--csv FILE] [--flexible-only | --rigid-only] "
                    "[--single RTOL ATOL [--masses N]] [--design FILE]\n");
       return false;
     }
@@ -273,14 +279,14 @@ bool parse_options(int argc, char** argv, Options& o) {
 void rigid_rows(const Context& ctx, std::vector<std::string>& rows) {
   dynamics::RigidSweep fine;
   check(dynamics::rigid_sweep(ctx.mech, ctx.model, ctx.controls, 0, 360, 0.05, fine));
-  const Peaks ref = peaks_of(fine, ctx.model);
+  const Peaks ref = peaks_of(ctx.mech, fine, ctx.model);
   std::printf("mode (a) rigid inverse dynamics, CVVL control 0, %g rpm, one cycle (360 cam deg)\n", kRpm);
   std::printf("%-10s %-12s %-22s %-16s %-22s\n", "step_deg", "ms/cycle", "peak force rel err", "torque rel err",
               "separation rpm err");
   for (const double step : {1.0, 0.5, 0.25}) {
     dynamics::RigidSweep s;
     const double t = seconds_of([&] { check(dynamics::rigid_sweep(ctx.mech, ctx.model, ctx.controls, 0, 360, step, s)); }, ctx.repeat);
-    const Peaks p = peaks_of(s, ctx.model);
+    const Peaks p = peaks_of(ctx.mech, s, ctx.model);
     double force_err = 0, sep_err = 0;
     for (std::size_t c = 0; c < p.force.size(); ++c) {
       force_err = std::max(force_err, std::abs(p.force[c] - ref.force[c]) / ref.force[c]);
@@ -291,6 +297,49 @@ void rigid_rows(const Context& ctx, std::vector<std::string>& rows) {
     rows.push_back("a,step " + num(step) + " deg," + num(t * 1e3) + ",peak contact force rel," + num(force_err) + ",,");
     rows.push_back("a,step " + num(step) + " deg," + num(t * 1e3) + ",peak cam torque rel," + num(torque_err) + ",,");
     rows.push_back("a,step " + num(step) + " deg," + num(t * 1e3) + ",separation rpm abs," + num(sep_err) + ",,");
+  }
+}
+
+// mode (a) as a user's script runs it: 721 cam angles (0.5 deg) at 3 engine speeds on the
+// direct-acting valves and the CVVL (control 0): the sweep, the refined separation speed of
+// every contact and each speed's contact forces and cam torque; the forces' error against
+// a 0.05 deg run's at the common angles is round-off (each point is exact)
+void rigid_speed_rows(int repeat, std::vector<std::string>& rows) {
+  std::printf("\nmode (a), 721 cam angles (0.5 deg) x 3 speeds (3000, 5000, 7000 rpm): sweep, separation speeds, "
+              "forces and torque at each speed; best of %d\n",
+              repeat);
+  std::printf("%-28s %-10s %-12s %-14s\n", "design", "ms", "ns/point", "separation rpm");
+  for (const char* name : {"eccentric_flat_follower", "bucket_tappet", "cvvl_swing_cam"}) {
+    const DesignSpec spec = io::load_design(std::string(CAMOPT_SOURCE_DIR) + "/designs/" + name + ".toml");
+    const kin::Mechanism mech = kin::compile(spec);
+    const dynamics::Model model = dynamics::compile_dynamics(spec, mech);
+    const std::vector<double> controls(mech.controls.size(), 0.0);
+    dynamics::RigidSweep s;
+    std::vector<double> force(721 * 3 * mech.connections.size()), torque(721 * 3);
+    double separation = 0;
+    const double t = seconds_of(
+        [&] {
+          check(dynamics::rigid_sweep(mech, model, controls, 0, 360, 0.5, s));
+          for (int c = 0; c < s.connections; ++c)
+            if (model.contacts[c].is_contact) {
+              dynamics::Separation sep;
+              check(dynamics::refined_separation_speed(mech, model, s, c, sep));
+              separation = c == 0 ? sep.engine_rpm : std::min(separation, sep.engine_rpm);
+            }
+          std::size_t k = 0;
+          for (const double rpm : {3000.0, 5000.0, 7000.0}) {
+            const double w = dynamics::cam_speed_rad_per_s(rpm, model.crank_per_cam);
+            for (std::size_t i = 0; i < s.points(); ++i) {
+              torque[k * s.points() + i] = s.torque_at(i, w);
+              for (int c = 0; c < s.connections; ++c)
+                force[(k * s.points() + i) * s.connections + c] = s.force_at(i, c, w);
+            }
+            ++k;
+          }
+        },
+        repeat);
+    std::printf("%-28s %-10.3f %-12.0f %-14.6f\n", name, t * 1e3, t * 1e9 / (3.0 * 721), separation);
+    rows.push_back(std::string("a 721x3,") + name + "," + num(t * 1e3) + ",separation rpm," + num(separation) + ",,");
   }
 }
 
@@ -483,7 +532,14 @@ int main(int argc, char** argv) {
   const Context c{mech, dynamics::compile_dynamics(spec, mech), std::vector<double>(mech.controls.size(), 0.0), o.repeat};
   if (o.single) return single_run(c, o), 0;
   std::vector<std::string> rows{"mode,setting,ms_per_cycle,error_metric,error,steps,rhs_evaluations"};
+  if (o.rigid_only) {
+    rigid_speed_rows(o.repeat, rows);
+    rigid_rows(c, rows);
+    if (!o.csv_path.empty()) write_rows(o, std::move(rows));
+    return 0;
+  }
   if (!o.flexible_only) {
+    rigid_speed_rows(o.repeat, rows);
     rigid_rows(c, rows);
     compliant_rows(c, rows);
   }

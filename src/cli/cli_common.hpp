@@ -185,5 +185,6 @@ void setup_optimize(CLI::App& app);
 void setup_dynamics(CLI::App& app);
 void setup_report(CLI::App& app);
 void setup_study(CLI::App& app);
+void setup_bench(CLI::App& app);
 
 }  // namespace camopt::cli

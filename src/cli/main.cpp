@@ -39,7 +39,7 @@ void check_overrides_apply(int argc, const char* const* argv) {
   if (!first_set.empty() && (subcommand == "lift" || subcommand == "report"))
     throw camopt::InputError("--set " + first_set + ": '" + subcommand +
                              "' reads no design file (--set applies to validate, kinematics, synthesize, "
-                             "optimize and dynamics)");
+                             "optimize, dynamics and bench)");
 }
 
 }  // namespace
@@ -76,6 +76,7 @@ int main(int argc, char** argv) {
   setup_dynamics(app);
   setup_report(app);
   setup_study(app);
+  setup_bench(app);
 
   // a first word that names no subcommand (a typo): say so, with the subcommands
   for (int i = 1; i < argc; ++i) {

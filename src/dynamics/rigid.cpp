@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <sstream>
+#include <string>
 
 #include "camopt/core/units.hpp"
 #include "camopt/kinematics/pose.hpp"
@@ -18,6 +19,8 @@ constexpr double kMilli = 1e-3;
 constexpr double kSingularRcond = 1e-13;
 // a sliding speed below this times the mechanism size [mm per rad] is round-off
 constexpr double kStillSliding = 1e-9;
+// the most free variables a balance has (RigidWorkspace checks)
+constexpr int kMaxBalanceRows = 64;
 
 std::string fmt(double v) {
   std::ostringstream s;
@@ -53,7 +56,10 @@ RigidWorkspace::RigidWorkspace(const kin::Mechanism& mech, const Model& model) :
   loads.setZero(nv, cases_);
   system.setZero(rows, nc);
   rhs.setZero(rows, cases_);
+  CAMOPT_THROW_UNLESS(rows <= kMaxBalanceRows, "rigid model: " + std::to_string(rows) + " free variables, at most " +
+                                                   std::to_string(kMaxBalanceRows));
   lu = Eigen::PartialPivLU<Eigen::MatrixXd>(rows);
+  inverse.setZero(rows, rows);
   cg_acc.assign(nn, Eigen::Vector2d::Zero());
   cg_pos.assign(nn, Eigen::Vector2d::Zero());
   phi_acc.assign(nn, 0.0);
@@ -255,6 +261,27 @@ void add_connection_gradients(const kin::Mechanism& mech, const Model& model, Ri
   }
 }
 
+// A X = B for the few rows of a balance, X in place of B: the row permutation and the two
+// triangular substitutions written out (Eigen's solve takes its blocked level-3 path, made
+// for large matrices, which here cost more than the rest of the balance)
+void lu_solve_in_place(const Eigen::PartialPivLU<Eigen::MatrixXd>& lu, Eigen::MatrixXd& x) {
+  const Eigen::MatrixXd& f = lu.matrixLU();
+  const auto& perm = lu.permutationP().indices();
+  const Eigen::Index n = f.rows();
+  for (Eigen::Index j = 0; j < x.cols(); ++j) {
+    // P b: row i of b goes to row perm(i); the rows are few, a fixed buffer holds the column
+    double y[kMaxBalanceRows];
+    for (Eigen::Index i = 0; i < n; ++i) y[perm(i)] = x(i, j);
+    for (Eigen::Index i = 0; i < n; ++i)  // L y = P b, unit diagonal
+      for (Eigen::Index k = 0; k < i; ++k) y[i] -= f(i, k) * y[k];
+    for (Eigen::Index i = n - 1; i >= 0; --i) {  // U x = y
+      for (Eigen::Index k = i + 1; k < n; ++k) y[i] -= f(i, k) * y[k];
+      y[i] /= f(i, i);
+    }
+    for (Eigen::Index i = 0; i < n; ++i) x(i, j) = y[i];
+  }
+}
+
 // the balance over the free variables, system * force = rhs; an open lash gap carries no
 // contact force, the held node's seat reaction takes its place. Singular: a toggle position.
 Status solve_balance(const kin::Mechanism& mech, const Model& model, RigidWorkspace& ws, double driver_rad) {
@@ -273,12 +300,19 @@ Status solve_balance(const kin::Mechanism& mech, const Model& model, RigidWorksp
       ws.system(model.row_of_variable[mech.nodes[held].first_variable], c) = 1.0;
     }
   ws.lu.compute(ws.system);
-  const double rcond = ws.lu.rcond();
+  // reciprocal 1-norm condition 1 / (|A|_1 |A^-1|_1), exact and into the workspace (the LU's
+  // own estimate allocates its vectors at every point)
+  ws.inverse.setIdentity();
+  lu_solve_in_place(ws.lu, ws.inverse);
+  double rcond = 1.0 / (ws.system.cwiseAbs().colwise().sum().maxCoeff() *
+                        ws.inverse.cwiseAbs().colwise().sum().maxCoeff());
+  if (!(rcond >= 0.0)) rcond = 0.0;  // a zero pivot: inf / NaN in the inverse
   if (!(rcond > kSingularRcond))
     return {StatusCode::singular,
             "the force balance is singular (reciprocal condition " + fmt(rcond) + "): a toggle position",
             "driver " + fmt(driver_rad / rad_per_deg) + " deg"};
-  ws.force.noalias() = ws.lu.solve(ws.rhs);
+  ws.force = ws.rhs;
+  lu_solve_in_place(ws.lu, ws.force);
   ws.seat.setZero();
   for (int c = 0; c < nc; ++c)
     if (mech.connections[c].kind == ConnectionKind::contact && ws.kin.contacts[c].open) {

@@ -371,7 +371,10 @@ nlohmann::json rigid_summary(const DynamicsSetup& su, const std::string& design_
     j["control_" + su.controls.unit] = su.controls.values[p];
     for (std::size_t c = 0; c < mech.connections.size(); ++c) {
       if (!model.contacts[c].is_contact) continue;
-      const auto sep = dynamics::separation_speed(sweeps[p], model, static_cast<int>(c));
+      // refined between the grid points
+      dynamics::Separation sep;
+      const Status st = dynamics::refined_separation_speed(mech, model, sweeps[p], static_cast<int>(c), sep);
+      if (!st.ok()) fail_at_position(mech, su.controls, st, p);
       j["contacts"][mech.connections[c].name] = {{"separation_rpm", finite_or_null(sep.engine_rpm)},
                                                  {"at_cam_deg", std::isfinite(sep.engine_rpm) ? nlohmann::json(sep.cam_deg)
                                                                                               : nlohmann::json(nullptr)}};

@@ -240,6 +240,38 @@ TEST_CASE("rigid (a): a damped valve spring: F = m a + k (x + x0) + c v, separat
   CHECK_ABS(min_at, 0.0, tol::kSeparationForceRel * c.preload);
 }
 
+TEST_CASE("rigid (a): the separation speed refined between grid points is the exact least over the cycle",
+          "[dynamics][rigid]") {
+  // the eccentric's greatest deceleration, where the force first reaches zero, falls 0.25 deg
+  // before the grid point at 180 deg: face height y = R + e sin(theta + phase), y'' = -e at
+  // theta* = 90 deg - phase, and there m y'' w^2 + k x + F0 = 0 gives the exact least
+  //   w*^2 = (k e (1 - sin phase) + F0) / (m e)
+  // (no smaller root elsewhere: with u = sin(theta + phase) in (0, 1] the root is
+  // w^2 = k / m + (F0 - k e sin phase) / (m e u), least at u = 1)
+  ValveCase c;
+  c.phase = (-90 + 0.25) * deg;
+  const Compiled m(valve_design(c, c.R + c.e * std::sin(c.phase)));
+  const double m_eff = 1e-3 * (c.mass + c.spring_mass / 3.0);  // [N per mm/s^2]
+  const double exact_w = std::sqrt((c.rate * c.e * (1 - std::sin(c.phase)) + c.preload) / (m_eff * c.e));
+  const double exact_rpm = dynamics::engine_rpm(exact_w, 2.0), exact_deg = 90 - c.phase / deg;
+  for (const double step : {1.0, 0.5, 5.0}) {
+    INFO("step " << step << " deg");
+    const auto s = sweep_of(m, step);
+    dynamics::Separation refined;
+    const Status st = dynamics::refined_separation_speed(m.mech, m.model, s, 0, refined);
+    INFO(st.str());
+    REQUIRE(st.ok());
+    const dynamics::Separation grid = dynamics::separation_speed(s, m.model, 0);
+    INFO("exact " << exact_rpm << " rpm at " << exact_deg << " deg; refined " << refined.engine_rpm << " at "
+                  << refined.cam_deg << "; grid " << grid.engine_rpm << " at " << grid.cam_deg);
+    CHECK_REL(refined.engine_rpm, exact_rpm, tol::kSeparationRpmRel);
+    // the angle of a quadratic minimum is found to the square root of the value's precision
+    CHECK_ABS(refined.cam_deg, exact_deg, tol::kSeparationRefinedAngleAbs);
+    // the grid's least misses it by far more than the tolerance
+    CHECK(std::abs(grid.engine_rpm - exact_rpm) > 1e3 * tol::kSeparationRpmRel * exact_rpm);
+  }
+}
+
 TEST_CASE("rigid (a): separation speed with the gas force acting where the valve decelerates",
           "[dynamics][rigid]") {
   // an exhaust valve whose cylinder pressure pushes on its head while it is open, also over

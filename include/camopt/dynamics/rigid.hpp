@@ -65,6 +65,7 @@ class RigidWorkspace {
   Eigen::MatrixXd system;   // free rows x connections
   Eigen::MatrixXd rhs;      // free rows x cases
   Eigen::PartialPivLU<Eigen::MatrixXd> lu;
+  Eigen::MatrixXd inverse;  // free rows x free rows: the balance's inverse (its condition)
   std::vector<Eigen::Vector2d> cg_acc;  // per node: d2 cg / dtheta2 [mm/rad^2]
   std::vector<double> phi_acc;          // per node: d2 phi / dtheta2 [-]
   std::vector<Eigen::Vector2d> cg_pos;  // per node: current cg [mm]
@@ -128,6 +129,14 @@ struct Separation {
   double cam_deg = 0.0;  // where it happens first
 };
 Separation separation_speed(const RigidSweep& sweep, const Model& model, int connection);
+
+// the separation speed between the grid points: the grid's least (separation_speed) refined
+// on the two intervals beside its point by Brent's minimisation of the point separation
+// speed w(theta) (F(theta, w) = 0, from a mode (a) solve at each trial angle), so that
+// neither the speed nor its angle depends on the step. The grid's result where the least is
+// 0 or +inf, or at a point beside an open lash gap. A failed solve returns its Status.
+Status refined_separation_speed(const kin::Mechanism& mech, const Model& model, const RigidSweep& sweep,
+                                int connection, Separation& out);
 
 // spring margin of spring s at a point: the part of its load that could be removed
 // before the first contact it loads opens,
