@@ -12,11 +12,12 @@ designs with a control over their whole range: 17 positions for the CVVLs, 11 fo
 and the Valvetronic), into OUT_DIR/<design>/. compare: every kinematics.csv cell of AFTER
 against BEFORE; prints per design the largest difference in the position columns (lift [mm]
 and angles [deg]) and in every other column relative to that column's peak, and the number
-of cells that differ at all; exits 1 when a position differs by more than --lift-mm, a
+of cells that differ at all, and the summary.json keys that differ (run_time_s aside); exits 1 when a position differs by more than --lift-mm, a
 derivative or contact quantity by more than 1e-9 of its peak, or the tables differ in shape.
 """
 import csv
 import glob
+import json
 import os
 import subprocess
 import sys
@@ -47,6 +48,22 @@ def read(path):
 def is_position(column):
     # positions of nodes ([mm] or [deg]) and the valve lift: no rate in the unit
     return (column.endswith("_mm") or column.endswith("_deg")) and "_per_" not in column
+
+
+def summary_differences(before, after):
+    """keys of summary.json whose values differ (the run time aside), as key paths"""
+    def walk(a, b, path):
+        if isinstance(a, dict) and isinstance(b, dict):
+            for k in sorted(set(a) | set(b)):
+                if k != "run_time_s":
+                    yield from walk(a.get(k), b.get(k), path + "." + k)
+        elif isinstance(a, list) and isinstance(b, list) and len(a) == len(b):
+            for i, (x, y) in enumerate(zip(a, b)):
+                yield from walk(x, y, "%s[%d]" % (path, i))
+        elif a != b:
+            yield path
+    with open(before) as f, open(after) as g:
+        return list(walk(json.load(f), json.load(g), ""))
 
 
 def compare(before_dir, after_dir, lift_bound):
@@ -82,6 +99,10 @@ def compare(before_dir, after_dir, lift_bound):
                     worst_rel, worst_rel_col = d / peak, column
         bad = worst_pos > lift_bound or worst_rel > 1e-9
         failed |= bad
+        summary = summary_differences(os.path.join(os.path.dirname(before), "summary.json"),
+                                      os.path.join(after_dir, name, "summary.json"))
+        if summary:
+            print("%s: summary.json differs at %s" % (name, ", ".join(summary[:5])))
         print("%-30s cells differing %7d  positions max %.3g (%s)  others max %.3g of peak (%s)%s" %
               (name, differ, worst_pos, worst_pos_col or "-", worst_rel, worst_rel_col or "-",
                "  FAIL" if bad else ""))
