@@ -85,8 +85,9 @@ char detect_delimiter(std::string_view header) {
   return ' ';
 }
 
-std::vector<std::string_view> split_cells(std::string_view line, char delimiter) {
-  std::vector<std::string_view> cells;
+// the cells of a line into `cells` (its storage reused from row to row)
+void split_cells(std::string_view line, char delimiter, std::vector<std::string_view>& cells) {
+  cells.clear();
   if (delimiter == ' ') {
     std::size_t i = 0;
     while (i < line.size()) {
@@ -95,7 +96,7 @@ std::vector<std::string_view> split_cells(std::string_view line, char delimiter)
       while (i < line.size() && !is_blank(line[i])) ++i;
       if (i > start) cells.push_back(line.substr(start, i - start));
     }
-    return cells;
+    return;
   }
   std::size_t start = 0;
   while (true) {
@@ -104,7 +105,6 @@ std::vector<std::string_view> split_cells(std::string_view line, char delimiter)
     if (end == std::string_view::npos) break;
     start = end + 1;
   }
-  return cells;
 }
 
 // the line without its trailing comment, CR and surrounding whitespace
@@ -152,6 +152,7 @@ CsvTable parse_csv(std::string_view text, const std::string& file_name) {
     throw InputError(file_name + ": empty file (a header line naming the columns is required)");
 
   char delimiter = ',';
+  std::vector<std::string_view> cells;  // one row's, reused
   bool have_header = false;
   int line_number = 0;
   std::size_t position = 0;
@@ -164,7 +165,8 @@ CsvTable parse_csv(std::string_view text, const std::string& file_name) {
 
     if (!have_header) {
       delimiter = detect_delimiter(line);
-      const auto names = split_cells(line, delimiter);
+      std::vector<std::string_view> names;
+      split_cells(line, delimiter, names);
       bool all_numeric = true;
       for (std::size_t i = 0; i < names.size(); ++i) {
         if (names[i].empty())
@@ -183,11 +185,15 @@ CsvTable parse_csv(std::string_view text, const std::string& file_name) {
                          printable(line) + "'");
       for (const auto& name : names) table.columns.emplace_back(name);
       table.values.resize(table.columns.size());
+      // room for every line left (no regrowth of the columns)
+      const auto lines_left = static_cast<std::size_t>(std::count(text.begin() + static_cast<std::ptrdiff_t>(std::min(position, text.size())), text.end(), '\n')) + 1;
+      for (auto& column : table.values) column.reserve(lines_left);
+      table.lines.reserve(lines_left);
       have_header = true;
       continue;
     }
 
-    const auto cells = split_cells(line, delimiter);
+    split_cells(line, delimiter, cells);
     if (cells.size() != table.columns.size())
       throw InputError(where(file_name, line_number) + ": expected " + std::to_string(table.columns.size()) +
                        " cells (columns: " + join(table.columns) + "), found " + std::to_string(cells.size()));

@@ -53,7 +53,7 @@ void check_star_shaped(const Series& s) {
     const std::size_t j = (i + 1) % n;
     const double step = std::atan2(x[i] * y[j] - x[j] * y[i], x[i] * x[j] + y[i] * y[j]);
     if (!(step > 0.0))
-      s.x.fail(s.x.refs[j], "point " + std::to_string(j + 1) + " (" + format_number(x[j]) + ", " + format_number(y[j]) +
+      s.x.fail(s.x.ref(j), "point " + std::to_string(j + 1) + " (" + format_number(x[j]) + ", " + format_number(y[j]) +
                                 " mm) is at polar angle " + polar_deg(j) + " deg, not beyond point " +
                                 std::to_string(i + 1) + "'s " + polar_deg(i) +
                                 " deg: an xy profile runs counter-clockwise around the cam centre with its polar "
@@ -90,9 +90,8 @@ Series read_series(const Table& t, const std::vector<std::string>& x_csv, std::s
     const std::size_t xi = csv.require_one_of(x_csv, x_key);
     const std::size_t yi = csv.require_one_of({std::string(y_key)}, y_key);
     const auto column = [&](std::size_t c) {
-      Column out{csv.columns[c], csv.values[c], {}, SourceRef{csv.file, 0, 0, csv.columns[c]}, via};
-      for (const int line : csv.lines) out.refs.push_back(SourceRef{csv.file, line, 0, csv.columns[c]});
-      return out;
+      // the cells' locations are kept as line numbers (Column::ref builds one for an error)
+      return Column{csv.columns[c], csv.values[c], {}, SourceRef{csv.file, 0, 0, csv.columns[c]}, via, csv.lines};
     };
     return Series{column(xi), column(yi), path.string()};
   } catch (const InputError& e) {
@@ -418,10 +417,11 @@ class Parser {
       // e.g. MBSim's contour.asc) is accepted: the repeat is dropped when it matches
       if (s.x.values.size() > 6 && std::abs(s.x.values.back() - s.x.values.front() - 360.0) <= 1e-9 &&
           std::abs(s.y.values.back() - s.y.values.front()) <= 1e-9 * std::max(1.0, std::abs(s.y.values.front()))) {
-        s.x.values.pop_back();
-        s.x.refs.pop_back();
-        s.y.values.pop_back();
-        s.y.refs.pop_back();
+        for (Column* c : {&s.x, &s.y}) {
+          c->values.pop_back();
+          if (!c->refs.empty()) c->refs.pop_back();
+          if (!c->lines.empty()) c->lines.pop_back();
+        }
       }
       s.x.check_span_below_turn();
       s.y.check_each(value_rule);

@@ -180,10 +180,16 @@ inline std::string to_string_value(const toml::node& node, const SourceRef& at, 
 struct Column {
   std::string name;             // key or CSV column name, for messages
   std::vector<double> values;
-  std::vector<SourceRef> refs;  // where each value was written
+  std::vector<SourceRef> refs;  // where each value was written (an inline array)
   SourceRef where;              // the whole array / CSV column
   std::optional<SourceRef> via; // the `file = ...` key that brought a CSV column
+  std::vector<int> lines;       // a CSV column: the file line of each value (refs stays empty)
 
+  // where value i was written; a CSV cell's location is built only when asked (for an error)
+  SourceRef ref(std::size_t i) const {
+    if (i < refs.size()) return refs[i];
+    return SourceRef{where.file, i < lines.size() ? lines[i] : 0, 0, where.key_path};
+  }
   [[noreturn]] void fail(const SourceRef& at, const std::string& message) const {
     if (!via) throw InputError(at, message);
     throw InputError(*via, InputError(at, message).what());
@@ -191,12 +197,14 @@ struct Column {
   void check_each(const Rule& rule) const {
     for (std::size_t i = 0; i < values.size(); ++i)
       if (const std::string why = rule.violation(values[i]); !why.empty())
-        fail(refs[i], "value " + format_number(values[i]) + " " + why);
+        fail(ref(i), "value " + format_number(values[i]) + " " + why);
   }
   void check_increasing() const {
     for (std::size_t i = 1; i < values.size(); ++i)
-      if (const std::string why = gt(values[i - 1], "previous value").violation(values[i]); !why.empty())
-        fail(refs[i], "value " + format_number(values[i]) + " " + why + "; values must be strictly increasing");
+      if (!(std::isfinite(values[i]) && values[i] > values[i - 1])) {
+        const std::string why = gt(values[i - 1], "previous value").violation(values[i]);
+        fail(ref(i), "value " + format_number(values[i]) + " " + why + "; values must be strictly increasing");
+      }
   }
   void check_min_points(std::size_t count) const {
     if (values.size() < count)
@@ -365,7 +373,7 @@ class Table {
     const toml::node& node = require(key);
     const auto* array = node.as_array();
     if (!array) fail(key, "expected an array of numbers, got " + describe(node));
-    Column column{std::string(key), {}, {}, where(key), std::nullopt};
+    Column column{std::string(key), {}, {}, where(key), std::nullopt, {}};
     for (std::size_t i = 0; i < array->size(); ++i) {
       column.refs.push_back(context_->ref((*array)[i].source(), indexed(path_of(key), i)));
       column.values.push_back(to_number((*array)[i], column.refs.back(), {}));

@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <mutex>
+#include <utility>
 #include <vector>
 
 #include "camopt/core/units.hpp"
@@ -13,10 +16,61 @@ namespace {
 void require(bool ok, const ProfileSpec& spec, const std::string& rule) {
   if (!ok) throw InputError(spec.where, "profile '" + spec.name + "': " + rule);
 }
+
+// the same numbers, bit for bit
+bool same_bits(const std::vector<double>& a, const std::vector<double>& b) {
+  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0);
+}
+bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+// everything CamProfile::build reads of a spec (not where it was written)
+bool same_profile(const ProfileSpec& a, const ProfileSpec& b) {
+  return a.name == b.name && a.form == b.form && same_bits(a.angle_deg, b.angle_deg) &&
+         same_bits(a.radius_mm, b.radius_mm) && same_bits(a.lift_mm, b.lift_mm) && same_bits(a.x_mm, b.x_mm) &&
+         same_bits(a.y_mm, b.y_mm) && same_bits(a.base_radius_mm, b.base_radius_mm) &&
+         same_bits(a.disc_radius_mm, b.disc_radius_mm) && same_bits(a.eccentricity_mm, b.eccentricity_mm);
+}
+
+// the last tables fitted in this process: a run compiles its design more than once (the
+// contacts placed touching at rest, the model, a job's own compile), and the spline fit of
+// a dense table is most of that work. The same spec gives the same profile to the bit, so
+// a later build copies the first one's.
+class BuiltProfiles {
+ public:
+  static BuiltProfiles& instance() {
+    static BuiltProfiles built;
+    return built;
+  }
+  bool find(const ProfileSpec& spec, CamProfile& out) {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    for (const auto& entry : entries_)
+      if (same_profile(entry.first, spec)) {
+        out = entry.second;
+        return true;
+      }
+    return false;
+  }
+  void add(const ProfileSpec& spec, const CamProfile& profile) {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    if (entries_.size() == kept) entries_.erase(entries_.begin());
+    entries_.emplace_back(spec, profile);
+  }
+
+ private:
+  static constexpr std::size_t kept = 8;
+  std::mutex mutex_;
+  std::vector<std::pair<ProfileSpec, CamProfile>> entries_;
+};
+
+// tables at least this long are kept (a short one is fitted faster than it is compared)
+constexpr std::size_t kept_table_points = 1000;
 }  // namespace
 
 CamProfile CamProfile::build(const ProfileSpec& spec) {
   CamProfile p;
+  // a long table fitted before is taken as it was fitted
+  const bool keep = std::max(spec.angle_deg.size(), spec.x_mm.size()) >= kept_table_points;
+  if (keep && BuiltProfiles::instance().find(spec, p)) return p;
   p.name_ = spec.name;
   switch (spec.form) {
     case ProfileForm::circle:
@@ -87,6 +141,7 @@ CamProfile CamProfile::build(const ProfileSpec& spec) {
   }
   p.base_radius_ = rmin;
   p.max_radius_ = rmax;
+  if (keep) BuiltProfiles::instance().add(spec, p);
   return p;
 }
 

@@ -3,6 +3,7 @@
 // with a translating unknown (linear in the travel), gears, racks and variable gears. They
 // run on jets, so the taylor coefficients come with the value.
 #include <cmath>
+#include <type_traits>
 
 #include "kernel.hpp"
 
@@ -109,7 +110,11 @@ Status Kernel::line_closed_form(const SolveStep& step, const T* vars, T& s_out, 
             driver_text(m_, driver)};
   ws_.max_condition = std::max(ws_.max_condition, 1.0 / std::abs(kv));
   note_margin(std::abs(kv));  // the cosine of the pressure angle
-  s_out = -closure0 / k;
+  // on values as the jets' value (a / b is a * (1 / b) there): both forms agree to the bit
+  if constexpr (std::is_same_v<T, double>)
+    s_out = -closure0 * (1.0 / k);
+  else
+    s_out = -closure0 / k;
   gap_at_rest = value_of(closure0) + kv * node.rest;
   // foot of the centre on the face, in the face's own parameter
   const double sign = line_node == un ? -1.0 : 1.0;  // the moving side shifts d by s dir
@@ -180,14 +185,23 @@ Status Kernel::line_step(const SolveStep& step, int step_index, double driver, J
   held = false;
   const Surface& line = c.surface_a.kind == SurfaceKind::line ? c.surface_a : c.surface_b;
   Jet3 u;
-  double gap_at_rest = 0.0;
-  ++ws_.stats.jet_closed_forms;
-  Status st = line_closed_form(step, ws_.vars.data(), q, u, gap_at_rest, driver);
-  if (!st.ok()) return st;
+  double gap_at_rest = 0.0, s_value = 0.0, u_value = 0.0;
+  if (c.one_sided) {
+    // a lash contact is first solved on values: while its gap is open (the follower at
+    // rest) the series are not needed
+    if (Status st = line_closed_form(step, st_.values.data(), s_value, u_value, gap_at_rest, driver); !st.ok())
+      return st;
+  }
+  if (!c.one_sided || !(gap_at_rest > 0.0)) {
+    ++ws_.stats.jet_closed_forms;
+    if (Status st = line_closed_form(step, ws_.vars.data(), q, u, gap_at_rest, driver); !st.ok()) return st;
+    s_value = q.value();
+    u_value = u.value();
+  }
   if (c.one_sided && gap_at_rest > 0.0) {
     // open: the follower rests; the face parameter is the foot of the centre at rest
     const double rest = m_.nodes[step.output_node].rest;
-    const double shift = rest - q.value();
+    const double shift = rest - s_value;
     const Node& node = m_.nodes[step.output_node];
     const bool line_moves = (c.surface_a.kind == SurfaceKind::line) == (step.output_node == c.node_a);
     const double tx = -line.normal.y(), ty = line.normal.x();
@@ -195,7 +209,7 @@ Status Kernel::line_step(const SolveStep& step, int step_index, double driver, J
     const double du = (line_moves ? -1.0 : 1.0) * shift * (node.direction.x() * tx + node.direction.y() * ty);
     hold_at_rest(step, step_index, gap_at_rest);
     held = true;
-    u = Jet3(u.value() + du);
+    u = Jet3(u_value + du);
     ws_.vars[line.variable] = u;
     st_.values[line.variable] = u.value();
     return Status::success();

@@ -36,6 +36,7 @@ inline constexpr double min_control_fraction = 1e-6;  // smallest control step, 
 // step control depend on it (Request)
 inline constexpr int continuation_order = 3;
 
+inline double value_of(double x) { return x; }
 template <int N>
 double value_of(const Jet<N>& x) {
   return x.value();

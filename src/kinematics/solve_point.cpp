@@ -220,7 +220,8 @@ void Kernel::accept(double driver) {
   st_.prev2_driver = st_.prev_driver;
   st_.prev_driver = driver;
   st_.history = std::min(st_.history + 1, 2);
-  st_.prev_open = st_.open;
+  // (element by element: std::vector<bool>'s assignment costs more than these few bits)
+  for (std::size_t si = 0; si < st_.open.size(); ++si) st_.prev_open[si] = st_.open[si];
   st_.controls_moved = false;
   accept_branch(st_);
   if (ws_.toggle_margin < ws_.path_margin) {

@@ -12,7 +12,10 @@
 #include "camopt/io/design_file.hpp"
 #include "camopt/kinematics/mechanism.hpp"
 #include "camopt/kinematics/sweep.hpp"
+#include "camopt/core/spline.hpp"
+#include "camopt/kinematics/cam_profile.hpp"
 #include "support/compare.hpp"
+#include "support/tolerances.hpp"
 
 using namespace camopt;
 
@@ -81,4 +84,45 @@ TEST_CASE("xy profile: an eccentric disc given as points gives the exact disc's 
     if (previous > 0.0) CHECK(worst < previous / 16.0);
     previous = worst;
   }
+}
+
+// a long table is fitted once per process and later builds copy that fit: the copy must be
+// the fit of its own data (the spline through it, to the bit), and a table that differs in
+// one value must be fitted anew
+TEST_CASE("cam profile: a long table built twice is the same fit, a changed one is fitted anew",
+          "[kinematics][profile]") {
+  ProfileSpec spec;
+  spec.name = "dense";
+  spec.form = ProfileForm::polar;
+  constexpr int n = 1800;  // 0.2 deg: above the length from which fits are kept
+  for (int i = 0; i < n; ++i) {
+    const double a = 360.0 * i / n;
+    spec.angle_deg.push_back(a);
+    spec.radius_mm.push_back(20.0 + 3.0 * std::pow(std::sin(a * camopt::pi / 360.0), 6));
+  }
+  // the reference: the periodic spline through the same data, fitted here
+  std::vector<double> u(n);
+  for (int i = 0; i < n; ++i) u[i] = spec.angle_deg[i] * rad_per_deg;
+  const PeriodicSpline reference = PeriodicSpline::interpolate(u, spec.radius_mm, 2 * camopt::pi);
+  const kin::CamProfile first = kin::CamProfile::build(spec);
+  const kin::CamProfile second = kin::CamProfile::build(spec);
+  for (int k = 0; k < 997; ++k) {
+    const double a = 2 * camopt::pi * k / 997.0;
+    CHECK(first.radius_at(a) == reference(a));
+    CHECK(second.radius_at(a) == reference(a));
+  }
+  // one radius moved by 0.01 mm: the new profile passes through the new value
+  ProfileSpec changed = spec;
+  changed.radius_mm[900] += 0.01;
+  const kin::CamProfile moved = kin::CamProfile::build(changed);
+  // (the radius is ~23 mm: the node tolerance of a spline of size 1, scaled)
+  const double node_abs = test::tol::kSplineNodeAbs * 23.0;
+  const auto at_new = test::compare_abs("changed table at its moved point [mm]", moved.radius_at(u[900]),
+                                        changed.radius_mm[900], node_abs);
+  INFO(at_new.describe());
+  CHECK(at_new.pass);
+  const auto at_old = test::compare_abs("first table at that point [mm]", kin::CamProfile::build(spec).radius_at(u[900]),
+                                        spec.radius_mm[900], node_abs);
+  INFO(at_old.describe());
+  CHECK(at_old.pass);
 }
