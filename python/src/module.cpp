@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "camopt/core/error.hpp"
+#include "camopt/io/npz.hpp"
 #include "camopt/io/csv.hpp"
 #include "camopt/io/design_document.hpp"
 #include "camopt/io/design_file.hpp"
@@ -410,6 +411,10 @@ PYBIND11_MODULE(_camopt, m) {
       .def_property_readonly("notes", [](const CompiledDesign& c) { return c.notes; },
                              "the drawing check's warnings, as the CLI prints them");
   m.def("read_design_file", &read_design_file, py::arg("path"), "A design file's text (the CLI's checks).");
+  m.def(
+      "read_npz", [](const std::string& path) { return columns_dict(io::read_npz(path)); }, py::arg("path"),
+      "A result table camopt wrote with --format npz: a dict of column name -> float64 array (InputError for a "
+      "damaged or foreign file).");
   m.def("compile_design", &compile_design, py::arg("text"), py::arg("path"), py::arg("overrides"),
         "A design's TOML text with its overrides [(key path, TOML value)] parsed and compiled; path names it "
         "in messages.");
