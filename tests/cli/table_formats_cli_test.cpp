@@ -35,7 +35,10 @@ struct Table {
 
 std::vector<std::string> split(const std::string& line) {
   std::vector<std::string> cells(1);
-  for (char ch : line) ch == ',' ? cells.emplace_back() : cells.back().push_back(ch);
+  for (char ch : line) {
+    if (ch == ',') cells.emplace_back();
+    else cells.back().push_back(ch);
+  }
   return cells;
 }
 
