@@ -24,7 +24,7 @@ import tempfile as _tempfile
 from . import _camopt
 from ._camopt import Error, InputError, NumericalError
 
-__all__ = ["Design", "Result", "kinematics", "dynamics", "lift", "synthesize", "optimize", "study", "Error",
+__all__ = ["Design", "Result", "kinematics", "dynamics", "lift", "synthesize", "optimize", "study", "read_results", "Error",
            "InputError", "NumericalError", "__version__"]
 
 __version__ = _camopt.version
@@ -205,6 +205,41 @@ def _list_text(value, default):
     return ",".join(str(v) for v in value)
 
 
+def read_results(path):
+    """A result table camopt wrote: ``kinematics.npz`` / ``dynamics.npz`` (``--format npz``) or a
+    CSV (long or wide), or the table in a result folder (its kinematics or dynamics table).
+
+    Returns a dict of column name -> numpy float64 array, the names exactly the file's column
+    names (units in them); an empty CSV cell (a quantity that does not exist there) is NaN.
+    Raises InputError naming the file and what is wrong for a damaged or foreign file.
+    """
+    import numpy as _np
+    path = _os.fspath(path)
+    if _os.path.isdir(path):
+        for name in ("kinematics.npz", "kinematics.csv", "dynamics.npz", "dynamics.csv"):
+            if _os.path.exists(_os.path.join(path, name)):
+                return read_results(_os.path.join(path, name))
+        raise InputError(f"{path}: no kinematics or dynamics table in it (kinematics.csv/.npz, dynamics.csv/.npz)")
+    if path.endswith(".npz"):
+        return _camopt.read_npz(path)
+    with open(path, encoding="utf-8") as f:
+        lines = f.read().splitlines()
+    if not lines:
+        raise InputError(f"{path}: empty file (a header line naming the columns is required)")
+    names = lines[0].split(",")
+    columns = [[] for _ in names]
+    for number, line in enumerate(lines[1:], start=2):
+        cells = line.split(",")
+        if len(cells) != len(names):
+            raise InputError(f"{path}:{number}: {len(cells)} cells, the header has {len(names)}")
+        for column, cell in zip(columns, cells):
+            try:
+                column.append(float(cell) if cell else float("nan"))
+            except ValueError:
+                raise InputError(f"{path}:{number}: '{cell}' is not a number") from None
+    return {name: _np.array(column, dtype=_np.float64) for name, column in zip(names, columns)}
+
+
 def kinematics(design, step_deg=None, control=None, outputs=None, rpm=None, duration_at=None, threads=None):
     """The kinematic sweep of a design, as ``camopt kinematics`` writes it.
 
@@ -213,8 +248,9 @@ def kinematics(design, step_deg=None, control=None, outputs=None, rpm=None, dura
         driver.step_deg (--step).
     control: positions of the design's first control [deg or mm]: a number, a list of numbers,
         or "START:STOP:COUNT" (--control); default: the control's default.
-    outputs: "lift", "velocity", "acceleration", "jerk", "nodes", "contacts", "all", a comma
-        list or a list of them (--outputs); default lift, velocity, acceleration, jerk.
+    outputs: "lift", "velocity", "acceleration", "jerk", "nodes", "contacts", "all",
+        "node:NAME", "contact:NAME", a comma list or a list of them (--outputs); default lift,
+        velocity, acceleration, jerk.
     rpm: engine speed [rpm, crankshaft], up to 1e6: adds SI columns (m/s, m/s^2, m/s^3, rpm).
     duration_at: lift heights for the summary's durations [mm, "0.040in", or deg for a rotating
         output node], a comma list (--duration-at); default 1,0.1.

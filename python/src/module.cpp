@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "camopt/core/error.hpp"
+#include "camopt/io/npz.hpp"
 #include "camopt/io/csv.hpp"
 #include "camopt/io/design_document.hpp"
 #include "camopt/io/design_file.hpp"
@@ -115,6 +116,9 @@ py::dict columns_dict(const io::Columns& table) {
   }
   return out;
 }
+
+// a --format npz table, read as camopt report reads it (the same messages)
+py::dict read_npz_columns(const std::string& path) { return columns_dict(io::read_npz(path)); }
 
 // the design file's text, read as the CLI reads it (the same messages)
 std::string read_design_file(const std::string& path) { return io::read_input_file(path, "design file"); }
@@ -420,6 +424,10 @@ PYBIND11_MODULE(_camopt, m) {
       .def_property_readonly("notes", [](const CompiledDesign& c) { return c.notes; },
                              "the drawing check's warnings, as the CLI prints them");
   m.def("read_design_file", &read_design_file, py::arg("path"), "A design file's text (the CLI's checks).");
+  m.def(
+      "read_npz", &read_npz_columns, py::arg("path"),
+      "A result table camopt wrote with --format npz: a dict of column name -> float64 array (InputError for a "
+      "damaged or foreign file).");
   m.def("compile_design", &compile_design, py::arg("text"), py::arg("path"), py::arg("overrides"),
         "A design's TOML text with its overrides [(key path, TOML value)] parsed and compiled; path names it "
         "in messages.");

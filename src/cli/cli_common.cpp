@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <CLI/CLI.hpp>
 #include <cmath>
 #include <filesystem>
 #include <cstdlib>
@@ -9,8 +10,12 @@
 
 #include "camopt/core/error.hpp"
 #include "camopt/io/design_file.hpp"
+#include "camopt/io/npz.hpp"
+#include "camopt/io/table_layout.hpp"
 
 namespace camopt::cli {
+
+namespace fs = std::filesystem;
 
 GlobalOptions& global_options() {
   static GlobalOptions options;
@@ -84,12 +89,31 @@ std::map<std::string, io::FileId> write_outputs(const std::string& out_dir, cons
   return out.committed();
 }
 
+void add_format_option(CLI::App& cmd, std::string& layout, const std::string& wide) {
+  cmd.add_option("--format", layout,
+                 "the table's layout: long (the default: one row per " + wide +
+                     " and angle), wide (one row per angle, a column group per " + wide +
+                     ") or npz (the long table's columns as NumPy arrays, .npz)")
+      ->check(CLI::IsMember({"long", "wide", "npz"}));
+}
+
+std::string table_file_name(const std::string& csv_name, const TableFormat& format) {
+  if (format.layout != "npz") return csv_name;
+  return fs::path(csv_name).replace_extension(".npz").string();
+}
+
 std::map<std::string, io::FileId> write_table_and_summary(const std::string& out_dir,
                                                           const std::vector<std::string>& output_set,
                                                           const std::string& csv_name, const io::Columns& table,
-                                                          const nlohmann::json& summary) {
+                                                          const nlohmann::json& summary, const TableFormat& format) {
+  // the table in its format
+  std::string contents;
+  if (format.layout == "npz") contents = io::format_npz(table);
+  else if (format.layout == "wide") contents = io::format_csv(io::wide_table(table, format.wide_keys, format.wide_angles), thread_count());
+  else contents = io::format_csv(table, thread_count());
   return write_outputs(out_dir, output_set,
-                       {{csv_name, io::format_csv(table)}, {"summary.json", summary.dump(2) + "\n"}});
+                       {{table_file_name(csv_name, format), std::move(contents)},
+                        {"summary.json", summary.dump(2) + "\n"}});
 }
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {

@@ -63,8 +63,10 @@ void check_finite_arguments(int argc, const char* const* argv);
 // the files of its list it did not write (a previous run's), and never any other file.
 // report.html and the figures are written after the set is committed (write_run_report), so
 // the commit removes an earlier run's report and figures first
-inline const std::vector<std::string> kKinematicsOutputs = {"kinematics.csv", "summary.json", "report.html"};
-inline const std::vector<std::string> kDynamicsOutputs = {"dynamics.csv", "modes.csv", "summary.json", "report.html"};
+inline const std::vector<std::string> kKinematicsOutputs = {"kinematics.csv", "kinematics.npz", "summary.json",
+                                                            "report.html"};
+inline const std::vector<std::string> kDynamicsOutputs = {"dynamics.csv", "dynamics.npz", "modes.csv", "summary.json",
+                                                          "report.html"};
 inline const std::vector<std::string> kSynthesizeOutputs = {"profile.csv", "report.json", "design.toml",
                                                             "profile.dxf", "grinding.csv", "report.html"};
 inline const std::vector<std::string> kOptimizeOutputs = {"lift.csv",    "swing_pitch.csv", "profile.csv",
@@ -103,12 +105,28 @@ DesignSpec load_design_spec(const std::string& design_path);
 std::map<std::string, io::FileId> write_outputs(const std::string& out_dir, const std::vector<std::string>& output_set,
                                                 const std::vector<std::pair<std::string, std::string>>& files);
 
-// a job's table as `csv_name` and its summary as summary.json (indented by 2), committed
-// together into out_dir (write_outputs)
+// --format of a command that writes one result table (docs/outputs.md, "Table formats"):
+// long (the CSV, one row per key values and angle), wide (the CSV, one row per angle, its
+// first `wide_keys` columns folded into the names of the columns after its `wide_angles`
+// angle columns) or npz (the long table's
+// columns as NumPy arrays in <stem>.npz)
+struct TableFormat {
+  std::string layout = "long";
+  std::size_t wide_keys = 0, wide_angles = 1;  // the long table's key and angle columns
+};
+// the --format option on a command; `wide`: what the wide layout is for, in its help
+void add_format_option(CLI::App& cmd, std::string& layout, const std::string& wide);
+// the file the table goes to: csv_name, or its stem with .npz
+std::string table_file_name(const std::string& csv_name, const TableFormat& format);
+
+// a job's table as table_file_name(csv_name, format) and its summary as summary.json
+// (indented by 2), committed together into out_dir (write_outputs); the CSV is formatted on
+// thread_count() threads
 std::map<std::string, io::FileId> write_table_and_summary(const std::string& out_dir,
                                                           const std::vector<std::string>& output_set,
                                                           const std::string& csv_name, const io::Columns& table,
-                                                          const nlohmann::json& summary);
+                                                          const nlohmann::json& summary,
+                                                          const TableFormat& format = {});
 
 // seconds of wall time since t0
 double seconds_since(std::chrono::steady_clock::time_point t0);

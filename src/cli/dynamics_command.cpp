@@ -15,6 +15,7 @@ namespace {
 struct DynamicsOptions {
   jobs::DynamicsOptions job;  // the design file, --model, --contacts, --rpm, --control, --step, the flexible options
   std::string out_dir, start = "static";
+  std::string format = "long";  // --format
   ReportOptions report;  // --no-report, --figures
 };
 
@@ -24,11 +25,15 @@ report::WrittenTables run_dynamics(const DynamicsOptions& o) {
   const LoadedDesign design = load_mechanism(o.job.design_file);
   TerminalObserver terminal;
   jobs::DynamicsResult result = jobs::run_dynamics(design, o.job, terminal);
-  // dynamics.csv and summary.json, committed together
+  // dynamics.csv (or .npz) and summary.json, committed together; the wide layout (the rigid
+  // model) folds the engine speed and the control position into the column names and keeps
+  // the cam and crank angles once
+  const TableFormat format{o.format, 2, 2};  // rpm, control; cam_deg, crank_deg
+  const std::string table = table_file_name("dynamics.csv", format);
   const auto committed =
-      write_table_and_summary(o.out_dir, kDynamicsOutputs, "dynamics.csv", result.columns, result.summary);
+      write_table_and_summary(o.out_dir, kDynamicsOutputs, "dynamics.csv", result.columns, result.summary, format);
   const std::string ms = std::to_string(result.seconds * 1e3);
-  const std::string files = " -> " + o.out_dir + "/dynamics.csv, summary.json";
+  const std::string files = " -> " + o.out_dir + "/" + table + ", summary.json";
   if (o.job.model == "flexible")
     info("dynamics (flexible): " + std::to_string(result.runs) + " run(s) in " + ms + " ms" + files);
   else if (o.job.contacts == "compliant")
@@ -36,7 +41,7 @@ report::WrittenTables run_dynamics(const DynamicsOptions& o) {
   else
     info("dynamics (rigid): " + std::to_string(result.positions) + " position(s) x " + std::to_string(result.points) +
          " points in " + ms + " ms, " + std::to_string(result.speeds) + " speed(s)" + files);
-  return hand_over(committed, "dynamics.csv", std::move(result.columns));
+  return hand_over(committed, table, std::move(result.columns));
 }
 
 // --model modes: the job, its modes.csv and summary.json
@@ -83,6 +88,7 @@ void setup_dynamics(CLI::App& app) {
   cmd->add_option("--out", opts->out_dir, "output directory (dynamics.csv or modes.csv, summary.json, report.html)")
       ->required();
   add_report_options(*cmd, opts->report);
+  add_format_option(*cmd, opts->format, "engine speed and control position (wide: --model rigid only)");
   cmd->add_option("--control", opts->job.control,
                   "control positions of the design's first control [deg or mm]: a value, a list or START:STOP:COUNT");
   cmd->add_option("--step", opts->job.step_deg, "cam angle step [cam deg] (default: the design's driver.step_deg)")
@@ -116,6 +122,15 @@ void setup_dynamics(CLI::App& app) {
       reject_unused(*cmd, {"--contacts"}, "with --model " + opts->job.model + " (rigid model only)");
     if (opts->job.model != "modes")
       reject_unused(*cmd, {"--cam-deg", "--release-cam"}, "with --model " + opts->job.model + " (--model modes only)");
+    // the wide layout: one row per cam angle of the rigid model (mode a), the same at every
+    // speed and control position; modes.csv is written long
+    if (opts->format == "wide" && (opts->job.model != "rigid" || opts->job.contacts != "rigid"))
+      throw InputError("--format wide: value 'wide' is for --model rigid with rigid contacts (one row per cam "
+                       "angle); use long or npz with --model " + opts->job.model +
+                       (opts->job.model == "rigid" ? " --contacts compliant" : ""));
+    if (opts->format != "long" && opts->job.model == "modes")
+      throw InputError("--format " + opts->format + ": value '" + opts->format +
+                       "' is not used with --model modes (modes.csv is written long)");
     // the run, then its report (from the run's table in memory)
     report::WrittenTables written;
     if (opts->job.model == "modes") {

@@ -15,6 +15,7 @@ namespace {
 struct KinematicsOptions {
   jobs::KinematicsOptions job;  // the design file, --control, --step, --rpm, --outputs, --duration-at
   std::string out_dir;
+  std::string format = "long";  // --format
   ReportOptions report;  // --no-report, --figures
 };
 
@@ -25,14 +26,16 @@ void run_kinematics(KinematicsOptions& o) {
   const LoadedDesign design = load_mechanism(o.job.design_file);
   TerminalObserver terminal;
   jobs::KinematicsResult result = jobs::run_kinematics(design, o.job, terminal);
-  // kinematics.csv and summary.json, committed together
+  // kinematics.csv (or .npz) and summary.json, committed together; the wide layout folds the
+  // control position into the column names
+  const TableFormat format{o.format, 1};
+  const std::string table = table_file_name("kinematics.csv", format);
   const auto committed =
-      write_table_and_summary(o.out_dir, kKinematicsOutputs, "kinematics.csv", result.columns, result.summary);
+      write_table_and_summary(o.out_dir, kKinematicsOutputs, "kinematics.csv", result.columns, result.summary, format);
   info("kinematics: " + std::to_string(result.positions) + " position(s) x " + std::to_string(result.points) +
-       " points in " + std::to_string(result.seconds * 1e3) + " ms -> " + o.out_dir +
-       "/kinematics.csv, summary.json");
+       " points in " + std::to_string(result.seconds * 1e3) + " ms -> " + o.out_dir + "/" + table + ", summary.json");
   // the page of the results, from the table in memory
-  write_run_report(o.out_dir, o.report, hand_over(committed, "kinematics.csv", std::move(result.columns)));
+  write_run_report(o.out_dir, o.report, hand_over(committed, table, std::move(result.columns)));
 }
 
 }  // namespace
@@ -53,8 +56,9 @@ void setup_kinematics(CLI::App& app) {
                   "engine speed [rpm, crankshaft], up to 1e6: adds SI columns (m/s, m/s^2, m/s^3, rpm)")
       ->check(positive_number() & CLI::Range(0.0, 1e6));
   cmd->add_option("--outputs", opts->job.outputs,
-                  "comma list of lift, velocity, acceleration, jerk, nodes, contacts, all "
-                  "(default lift,velocity,acceleration,jerk)");
+                  "comma list of lift, velocity, acceleration, jerk, nodes, contacts, all, node:NAME (one node), "
+                  "contact:NAME (one contact) (default lift,velocity,acceleration,jerk)");
+  add_format_option(*cmd, opts->format, "control position");
   cmd->add_option("--duration-at", opts->job.duration_at,
                   "lift heights for the durations in summary.json [mm, or in when written 0.040in; deg for a "
                   "rotating output node]: a comma list, e.g. 1,0.1 (the default) or 0.040in,0.004in");

@@ -15,6 +15,7 @@
 #include <system_error>
 
 #include "camopt/core/error.hpp"
+#include "camopt/core/parallel.hpp"
 #include "camopt/core/printable.hpp"
 #include "camopt/io/atomic_file.hpp"
 
@@ -313,12 +314,51 @@ void require_full_cycle(const AngleTable& table, double period_deg) {
                      "; give exactly one cycle");
 }
 
+namespace {
+
+// the longest shortest-round-trip text of a double: -2.2250738585072014e-308
+constexpr std::size_t kMaxNumberChars = 24;
+// rows formatted per task of a parallel format
+constexpr std::size_t kRowsPerChunk = 4096;
+
+// a non-finite value in a result is a kernel bug, not bad input
+[[noreturn]] void throw_non_finite(const std::vector<std::string>& header, std::size_t column, std::size_t row) {
+  throw std::logic_error("write_csv: non-finite value in column '" + header[column] + "' row " +
+                         std::to_string(row + 1));
+}
+
+// rows [first, last) of the columns as CSV lines, appended to `out`: every number written
+// by std::to_chars straight into the one buffer (grown by doubling), -0 as 0, a NaN of a
+// column that may be empty as nothing; any other non-finite value throws (throw_non_finite)
+void append_rows(const std::vector<std::string>& header, const std::vector<std::vector<double>>& columns,
+                 const std::vector<bool>& may_be_empty, std::size_t first, std::size_t last, std::string& out) {
+  const std::size_t row_max = columns.size() * (kMaxNumberChars + 1) + 1;
+  std::size_t used = out.size();
+  out.resize(used + (last - first) * columns.size() * 12 + row_max);
+  for (std::size_t r = first; r < last; ++r) {
+    if (used + row_max > out.size()) out.resize(std::max(2 * out.size(), used + row_max));
+    char* p = out.data() + used;
+    for (std::size_t c = 0; c < columns.size(); ++c) {
+      if (c > 0) *p++ = ',';
+      const double v = columns[c][r];
+      // + 0.0 turns a negative zero (e.g. a lift of -0 at rest) into 0
+      if (std::isfinite(v)) p = std::to_chars(p, p + kMaxNumberChars, v + 0.0).ptr;
+      else if (!(may_be_empty[c] && std::isnan(v))) throw_non_finite(header, c, r);
+    }
+    *p++ = '\n';
+    used = static_cast<std::size_t>(p - out.data());
+  }
+  out.resize(used);
+}
+
+}  // namespace
+
 std::string format_csv(const std::vector<std::string>& header, const std::vector<std::vector<double>>& columns) {
   return format_csv(header, columns, std::vector<bool>(columns.size(), false));
 }
 
 std::string format_csv(const std::vector<std::string>& header, const std::vector<std::vector<double>>& columns,
-                       const std::vector<bool>& may_be_empty) {
+                       const std::vector<bool>& may_be_empty, int threads) {
   CAMOPT_ASSERT(!header.empty());
   CAMOPT_ASSERT(header.size() == columns.size());
   CAMOPT_ASSERT(may_be_empty.size() == columns.size());
@@ -326,31 +366,30 @@ std::string format_csv(const std::vector<std::string>& header, const std::vector
     CAMOPT_ASSERT_MSG(!name.empty() && name.find_first_of(",#\r\n") == std::string::npos,
                       "write_csv: header names must be non-empty without ',', '#' or newlines");
   const std::size_t rows = columns.front().size();
-  for (std::size_t c = 0; c < columns.size(); ++c) {
-    CAMOPT_ASSERT_MSG(columns[c].size() == rows, "write_csv: columns differ in length");
-    // a non-finite value here is a kernel bug, not bad input
-    for (std::size_t r = 0; r < rows; ++r)
-      if (!std::isfinite(columns[c][r]) && !(may_be_empty[c] && std::isnan(columns[c][r])))
-        throw std::logic_error("write_csv: non-finite value in column '" + header[c] + "' row " +
-                               std::to_string(r + 1));
-  }
+  for (const auto& column : columns) CAMOPT_ASSERT_MSG(column.size() == rows, "write_csv: columns differ in length");
 
   std::string text = join(header, ",") + "\n";
-  for (std::size_t r = 0; r < rows; ++r) {
-    for (std::size_t c = 0; c < columns.size(); ++c) {
-      if (c > 0) text += ',';
-      if (std::isnan(columns[c][r])) continue;  // an empty cell (checked above)
-      // + 0.0 turns a negative zero (e.g. a lift of -0 at rest) into 0
-      text += format_number(columns[c][r] + 0.0);
-    }
-    text += '\n';
+  const std::size_t chunks = (rows + kRowsPerChunk - 1) / kRowsPerChunk;
+  if (threads <= 1 || chunks <= 1) {
+    append_rows(header, columns, may_be_empty, 0, rows, text);
+    return text;
   }
+  // chunks of rows formatted on the threads, then joined in order
+  std::vector<std::string> parts(chunks);
+  parallel_for(chunks, threads, [&](std::size_t k) {
+    append_rows(header, columns, may_be_empty, k * kRowsPerChunk, std::min(rows, (k + 1) * kRowsPerChunk), parts[k]);
+  });
+  std::size_t size = text.size();
+  for (const auto& part : parts) size += part.size();
+  text.reserve(size);
+  for (const auto& part : parts) text += part;
   return text;
 }
 
-std::string format_csv(const Columns& table) {
-  if (table.may_be_empty.empty()) return format_csv(table.header, table.values);
-  return format_csv(table.header, table.values, table.may_be_empty);
+std::string format_csv(const Columns& table, int threads) {
+  if (table.may_be_empty.empty())
+    return format_csv(table.header, table.values, std::vector<bool>(table.values.size(), false), threads);
+  return format_csv(table.header, table.values, table.may_be_empty, threads);
 }
 
 void write_csv(const std::string& path, const std::vector<std::string>& header,

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "camopt/core/parallel.hpp"
 #include "camopt/core/units.hpp"
 #include "camopt/jobs/kinematics_summary.hpp"
 #include "camopt/kinematics/sweep.hpp"
@@ -18,28 +19,63 @@ namespace {
 struct OutputSelection {
   bool lift = false, nodes = false, contacts = false;
   int order = 0;  // highest derivative requested
+  // contact:NAME and node:NAME items: only these (none: every one, with contacts / nodes)
+  std::vector<std::string> contact_names, node_names;
 };
+
+const char* const kOutputsAllowed =
+    "allowed: lift, velocity, acceleration, jerk, nodes, contacts, all, node:NAME, contact:NAME";
 
 OutputSelection parse_outputs(const std::string& list) {
   OutputSelection s;
-  if (list.empty())
-    throw InputError("--outputs: empty (allowed: lift, velocity, acceleration, jerk, nodes, contacts, all)");
+  if (list.empty()) throw InputError(std::string("--outputs: empty (") + kOutputsAllowed + ")");
   std::stringstream ss(list);
   std::string item;
+  bool all_contacts = false, all_nodes = false;
   while (std::getline(ss, item, ',')) {
     if (item == "lift") s.lift = true;
     else if (item == "velocity") s.order = std::max(s.order, 1);
     else if (item == "acceleration") s.order = std::max(s.order, 2);
     else if (item == "jerk") s.order = std::max(s.order, 3);
-    else if (item == "nodes") s.nodes = true;
-    else if (item == "contacts") s.contacts = true;
-    else if (item == "all") s = {true, true, true, 3};
-    else
-      throw InputError("--outputs: unknown output '" + item +
-                       "' (allowed: lift, velocity, acceleration, jerk, nodes, contacts, all)");
+    else if (item == "nodes") all_nodes = true;
+    else if (item == "contacts") all_contacts = true;
+    else if (item == "all") all_nodes = all_contacts = true, s.order = 3;
+    else if (item.rfind("contact:", 0) == 0 && item.size() > 8) s.contact_names.push_back(item.substr(8));
+    else if (item.rfind("node:", 0) == 0 && item.size() > 5) s.node_names.push_back(item.substr(5));
+    else throw InputError("--outputs: unknown output '" + item + "' (" + kOutputsAllowed + ")");
   }
+  if (all_contacts) s.contact_names.clear();
+  if (all_nodes) s.node_names.clear();
+  s.contacts = all_contacts || !s.contact_names.empty();
+  s.nodes = all_nodes || !s.node_names.empty();
   s.lift = true;  // the valve lift is always written
   return s;
+}
+
+// the names of contact:NAME and node:NAME are the design's: InputError naming the value and
+// listing the valid names
+void check_output_names(const kin::Mechanism& mech, const OutputSelection& s, const std::string& design_file) {
+  std::vector<std::string> contacts, nodes;
+  for (const auto& c : mech.connections)
+    if (c.kind == ConnectionKind::contact) contacts.push_back(c.name);
+  for (std::size_t n = 0; n < mech.nodes.size(); ++n)
+    if (static_cast<int>(n) != mech.driver_node && mech.nodes[n].first_variable >= 0) nodes.push_back(mech.nodes[n].name);
+  const auto check = [&design_file](const std::vector<std::string>& asked, const std::vector<std::string>& valid,
+                                    const std::string& what) {
+    for (const auto& name : asked)
+      if (std::find(valid.begin(), valid.end(), name) == valid.end()) {
+        std::string list;
+        for (const auto& v : valid) list += (list.empty() ? "" : ", ") + v;
+        throw InputError("--outputs: " + what + ":" + name + ": " + design_file + " has no " + what + " '" + name +
+                         "' (" + what + "s: " + (list.empty() ? "none" : list) + ")");
+      }
+  };
+  check(s.contact_names, contacts, "contact");
+  check(s.node_names, nodes, "node");
+}
+
+bool selected(const std::vector<std::string>& names, const std::string& name) {
+  return names.empty() || std::find(names.begin(), names.end(), name) != names.end();
 }
 
 // column suffixes for a quantity with the given base unit, per driver unit
@@ -64,14 +100,15 @@ const char* derivative_name(int k) {
 
 double radius_of(double curvature) { return std::abs(curvature) > 1e-12 ? 1.0 / curvature : 0.0; }
 
-// the summary of every control position, with durations at the chosen heights
+// the summary of every control position, with durations at the chosen heights, on up to
+// `threads` threads
 std::vector<kin::PositionSummary> summaries(const kin::Mechanism& mech, const kin::SweepResult& result,
-                                            const std::vector<DurationHeight>& heights) {
+                                            const std::vector<DurationHeight>& heights, int threads) {
   kin::SummaryOptions options;
   options.duration_heights.clear();
   for (const auto& h : heights) options.duration_heights.push_back(h.value);
-  std::vector<kin::PositionSummary> out;
-  for (std::size_t p = 0; p < result.positions.size(); ++p) out.push_back(kin::summarize(mech, result, p, options));
+  std::vector<kin::PositionSummary> out(result.positions.size());
+  parallel_for(out.size(), threads, [&](std::size_t p) { out[p] = kin::summarize(mech, result, p, options); });
   return out;
 }
 
@@ -130,10 +167,10 @@ std::vector<kin::PositionSummary> no_lash_summaries(const Run& run, const kin::S
   s0.request = {sweep.request.derivative_order, false};  // refined as the summary below
   s0.on_position_done = nullptr;
   const kin::SweepResult r0 = kin::sweep(mech0, s0);
-  for (std::size_t p = 0; p < r0.positions.size(); ++p) {
+  for (std::size_t p = 0; p < r0.positions.size(); ++p)
     if (!r0.positions[p].status.ok()) throw NumericalError(r0.positions[p].status);
-    out.push_back(kin::summarize(mech0, r0, p));
-  }
+  out.resize(r0.positions.size());
+  parallel_for(out.size(), sweep.threads, [&](std::size_t p) { out[p] = kin::summarize(mech0, r0, p); });
   return out;
 }
 
@@ -241,6 +278,7 @@ io::Columns CsvColumns::table() {
   if (run_.sel.nodes)
     for (std::size_t v = 0; v < mech.variables.size(); ++v) {
       if (mech.variables[v].node < 0 || mech.variables[v].node == mech.driver_node) continue;
+      if (!selected(run_.sel.node_names, mech.nodes[mech.variables[v].node].name)) continue;
       std::string name = mech.variables[v].name;
       std::replace(name.begin(), name.end(), '.', '_');
       const auto kind = mech.nodes[mech.variables[v].node].kind;
@@ -252,7 +290,8 @@ io::Columns CsvColumns::table() {
     }
   if (run_.sel.contacts)
     for (std::size_t c = 0; c < mech.connections.size(); ++c)
-      if (mech.connections[c].kind == ConnectionKind::contact) add_contact(c);
+      if (mech.connections[c].kind == ConnectionKind::contact && selected(run_.sel.contact_names, mech.connections[c].name))
+        add_contact(c);
   return {std::move(header_), std::move(cols_), {}};
 }
 
@@ -307,7 +346,7 @@ nlohmann::json summary_json(const Run& run, const kin::SweepSpec& sweep, const k
   summary["points_per_position"] = result.driver.size();
   if (run.options.rpm > 0) summary["engine_speed_rpm"] = run.options.rpm;
   summary["run_time_s"] = seconds;
-  const std::vector<kin::PositionSummary> position_summaries = summaries(mech, result, run.heights);
+  const std::vector<kin::PositionSummary> position_summaries = summaries(mech, result, run.heights, run.options.threads);
   const std::string lift_unit = run.output_is_angle ? "deg" : "mm";
   if (!run.options.duration_at.empty()) check_duration_heights(run.heights, position_summaries, lift_unit);
   const SummaryUnits summary_units{lift_unit, run.driver_unit, run.sel.order,
@@ -342,6 +381,7 @@ KinematicsResult run_kinematics(const LoadedDesign& design, const KinematicsOpti
   validate(o);
   const OutputSelection sel = parse_outputs(o.outputs);
   const kin::Mechanism& mech = design.mech;
+  check_output_names(mech, sel, o.design_file);
   Run run{o, observer, design.spec, mech, sel, {}, {}, false, "", 0.0, false};
   run.output_is_angle = mech.variables[mech.nodes[mech.output_node].first_variable].is_angle;
   run.heights = parse_duration_heights(o.duration_at.empty() ? "1,0.1" : o.duration_at, run.output_is_angle);

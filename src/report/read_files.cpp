@@ -9,6 +9,8 @@
 
 #include "camopt/core/error.hpp"
 #include "camopt/core/printable.hpp"
+#include "camopt/io/npz.hpp"
+#include "camopt/io/table_layout.hpp"
 #include "collect_support.hpp"
 
 namespace camopt::report::detail {
@@ -118,15 +120,41 @@ bool Folder::has(const std::string& name) const {
   return fs::exists(path / name, ec);
 }
 
+namespace {
+
+// a table read from an archive or a wide CSV, as the report reads a long CSV
+CsvData csv_of(io::Columns table, const fs::path& file) {
+  CsvData csv;
+  csv.file = file.string();
+  csv.columns = std::move(table.header);
+  csv.values = std::move(table.values);
+  return csv;
+}
+
+}  // namespace
+
 CsvData Folder::csv(const std::string& name) const {
+  // the table's file: the CSV, or the NumPy archive of the same stem (--format npz)
+  std::string stored = name;
+  if (!has(name) && has(fs::path(name).replace_extension(".npz").string()))
+    stored = fs::path(name).replace_extension(".npz").string();
   // the run's table while the folder holds the file it committed
-  const auto it = written ? written->find(name) : WrittenTables::const_iterator{};
-  if (!written || it == written->end() || io::file_id((path / name).string()) != it->second.file)
-    return read_csv(path / name);
+  const auto it = written ? written->find(stored) : WrittenTables::const_iterator{};
+  if (!written || it == written->end() || io::file_id((path / stored).string()) != it->second.file) {
+    if (stored != name) return csv_of(io::read_npz((path / stored).string()), path / stored);
+    CsvData csv = read_csv(path / name);
+    // a wide table (--format wide): its long table, as the report reads it
+    for (const std::string& column : csv.columns)
+      if (io::is_wide_column(column)) {
+        io::Columns wide{std::move(csv.columns), std::move(csv.values), {}};
+        return csv_of(io::long_table(wide, csv.file), path / name);
+      }
+    return csv;
+  }
   const io::Columns& table = it->second.columns;
   CAMOPT_ASSERT(table.header.size() == table.values.size());
   CsvData csv;
-  csv.file = (path / name).string();
+  csv.file = (path / stored).string();
   csv.columns = table.header;
   csv.values = table.values;
   // the file's text of -0 is 0 (format_csv)

@@ -53,15 +53,16 @@ AngleTable read_angle_table(const CsvTable& table, const std::vector<std::string
 void require_full_cycle(const AngleTable& table, double period_deg);
 
 // csv text of columns (header names must carry units); every number is the shortest text
-// that reads back to the same double (std::to_chars, no locale), so a table written and read
-// back is bit-for-bit the same. A non-finite value is a kernel bug and throws
+// that reads back to the same double (std::to_chars, no locale, written straight into one
+// growing buffer), so a table written and read back is bit-for-bit the same; -0 is written 0. A non-finite value is a kernel bug and throws
 // std::logic_error naming the column and row
 std::string format_csv(const std::vector<std::string>& header, const std::vector<std::vector<double>>& columns);
 // the same, where a NaN in a column flagged in may_be_empty (one flag per column) is written
 // as an empty cell: a quantity that does not exist at that row, such as the film thickness of
 // an open contact. Any other non-finite value still throws.
+// threads: rows formatted in chunks on up to that many threads (the text is the same)
 std::string format_csv(const std::vector<std::string>& header, const std::vector<std::vector<double>>& columns,
-                       const std::vector<bool>& may_be_empty);
+                       const std::vector<bool>& may_be_empty, int threads = 1);
 
 // a result table held in memory: header names with units, one vector per column, and the
 // columns whose NaN is an empty cell (none when may_be_empty is empty)
@@ -71,7 +72,7 @@ struct Columns {
   std::vector<bool> may_be_empty;
 };
 // format_csv of the table, with its may_be_empty
-std::string format_csv(const Columns& table);
+std::string format_csv(const Columns& table, int threads = 1);
 
 // write columns (header names must carry units) to `path` atomically
 void write_csv(const std::string& path, const std::vector<std::string>& header,

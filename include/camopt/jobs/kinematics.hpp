@@ -16,7 +16,8 @@ struct KinematicsOptions {
   // --control: positions of the design's first control [deg or mm]: a value, a list a,b,c or
   // START:STOP:COUNT ("": the control's default)
   std::string control;
-  // --outputs: a comma list of lift, velocity, acceleration, jerk, nodes, contacts, all
+  // --outputs: a comma list of lift, velocity, acceleration, jerk, nodes, contacts, all,
+  // node:NAME (that node's columns), contact:NAME (that contact's columns)
   std::string outputs = "lift,velocity,acceleration,jerk";
   double step_deg = 0.0;    // --step: driver step [cam deg, or mm for a translating driver]; 0: the design's
   double rpm = 0.0;         // --rpm: engine speed [rpm, crankshaft]; 0: no SI columns
@@ -33,7 +34,8 @@ struct KinematicsResult {
 };
 
 // InputError naming the option for a value out of its range (step_deg, rpm < 0, rpm > 1e6,
-// threads < 1), or an --outputs item that is not one of the list; the CLI checks the numbers
+// threads < 1), or an --outputs item that is not one of the list (run_kinematics also checks
+// the names of node:NAME and contact:NAME against the design); the CLI checks the numbers
 // as it parses them
 void validate(const KinematicsOptions& options);
 
