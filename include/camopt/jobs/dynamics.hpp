@@ -1,7 +1,7 @@
 #pragma once
 // the dynamics job (camopt dynamics --model rigid | flexible): a design's valvetrain dynamics
 // over engine speeds and control positions, as the columns of dynamics.csv and summary.json
-// (docs/dynamics.md). The modal analysis (--model modes) stays with the CLI.
+// (docs/dynamics.md). The modal analysis (--model modes) is its own job (jobs/modes.hpp).
 #include <cstddef>
 #include <nlohmann/json.hpp>
 #include <string>
