@@ -173,7 +173,7 @@ TEST_CASE("formats: the .npz archive holds the long CSV's values bit for bit, an
   CHECK(bad.err.find("truncated") != std::string::npos);
 }
 
-TEST_CASE("formats: --outputs picks contacts and nodes by name; a wrong name is an input error listing the names",
+TEST_CASE("formats: --outputs picks contacts and nodes by name, and a wrong name is an input error listing the names",
           "[cli][formats]") {
   TempDir tmp;
   const auto columns_of = [&](const std::string& outputs) {
